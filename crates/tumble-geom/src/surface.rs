@@ -1,0 +1,56 @@
+use crate::{Cylinder, DVec3, Plane, Quad};
+
+/// A sphere touching a world surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceContact {
+    /// Unit normal pointing from the surface towards the sphere centre.
+    pub normal: DVec3,
+    /// Body overlap δ = r − distance (positive in contact).
+    pub overlap: f64,
+    /// Contact point halfway through the overlap (inside the wall by δ/2), as for two spheres.
+    pub point: DVec3,
+}
+
+/// A static world surface a sphere can touch.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SurfaceShape {
+    Plane(Plane),
+    Quad(Quad),
+    Cylinder(Cylinder),
+}
+
+impl SurfaceShape {
+    /// Contact of a sphere (centre, radius) with this surface, if they overlap.
+    pub fn sphere_contact(&self, centre: DVec3, radius: f64) -> Option<SurfaceContact> {
+        self.sphere_proximity(centre, radius, 0.0).filter(|c| c.overlap > 0.0)
+    }
+
+    /// Like [`Self::sphere_contact`] but reports surfaces within `reach` of the
+    /// sphere's surface too (overlap down to `-reach`); cohesion needs this.
+    pub fn sphere_proximity(&self, centre: DVec3, radius: f64, reach: f64) -> Option<SurfaceContact> {
+        match self {
+            SurfaceShape::Plane(p) => p.sphere_proximity(centre, radius, reach),
+            SurfaceShape::Quad(q) => q.sphere_proximity(centre, radius, reach),
+            SurfaceShape::Cylinder(c) => c.sphere_proximity(centre, radius, reach),
+        }
+    }
+}
+
+/// Builds the contact from the closest surface point and the sphere.
+pub(crate) fn contact_from_closest(
+    centre: DVec3,
+    radius: f64,
+    reach: f64,
+    closest: DVec3,
+    fallback_normal: DVec3,
+) -> Option<SurfaceContact> {
+    let d = centre - closest;
+    let dist = d.length();
+    let overlap = radius - dist;
+    if overlap <= -reach {
+        return None;
+    }
+    // A centre lying exactly on the surface has no direction of its own.
+    let normal = if dist > 1e-12 * radius { d / dist } else { fallback_normal };
+    Some(SurfaceContact { normal, overlap, point: closest - normal * (0.5 * overlap.max(0.0)) })
+}

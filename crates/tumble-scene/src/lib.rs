@@ -1,0 +1,40 @@
+//! Scene files for tumble: parse (TOML), validate with clear errors, generate
+//! particles and compile the plan — the smallest model the scene needs.
+//!
+//! ```
+//! let text = r#"
+//! name = "drop"
+//! [run]
+//! duration = 0.01
+//! [domain]
+//! min = [-1.0, -1.0, -1.0]
+//! max = [1.0, 1.0, 1.0]
+//! [[materials]]
+//! name = "glass"
+//! density = 2500.0
+//! [contact]
+//! normal = { model = "linear", stiffness = 1.0e5 }
+//! restitution = 0.8
+//! [[particles]]
+//! material = "glass"
+//! shape = { sphere = { diameter = 0.1 } }
+//! positions = [[0.0, 0.0, 0.0]]
+//! "#;
+//! let scene = tumble_scene::parse_scene(text).unwrap();
+//! let compiled = tumble_scene::compile(&scene).unwrap();
+//! assert!(!compiled.plan.rotation);
+//! ```
+
+mod error;
+mod load;
+mod particles;
+mod plan;
+mod rng;
+pub mod schema;
+
+pub use error::SceneError;
+pub use load::{parse_scene, read_scene};
+pub use particles::InitialParticles;
+pub use plan::{CompiledScene, Drag, Feature, Fluid, Material, PairParams, Plan, Timescales, Wall, compile};
+pub use rng::Rng;
+pub use schema::Scene;

@@ -1,0 +1,170 @@
+//! Turning particle groups (explicit, lattice, random) into initial particle arrays.
+
+use crate::rng::Rng;
+use crate::schema::{DiameterSpec, ParticleGroup, ShapeSection, VelocitySpec};
+use crate::{Scene, SceneError};
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// Initial state of every particle, indexed by particle id.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct InitialParticles {
+    pub position: Vec<DVec3>,
+    pub velocity: Vec<DVec3>,
+    pub angular_velocity: Vec<DVec3>,
+    pub radius: Vec<f64>,
+    /// Cohesion effect radius (= radius without cohesion).
+    pub effect_radius: Vec<f64>,
+    pub material: Vec<u16>,
+    pub group: Vec<u16>,
+    pub fixed: Vec<bool>,
+    pub track: Vec<bool>,
+}
+
+impl InitialParticles {
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+}
+
+/// Generates every group's particles; `material_index` maps names to table indices.
+pub fn generate(scene: &Scene, material_index: &HashMap<String, u16>) -> Result<InitialParticles, SceneError> {
+    let mut out = InitialParticles::default();
+    let mut rng = Rng::new(scene.run.seed);
+    for (g, group) in scene.particles.iter().enumerate() {
+        let field = |f: &str| format!("particles[{g}].{f}");
+        let material = *material_index.get(&group.material).ok_or_else(|| {
+            let known: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+            SceneError::field(field("material"), format!("unknown material \"{}\"; defined materials: {}", group.material, known.join(", ")))
+        })?;
+        let ShapeSection::Sphere(sphere) = &group.shape;
+        let mut diameter = |rng: &mut Rng| match sphere.diameter {
+            DiameterSpec::Fixed(d) => d,
+            DiameterSpec::Uniform(r) => rng.range(r.min, r.max),
+        };
+        let centres = group_positions(group, g, &mut rng, &mut diameter)?;
+        for (x, d) in centres {
+            let effect = match (sphere.effect_diameter, sphere.effect_ratio) {
+                (Some(de), _) => de,
+                (None, Some(ratio)) => ratio * d,
+                (None, None) => d,
+            };
+            let v = match &group.velocity {
+                None => DVec3::ZERO,
+                Some(VelocitySpec::Vector(v)) => DVec3::from_array(*v),
+                Some(VelocitySpec::Random(r)) => rng.direction() * (r.random.mean_speed + r.random.std * rng.normal()),
+            };
+            out.position.push(x);
+            out.velocity.push(if group.fixed { DVec3::ZERO } else { v });
+            out.angular_velocity.push(if group.fixed { DVec3::ZERO } else { DVec3::from_array(group.angular_velocity.unwrap_or([0.0; 3])) });
+            out.radius.push(0.5 * d);
+            out.effect_radius.push(0.5 * effect);
+            out.material.push(material);
+            out.group.push(g as u16);
+            out.fixed.push(group.fixed);
+            out.track.push(group.track);
+        }
+    }
+    Ok(out)
+}
+
+fn group_positions(
+    group: &ParticleGroup,
+    g: usize,
+    rng: &mut Rng,
+    diameter: &mut impl FnMut(&mut Rng) -> f64,
+) -> Result<Vec<(DVec3, f64)>, SceneError> {
+    let field = |f: &str| format!("particles[{g}].{f}");
+    let given = [group.positions.is_some(), group.lattice.is_some(), group.random.is_some()];
+    if given.iter().filter(|&&b| b).count() != 1 {
+        return Err(SceneError::field(
+            format!("particles[{g}]"),
+            "give exactly one of positions = [[x, y, z], …], lattice = { min, max, spacing } or random = { count, region }",
+        ));
+    }
+    if let Some(list) = &group.positions {
+        return Ok(list.iter().map(|p| (DVec3::from_array(*p), diameter(rng))).collect());
+    }
+    if let Some(l) = &group.lattice {
+        let (min, max) = (DVec3::from_array(l.min), DVec3::from_array(l.max));
+        if l.spacing <= 0.0 {
+            return Err(SceneError::field(field("lattice.spacing"), format!("must be positive, got {}", l.spacing)));
+        }
+        if !(0.0..0.5).contains(&l.jitter) {
+            return Err(SceneError::field(field("lattice.jitter"), format!("must be in [0, 0.5) of the spacing, got {}", l.jitter)));
+        }
+        let count = |k: usize| (((max[k] - min[k]) / l.spacing + 1e-9).floor().max(0.0)) as usize;
+        let (nx, ny, nz) = (count(0), count(1), count(2));
+        if nx * ny * nz == 0 {
+            return Err(SceneError::field(field("lattice"), "the region holds no lattice site; make max − min at least one spacing on every axis"));
+        }
+        let mut out = Vec::with_capacity(nx * ny * nz);
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let site = min + DVec3::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5) * l.spacing;
+                    let jitter = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * (l.jitter * l.spacing);
+                    out.push((site + jitter, diameter(rng)));
+                }
+            }
+        }
+        return Ok(out);
+    }
+    let r = group.random.as_ref().unwrap();
+    let (min, max) = (DVec3::from_array(r.region.min), DVec3::from_array(r.region.max));
+    let mut out: Vec<(DVec3, f64)> = Vec::with_capacity(r.count);
+    // Rejection sampling against a hash grid of already placed spheres.
+    let mut cells: HashMap<(i64, i64, i64), Vec<usize>> = HashMap::new();
+    let mut cell = 0.0f64;
+    let mut attempts = 0usize;
+    while out.len() < r.count {
+        attempts += 1;
+        if attempts > 1000 * r.count + 10_000 {
+            return Err(SceneError::field(
+                field("random.count"),
+                format!("placed only {} of {} non-overlapping spheres in the region; enlarge random.region or lower the count", out.len(), r.count),
+            ));
+        }
+        let d = diameter(rng);
+        let half = DVec3::splat(0.5 * d);
+        let x = DVec3::new(rng.range(min.x + half.x, max.x - half.x), rng.range(min.y + half.y, max.y - half.y), rng.range(min.z + half.z, max.z - half.z));
+        if r.no_overlap {
+            if cell == 0.0 {
+                cell = match group.shape {
+                    ShapeSection::Sphere(ref s) => match s.diameter {
+                        DiameterSpec::Fixed(d) => d,
+                        DiameterSpec::Uniform(r) => r.max,
+                    },
+                };
+            }
+            let key = |p: DVec3| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64, (p.z / cell).floor() as i64);
+            let (cx, cy, cz) = key(x);
+            let mut clear = true;
+            'scan: for dz in -1..=1 {
+                for dy in -1..=1 {
+                    for dx in -1..=1 {
+                        if let Some(list) = cells.get(&(cx + dx, cy + dy, cz + dz)) {
+                            for &k in list {
+                                let (y, e) = out[k];
+                                if (x - y).length() < 0.5 * (d + e) {
+                                    clear = false;
+                                    break 'scan;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            if !clear {
+                continue;
+            }
+            cells.entry((cx, cy, cz)).or_default().push(out.len());
+        }
+        out.push((x, d));
+    }
+    Ok(out)
+}

@@ -1,0 +1,745 @@
+//! The plan: the smallest model a scene needs, and why (architecture.md, "The plan").
+
+use crate::particles::{InitialParticles, generate};
+use crate::schema::*;
+use crate::SceneError;
+use glam::DVec3;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use tumble_contact::{
+    FlowField, NormalLaw, TangentialLaw, ViscousParameter, collision_time, hertz_effective_moduli, rayleigh_time,
+    stokes_relaxation_time,
+};
+use tumble_geom::{Cylinder, PeriodicBox, Plane, Quad, SurfaceShape};
+use tumble_integrate::Integrator;
+
+/// Contact parameters of one material pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairParams {
+    pub normal: NormalLaw,
+    pub tangential: TangentialLaw,
+    /// Cohesion stiffness k_c (0: no cohesion).
+    pub cohesion: f64,
+    pub no_attraction: bool,
+}
+
+/// Drag law of the fluid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Drag {
+    /// Stokes drag with dynamic viscosity μ_f.
+    Stokes { viscosity: f64 },
+    /// −α|v|v.
+    Quadratic { coefficient: f64 },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fluid {
+    pub drag: Drag,
+    pub flow: FlowField,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub density: f64,
+    pub youngs_modulus: Option<f64>,
+    pub poisson_ratio: Option<f64>,
+}
+
+/// A static world surface with its material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Wall {
+    pub name: String,
+    pub material: u16,
+    pub shape: SurfaceShape,
+}
+
+/// One model feature and the reason it is on or off.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Feature {
+    pub name: &'static str,
+    pub active: bool,
+    pub reason: String,
+}
+
+/// Time scales that fix and bound the step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timescales {
+    /// Shortest contact duration (linear: t_col; Hertz: at the characteristic speed).
+    pub collision_time: Option<f64>,
+    /// Hertz: shortest Rayleigh time.
+    pub rayleigh_time: Option<f64>,
+    /// Largest stable Δt (2/ω for linear contacts, Δt_R for Hertz, 2τ_p for explicit drag).
+    pub stability_limit: Option<f64>,
+    /// Shortest drag relaxation time τ_p.
+    pub drag_time: Option<f64>,
+    /// The Δt the plan would choose by itself.
+    pub default_dt: f64,
+}
+
+/// The compiled scene: what runs, with which parameters.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub name: String,
+    pub duration: f64,
+    pub dt: f64,
+    pub steps: u64,
+    pub output_every: u64,
+    pub snapshot_every: Option<u64>,
+    pub integrator: Integrator,
+    pub backend: BackendName,
+    pub rotation: bool,
+    pub cohesion: bool,
+    pub fluid: Option<Fluid>,
+    pub gravity: DVec3,
+    pub domain: PeriodicBox,
+    pub materials: Vec<Material>,
+    /// Row-major [a * materials + b].
+    pub pairs: Vec<PairParams>,
+    pub walls: Vec<Wall>,
+    pub group_names: Vec<String>,
+    pub cell_size: f64,
+    pub timescales: Timescales,
+    pub features: Vec<Feature>,
+    pub warnings: Vec<String>,
+    pub resort_interval: u32,
+    pub monitor: MonitorSection,
+    pub bytes_per_particle: usize,
+}
+
+impl Plan {
+    #[inline]
+    pub fn pair(&self, a: u16, b: u16) -> &PairParams {
+        &self.pairs[a as usize * self.materials.len() + b as usize]
+    }
+
+    /// Memory estimate for `n` particles on the CPU backend, in bytes.
+    pub fn memory_bytes(&self, n: usize) -> usize {
+        let [cx, cy, cz] = self.grid_dims();
+        n * self.bytes_per_particle + (cx * cy * cz + 1) * 4
+    }
+
+    fn grid_dims(&self) -> [usize; 3] {
+        let e = self.domain.extent();
+        [0, 1, 2].map(|k| ((e[k] / self.cell_size).floor() as usize).clamp(1, 1 << 21))
+    }
+
+    /// Steps per shortest collision, when there is one.
+    pub fn steps_per_collision(&self) -> Option<f64> {
+        self.timescales.collision_time.map(|t| t / self.dt)
+    }
+
+    /// The plan as text, for `tumble plan`.
+    pub fn describe(&self, particles: usize) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "scene        {}", self.name);
+        let _ = writeln!(s, "particles    {particles}");
+        let _ = writeln!(s, "integrator   {}", self.integrator.name());
+        let _ = writeln!(s, "dt           {:.6e} s ({} steps to t = {} s)", self.dt, self.steps, self.duration);
+        if let Some(t) = self.timescales.collision_time {
+            let _ = writeln!(s, "t_col        {:.6e} s ({:.1} steps per collision)", t, t / self.dt);
+        }
+        if let Some(t) = self.timescales.rayleigh_time {
+            let _ = writeln!(s, "rayleigh     {t:.6e} s");
+        }
+        if let Some(t) = self.timescales.drag_time {
+            let _ = writeln!(s, "tau_p        {t:.6e} s (shortest drag relaxation time)");
+        }
+        if let Some(t) = self.timescales.stability_limit {
+            let _ = writeln!(s, "limit        {t:.6e} s (largest stable dt)");
+        }
+        let _ = writeln!(s, "cell size    {:.6e} m, grid {:?}", self.cell_size, self.grid_dims());
+        let _ = writeln!(
+            s,
+            "memory       {:.1} MiB ({} bytes per particle)",
+            self.memory_bytes(particles) as f64 / (1 << 20) as f64,
+            self.bytes_per_particle
+        );
+        let _ = writeln!(s, "features");
+        for f in &self.features {
+            let _ = writeln!(s, "  {:<12} {:<4} {}", f.name, if f.active { "on" } else { "off" }, f.reason);
+        }
+        for w in &self.warnings {
+            let _ = writeln!(s, "warning: {w}");
+        }
+        s
+    }
+}
+
+/// A scene ready to run: its plan and its initial particles.
+#[derive(Clone, Debug)]
+pub struct CompiledScene {
+    pub plan: Plan,
+    pub particles: InitialParticles,
+}
+
+fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
+    if v.is_finite() && v > 0.0 { Ok(v) } else { Err(SceneError::field(field, format!("must be a positive number, got {v}"))) }
+}
+
+fn non_negative(field: &str, v: f64) -> Result<f64, SceneError> {
+    if v.is_finite() && v >= 0.0 { Ok(v) } else { Err(SceneError::field(field, format!("must be zero or positive, got {v}"))) }
+}
+
+fn finite3(field: &str, v: V3) -> Result<DVec3, SceneError> {
+    if v.iter().all(|c| c.is_finite()) { Ok(DVec3::from_array(v)) } else { Err(SceneError::field(field, "every component must be a finite number")) }
+}
+
+fn unit(field: &str, v: V3) -> Result<DVec3, SceneError> {
+    let d = finite3(field, v)?;
+    if d.length() > 0.0 { Ok(d.normalize()) } else { Err(SceneError::field(field, "must be a non-zero direction")) }
+}
+
+/// Validates a scene, generates its particles and compiles the plan.
+pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
+    if scene.name.trim().is_empty() {
+        return Err(SceneError::field("name", "must not be empty"));
+    }
+    // Materials.
+    if scene.materials.is_empty() {
+        return Err(SceneError::field("materials", "define at least one [[materials]] entry with a name and a density"));
+    }
+    let mut material_index = HashMap::new();
+    let mut materials = Vec::new();
+    for (k, m) in scene.materials.iter().enumerate() {
+        let f = |x: &str| format!("materials[{k}].{x}");
+        if material_index.insert(m.name.clone(), k as u16).is_some() {
+            return Err(SceneError::field(f("name"), format!("material \"{}\" is defined twice", m.name)));
+        }
+        positive(&f("density"), m.density)?;
+        if let Some(e) = m.youngs_modulus {
+            positive(&f("youngs_modulus"), e)?;
+        }
+        if let Some(nu) = m.poisson_ratio {
+            if !(nu > -1.0 && nu < 0.5) {
+                return Err(SceneError::field(f("poisson_ratio"), format!("must lie in (-1, 0.5), got {nu}")));
+            }
+        }
+        materials.push(Material { name: m.name.clone(), density: m.density, youngs_modulus: m.youngs_modulus, poisson_ratio: m.poisson_ratio });
+    }
+    let lookup = |field: String, name: &str| -> Result<u16, SceneError> {
+        material_index.get(name).copied().ok_or_else(|| {
+            let known: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+            SceneError::field(field, format!("unknown material \"{name}\"; defined materials: {}", known.join(", ")))
+        })
+    };
+
+    // Domain.
+    let domain = PeriodicBox {
+        min: finite3("domain.min", scene.domain.min)?,
+        max: finite3("domain.max", scene.domain.max)?,
+        periodic: scene.domain.periodic,
+    };
+    if (0..3).any(|k| domain.max[k] <= domain.min[k]) {
+        return Err(SceneError::field("domain", "max must exceed min on every axis (the domain is empty)"));
+    }
+
+    // Contact laws per material pair.
+    let n_mat = materials.len();
+    let mut pairs = Vec::with_capacity(n_mat * n_mat);
+    for a in 0..n_mat {
+        for b in 0..n_mat {
+            let over = scene.contact.pairs.iter().enumerate().find(|(_, p)| {
+                let (x, y) = (p.materials[0].as_str(), p.materials[1].as_str());
+                (x == materials[a].name && y == materials[b].name) || (y == materials[a].name && x == materials[b].name)
+            });
+            let field_root = over.map_or("contact".to_string(), |(k, _)| format!("contact.pairs[{k}]"));
+            let p = over.map(|(_, p)| p);
+            let normal = p.and_then(|p| p.normal.as_ref()).unwrap_or(&scene.contact.normal);
+            let e = p.and_then(|p| p.restitution).unwrap_or(scene.contact.restitution);
+            let tangential = p.and_then(|p| p.tangential.as_ref()).unwrap_or(&scene.contact.tangential);
+            let cohesion = p.and_then(|p| p.cohesion.as_ref()).or(scene.contact.cohesion.as_ref());
+            pairs.push(pair_params(&field_root, normal, e, tangential, cohesion, scene.contact.no_attraction, &materials[a], &materials[b])?);
+        }
+    }
+    for (k, p) in scene.contact.pairs.iter().enumerate() {
+        for (s, name) in p.materials.iter().enumerate() {
+            lookup(format!("contact.pairs[{k}].materials[{s}]"), name)?;
+        }
+    }
+
+    // Particles.
+    let particles = generate(scene, &material_index)?;
+    for (g, group) in scene.particles.iter().enumerate() {
+        let ShapeSection::Sphere(s) = &group.shape;
+        let f = |x: &str| format!("particles[{g}].shape.sphere.{x}");
+        match s.diameter {
+            DiameterSpec::Fixed(d) => {
+                positive(&f("diameter"), d)?;
+            }
+            DiameterSpec::Uniform(r) => {
+                positive(&f("diameter.min"), r.min)?;
+                if !(r.max >= r.min) {
+                    return Err(SceneError::field(f("diameter.max"), format!("must be at least diameter.min = {}, got {}", r.min, r.max)));
+                }
+            }
+        }
+        if let Some(de) = s.effect_diameter {
+            let d_max = match s.diameter {
+                DiameterSpec::Fixed(d) => d,
+                DiameterSpec::Uniform(r) => r.max,
+            };
+            if !(de >= d_max) {
+                return Err(SceneError::field(f("effect_diameter"), format!("must be at least the body diameter {d_max}, got {de}")));
+            }
+        }
+        if let Some(ratio) = s.effect_ratio {
+            if !(ratio >= 1.0) {
+                return Err(SceneError::field(f("effect_ratio"), format!("must be at least 1, got {ratio}")));
+            }
+        }
+        if let Some(VelocitySpec::Random(r)) = &group.velocity {
+            non_negative(&format!("particles[{g}].velocity.random.mean_speed"), r.random.mean_speed)?;
+            non_negative(&format!("particles[{g}].velocity.random.std"), r.random.std)?;
+        }
+    }
+    if particles.is_empty() {
+        return Err(SceneError::field("particles", "the scene has no particles; add a [[particles]] group"));
+    }
+    for i in 0..particles.len() {
+        if !particles.position[i].is_finite() || !particles.velocity[i].is_finite() {
+            return Err(SceneError::field(format!("particles[{}]", particles.group[i]), "positions and velocities must be finite numbers"));
+        }
+        if !domain.contains(particles.position[i]) {
+            let p = particles.position[i];
+            return Err(SceneError::field(
+                format!("particles[{}]", particles.group[i]),
+                format!("particle at [{}, {}, {}] lies outside the domain [{:?} .. {:?}]", p.x, p.y, p.z, scene.domain.min, scene.domain.max),
+            ));
+        }
+    }
+    check_explicit_overlaps(scene, &particles, &domain)?;
+
+    // Walls.
+    let mut walls = Vec::new();
+    for (k, w) in scene.walls.iter().enumerate() {
+        let f = |x: &str| format!("walls[{k}].{x}");
+        let material = lookup(f("material"), &w.material)?;
+        let name = w.name.clone().unwrap_or_else(|| format!("wall{k}"));
+        let given = [w.plane.is_some(), w.quad.is_some(), w.box_.is_some(), w.cylinder.is_some()];
+        if given.iter().filter(|&&b| b).count() != 1 {
+            return Err(SceneError::field(format!("walls[{k}]"), "give exactly one shape: plane, quad, box or cylinder"));
+        }
+        if let Some(p) = &w.plane {
+            walls.push(Wall { name, material, shape: SurfaceShape::Plane(Plane::new(finite3(&f("plane.point"), p.point)?, unit(&f("plane.normal"), p.normal)?)) });
+        } else if let Some(q) = &w.quad {
+            let mut c = [DVec3::ZERO; 4];
+            for (i, corner) in q.corners.iter().enumerate() {
+                c[i] = finite3(&f(&format!("quad.corners[{i}]")), *corner)?;
+            }
+            if (c[1] - c[0]).cross(c[2] - c[0]).length() == 0.0 {
+                return Err(SceneError::field(f("quad.corners"), "the first three corners are collinear"));
+            }
+            let quad = Quad::new(c, q.two_sided);
+            if quad.planarity_error() > 1e-9 {
+                return Err(SceneError::field(f("quad.corners"), "the four corners must lie in one plane"));
+            }
+            walls.push(Wall { name, material, shape: SurfaceShape::Quad(quad) });
+        } else if let Some(b) = &w.box_ {
+            let (lo, hi) = (finite3(&f("box.min"), b.min)?, finite3(&f("box.max"), b.max)?);
+            if (0..3).any(|a| hi[a] <= lo[a]) {
+                return Err(SceneError::field(f("box"), "max must exceed min on every axis"));
+            }
+            for (side, quad) in ["-x", "+x", "-y", "+y", "-z", "+z"].iter().zip(Quad::box_faces(lo, hi)) {
+                walls.push(Wall { name: format!("{name}{side}"), material, shape: SurfaceShape::Quad(quad) });
+            }
+        } else if let Some(c) = &w.cylinder {
+            positive(&f("cylinder.radius"), c.radius)?;
+            positive(&f("cylinder.length"), c.length)?;
+            let cyl = Cylinder::new(finite3(&f("cylinder.point"), c.point)?, unit(&f("cylinder.axis"), c.axis)?, c.radius, c.length, c.inside);
+            walls.push(Wall { name, material, shape: SurfaceShape::Cylinder(cyl) });
+        }
+    }
+
+    // Fluid.
+    let fluid = match &scene.fluid {
+        None => None,
+        Some(fl) => {
+            let drag = match fl.drag {
+                DragName::Stokes => Drag::Stokes {
+                    viscosity: positive("fluid.viscosity", fl.viscosity.ok_or_else(|| SceneError::field("fluid.viscosity", "Stokes drag needs the dynamic viscosity in Pa s"))?)?,
+                },
+                DragName::Quadratic => Drag::Quadratic {
+                    coefficient: positive("fluid.coefficient", fl.coefficient.ok_or_else(|| SceneError::field("fluid.coefficient", "quadratic drag needs the coefficient α in kg/m"))?)?,
+                },
+            };
+            let flow = match &fl.flow {
+                FlowSection::Uniform(u) => FlowField::Uniform(finite3("fluid.flow.uniform", *u)?),
+                FlowSection::TaylorGreen(tg) => FlowField::TaylorGreen {
+                    amplitude: finite3("fluid.flow.taylor_green.amplitude", [tg.amplitude, 0.0, 0.0])?.x,
+                    frequency: positive("fluid.flow.taylor_green.frequency", tg.frequency)?,
+                },
+            };
+            Some(Fluid { drag, flow })
+        }
+    };
+    let gravity = match &scene.gravity {
+        Some(g) => finite3("gravity.acceleration", g.acceleration)?,
+        None => DVec3::ZERO,
+    };
+
+    // Features.
+    let movable = particles.fixed.iter().any(|f| !f);
+    let any_friction = pairs.iter().any(|p| p.tangential != TangentialLaw::None);
+    let (rotation, rotation_reason) = match scene.run.rotation {
+        RotationMode::On => (true, "run.rotation = \"on\"".to_string()),
+        RotationMode::Off => (false, "run.rotation = \"off\" (tangential forces act on the centre only)".to_string()),
+        RotationMode::Auto if any_friction && movable => (true, "tangential friction exerts torques".to_string()),
+        RotationMode::Auto => (false, "no tangential force, so no torque: no rotation state is carried".to_string()),
+    };
+    let cohesion = pairs.iter().any(|p| p.cohesion > 0.0);
+    let max_reach = (0..particles.len())
+        .map(|i| if cohesion { particles.effect_radius[i].max(particles.radius[i]) } else { particles.radius[i] })
+        .fold(0.0, f64::max);
+    let cell_size = 2.0 * max_reach;
+    for k in 0..3 {
+        if domain.periodic[k] && domain.extent()[k] < 2.0 * cell_size {
+            return Err(SceneError::field(
+                "domain.periodic",
+                format!("axis {k} is periodic but only {} m long; it must be at least two interaction diameters ({} m)", domain.extent()[k], 2.0 * cell_size),
+            ));
+        }
+    }
+
+    // Time scales.
+    let run = &scene.run;
+    positive("run.duration", run.duration)?;
+    let integrator = Integrator::from_name(match run.integrator {
+        IntegratorName::Euler => "euler",
+        IntegratorName::SymplecticEuler => "symplectic-euler",
+        IntegratorName::Verlet => "verlet",
+        IntegratorName::ImplicitDrag => "implicit-drag",
+        IntegratorName::ImplicitDragSymplectic => "implicit-drag-symplectic",
+    })
+    .unwrap();
+    let timescales = timescales(&particles, &materials, &pairs, &walls, fluid.as_ref(), integrator, gravity, &domain);
+    let dt = match run.dt {
+        None => timescales.default_dt.min(run.duration),
+        Some(DtSpec::Seconds(dt)) => positive("run.dt", dt)?,
+        Some(DtSpec::Fraction(f)) => {
+            positive("run.dt.collision_fraction", f.collision_fraction)?;
+            let t = timescales.collision_time.ok_or_else(|| {
+                SceneError::field("run.dt.collision_fraction", "this scene has no contact time to divide; give dt in seconds")
+            })?;
+            t / f.collision_fraction
+        }
+    };
+    if let Some(limit) = timescales.stability_limit {
+        if dt > limit && !run.allow_unstable_dt {
+            return Err(SceneError::field(
+                "run.dt",
+                format!(
+                    "dt = {dt:.4e} s is above the stability limit {limit:.4e} s of this scene; use dt <= {limit:.4e} (the plan's default is {:.4e}) or set run.allow_unstable_dt = true",
+                    timescales.default_dt
+                ),
+            ));
+        }
+    }
+    let steps = (run.duration / dt - 1e-9).ceil().max(1.0) as u64;
+    let output_interval = run.output_interval.unwrap_or(run.duration / 100.0);
+    positive("run.output_interval", output_interval)?;
+    let output_every = ((output_interval / dt).round() as u64).max(1);
+    let snapshot_every = match run.snapshot_interval {
+        Some(s) => Some(((positive("run.snapshot_interval", s)? / dt).round() as u64).max(1)),
+        None => None,
+    };
+    if let Some(r) = run.resort_interval {
+        if r == 0 {
+            return Err(SceneError::field("run.resort_interval", "must be at least 1 step"));
+        }
+    }
+    positive("run.monitor.max_overlap_ratio", run.monitor.max_overlap_ratio)?;
+    positive("run.monitor.energy_growth", run.monitor.energy_growth)?;
+
+    let mut features = vec![
+        Feature { name: "rotation", active: rotation, reason: rotation_reason },
+        Feature {
+            name: "cohesion",
+            active: cohesion,
+            reason: if cohesion {
+                format!("a contact has cohesion stiffness; the search reaches the effect diameter (cell {cell_size:.4e} m)")
+            } else {
+                "no cohesion in [contact]: the search stops at body contact".into()
+            },
+        },
+        Feature {
+            name: "drag",
+            active: fluid.is_some(),
+            reason: match &fluid {
+                Some(f) => format!(
+                    "[fluid] {:?}, {}",
+                    f.drag,
+                    if integrator.implicit_drag() { "integrated implicitly" } else { "added as an explicit force" }
+                ),
+                None => "no [fluid] section: no drag pass".into(),
+            },
+        },
+        Feature {
+            name: "gravity",
+            active: gravity != DVec3::ZERO,
+            reason: if gravity != DVec3::ZERO { format!("{:?} m/s²", gravity.to_array()) } else { "no [gravity] section".into() },
+        },
+        Feature {
+            name: "walls",
+            active: !walls.is_empty(),
+            reason: format!("{} static surfaces", walls.len()),
+        },
+        Feature {
+            name: "periodic",
+            active: domain.periodic.iter().any(|&p| p),
+            reason: format!("periodic axes {:?}; particles leaving other sides are removed", domain.periodic),
+        },
+        Feature {
+            name: "normal",
+            active: true,
+            reason: describe_law(&pairs[0].normal),
+        },
+        Feature { name: "tangential", active: any_friction, reason: format!("{:?}", pairs[0].tangential) },
+    ];
+    if !movable {
+        features.push(Feature { name: "motion", active: false, reason: "every particle is fixed".into() });
+    }
+    let mut warnings = Vec::new();
+    if let Some(t) = timescales.collision_time {
+        if t / dt < 10.0 {
+            warnings.push(format!("only {:.1} steps per collision; results will be inaccurate (50 is the default)", t / dt));
+        }
+    }
+    let bytes_per_particle = 8 * (3 * 3 + 6) // position, velocity, acceleration; radius, effect, inverse mass, mass, dissipation, elastic
+        + 8 * 4 // sorted position and reach for the broad phase
+        + 2 + 2 + 4 + 4 + 4 + 4 + 8 // material, group, id, flags, order, cell, overlap
+        + if rotation { 8 * 7 } else { 0 } // angular velocity and acceleration, inverse inertia
+        + if integrator == Integrator::Verlet { 24 * if rotation { 2 } else { 1 } } else { 0 }
+        + if fluid.is_some() { 8 } else { 0 };
+
+    Ok(CompiledScene {
+        plan: Plan {
+            name: scene.name.clone(),
+            duration: run.duration,
+            dt,
+            steps,
+            output_every,
+            snapshot_every,
+            integrator,
+            backend: run.backend,
+            rotation,
+            cohesion,
+            fluid,
+            gravity,
+            domain,
+            materials,
+            pairs,
+            walls,
+            group_names: scene.particles.iter().enumerate().map(|(g, p)| p.name.clone().unwrap_or_else(|| format!("group{g}"))).collect(),
+            cell_size,
+            timescales,
+            features,
+            warnings,
+            resort_interval: run.resort_interval.unwrap_or(25),
+            monitor: run.monitor,
+            bytes_per_particle,
+        },
+        particles,
+    })
+}
+
+fn describe_law(law: &NormalLaw) -> String {
+    match law {
+        NormalLaw::Linear { stiffness, restitution, .. } => format!("linear spring-dashpot, k_n = {stiffness:e} N/m, e = {restitution}"),
+        NormalLaw::Hertz { e_star, restitution, .. } => format!("Hertz with Tsuji damping, E* = {e_star:e} Pa, e = {restitution}"),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn pair_params(
+    root: &str,
+    normal: &NormalSection,
+    e: f64,
+    tangential: &TangentialSection,
+    cohesion: Option<&CohesionSection>,
+    no_attraction: bool,
+    a: &Material,
+    b: &Material,
+) -> Result<PairParams, SceneError> {
+    if !(e > 0.0 && e <= 1.0) {
+        return Err(SceneError::field(format!("{root}.restitution"), format!("must lie in (0, 1], got {e}")));
+    }
+    let normal = match normal {
+        NormalSection::Linear { stiffness } => NormalLaw::linear(positive(&format!("{root}.normal.stiffness"), *stiffness)?, e),
+        NormalSection::Hertz {} => {
+            let need = |m: &Material| -> Result<(f64, f64), SceneError> {
+                match (m.youngs_modulus, m.poisson_ratio) {
+                    (Some(y), Some(nu)) => Ok((y, nu)),
+                    _ => Err(SceneError::field(
+                        format!("{root}.normal"),
+                        format!("the Hertz model needs youngs_modulus and poisson_ratio on material \"{}\"", m.name),
+                    )),
+                }
+            };
+            let ((ea, na), (eb, nb)) = (need(a)?, need(b)?);
+            let (e_star, g_star) = hertz_effective_moduli(ea, na, eb, nb);
+            NormalLaw::hertz(e_star, g_star, e)
+        }
+    };
+    let mu = |f: f64| -> Result<f64, SceneError> { non_negative(&format!("{root}.tangential.friction"), f) };
+    let tangential = match tangential {
+        TangentialSection::None => TangentialLaw::None,
+        TangentialSection::ViscousCoulomb { friction, stiffness, viscous } => {
+            let viscous = match (stiffness, viscous) {
+                (Some(k), None) => ViscousParameter::Stiffness(positive(&format!("{root}.tangential.stiffness"), *k)?),
+                (None, Some(c)) => ViscousParameter::Coefficient(positive(&format!("{root}.tangential.viscous"), *c)?),
+                _ => {
+                    return Err(SceneError::field(
+                        format!("{root}.tangential"),
+                        "viscous-coulomb needs exactly one of stiffness (k_f, N/m) or viscous (c_t, N s/m)",
+                    ));
+                }
+            };
+            TangentialLaw::ViscousCoulomb { friction: mu(*friction)?, viscous }
+        }
+        TangentialSection::StickLimited { friction } => TangentialLaw::StickLimited { friction: mu(*friction)? },
+        TangentialSection::DynamicOnly { friction } => TangentialLaw::DynamicOnly { friction: mu(*friction)? },
+    };
+    let cohesion = match cohesion {
+        Some(c) => positive(&format!("{root}.cohesion.stiffness"), c.stiffness)?,
+        None => 0.0,
+    };
+    Ok(PairParams { normal, tangential, cohesion, no_attraction })
+}
+
+/// Body contacts closer than this fraction of the smaller diameter count as overlapping.
+const OVERLAP_TOLERANCE: f64 = 1e-9;
+
+fn check_explicit_overlaps(scene: &Scene, p: &InitialParticles, domain: &PeriodicBox) -> Result<(), SceneError> {
+    let explicit: Vec<usize> = (0..p.len()).filter(|&i| scene.particles[p.group[i] as usize].positions.is_some()).collect();
+    if explicit.len() > 20_000 {
+        return Ok(()); // too many to check pairwise; lattice and random groups are safe by construction
+    }
+    for (a, &i) in explicit.iter().enumerate() {
+        for &j in &explicit[a + 1..] {
+            let d = domain.minimum_image(p.position[i] - p.position[j]).length();
+            let overlap = p.radius[i] + p.radius[j] - d;
+            if overlap > OVERLAP_TOLERANCE * 2.0 * p.radius[i].min(p.radius[j]) {
+                return Err(SceneError::field(
+                    format!("particles[{}].positions", p.group[j]),
+                    format!(
+                        "particle at {:?} overlaps the particle at {:?} by {overlap:.3e} m; explicit particles must not overlap",
+                        p.position[j].to_array(),
+                        p.position[i].to_array()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn timescales(
+    p: &InitialParticles,
+    materials: &[Material],
+    pairs: &[PairParams],
+    walls: &[Wall],
+    fluid: Option<&Fluid>,
+    integrator: Integrator,
+    gravity: DVec3,
+    domain: &PeriodicBox,
+) -> Timescales {
+    let n_mat = materials.len();
+    let mass = |i: usize| materials[p.material[i] as usize].density * 4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3);
+    // Lightest movable particle and smallest radius per material; materials that only fixed particles or walls use.
+    let mut lightest = vec![f64::INFINITY; n_mat];
+    let mut smallest = vec![f64::INFINITY; n_mat];
+    let mut present = vec![false; n_mat];
+    for i in 0..p.len() {
+        let m = p.material[i] as usize;
+        present[m] = true;
+        if !p.fixed[i] {
+            lightest[m] = lightest[m].min(mass(i));
+            smallest[m] = smallest[m].min(p.radius[i]);
+        }
+    }
+    let mut obstacle = vec![false; n_mat];
+    for w in walls {
+        obstacle[w.material as usize] = true;
+    }
+    for i in 0..p.len() {
+        if p.fixed[i] {
+            obstacle[p.material[i] as usize] = true;
+        }
+    }
+    let several = p.len() > 1;
+    let mut ts = Timescales::default();
+    let mut limit = f64::INFINITY;
+    let mut t_col = f64::INFINITY;
+    let mut rayleigh = f64::INFINITY;
+    let speed = characteristic_speed(p, gravity, domain);
+    for a in 0..n_mat {
+        if !lightest[a].is_finite() {
+            continue;
+        }
+        for b in 0..n_mat {
+            let mut m_stars = Vec::new();
+            if several && lightest[b].is_finite() {
+                m_stars.push(lightest[a] * lightest[b] / (lightest[a] + lightest[b]));
+            }
+            if obstacle[b] || (several && present[b] && !lightest[b].is_finite()) {
+                m_stars.push(lightest[a]);
+            }
+            for m_star in m_stars {
+                match pairs[a * n_mat + b].normal {
+                    NormalLaw::Linear { stiffness, restitution, .. } => {
+                        t_col = t_col.min(collision_time(stiffness, m_star, restitution));
+                        limit = limit.min(2.0 / (stiffness / m_star).sqrt());
+                    }
+                    NormalLaw::Hertz { e_star, .. } => {
+                        let r = smallest[a];
+                        let (e, nu) = (materials[a].youngs_modulus.unwrap(), materials[a].poisson_ratio.unwrap());
+                        rayleigh = rayleigh.min(rayleigh_time(r, materials[a].density, e, nu));
+                        let r_star = if lightest[b].is_finite() && m_star < lightest[a] { r * smallest[b] / (r + smallest[b]) } else { r };
+                        t_col = t_col.min(tumble_contact::hertz_contact_time(m_star, r_star, e_star, speed));
+                    }
+                }
+            }
+        }
+    }
+    let mut default_dt = f64::INFINITY;
+    if t_col.is_finite() {
+        ts.collision_time = Some(t_col);
+        default_dt = t_col / 50.0;
+    }
+    if rayleigh.is_finite() {
+        ts.rayleigh_time = Some(rayleigh);
+        default_dt = default_dt.min(0.2 * rayleigh);
+        limit = limit.min(rayleigh);
+    }
+    if let Some(f) = fluid {
+        let tau = (0..p.len())
+            .filter(|&i| !p.fixed[i])
+            .map(|i| match f.drag {
+                Drag::Stokes { viscosity } => stokes_relaxation_time(materials[p.material[i] as usize].density, 2.0 * p.radius[i], viscosity),
+                // Linearised at the characteristic speed: τ = m / (α v).
+                Drag::Quadratic { coefficient } => mass(i) / (coefficient * speed.max(1e-3)),
+            })
+            .fold(f64::INFINITY, f64::min);
+        if tau.is_finite() {
+            ts.drag_time = Some(tau);
+            default_dt = default_dt.min(tau / 50.0);
+            if !integrator.implicit_drag() {
+                limit = limit.min(2.0 * tau);
+            }
+        }
+    }
+    if limit.is_finite() {
+        ts.stability_limit = Some(limit);
+    }
+    ts.default_dt = if default_dt.is_finite() { default_dt } else { 1e-3 };
+    ts
+}
+
+/// A speed scale for Hertz contact times: the fastest initial particle or free fall across the domain.
+fn characteristic_speed(p: &InitialParticles, gravity: DVec3, domain: &PeriodicBox) -> f64 {
+    let initial = p.velocity.iter().map(|v| v.length()).fold(0.0, f64::max);
+    let fall = (2.0 * gravity.length() * domain.extent().max_element()).sqrt();
+    initial.max(fall).max(0.1)
+}

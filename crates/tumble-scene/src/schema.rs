@@ -1,0 +1,374 @@
+//! The scene file as written by users (scene-and-cli.md). Every field is documented in docs/scene.md.
+
+use serde::Deserialize;
+
+pub type V3 = [f64; 3];
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    pub run: RunSection,
+    pub domain: DomainSection,
+    pub gravity: Option<GravitySection>,
+    pub fluid: Option<FluidSection>,
+    pub materials: Vec<MaterialSection>,
+    pub contact: ContactSection,
+    #[serde(default)]
+    pub particles: Vec<ParticleGroup>,
+    #[serde(default)]
+    pub walls: Vec<WallSection>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSection {
+    pub duration: f64,
+    pub dt: Option<DtSpec>,
+    #[serde(default)]
+    pub integrator: IntegratorName,
+    #[serde(default)]
+    pub backend: BackendName,
+    pub output_interval: Option<f64>,
+    pub snapshot_interval: Option<f64>,
+    #[serde(default)]
+    pub rotation: RotationMode,
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Run even when Δt exceeds the stability limit (the instability monitor still watches).
+    #[serde(default)]
+    pub allow_unstable_dt: bool,
+    /// Steps between re-sorts of the particle arrays by cell.
+    pub resort_interval: Option<u32>,
+    #[serde(default)]
+    pub monitor: MonitorSection,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum DtSpec {
+    Seconds(f64),
+    Fraction(CollisionFraction),
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CollisionFraction {
+    pub collision_fraction: f64,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorName {
+    Euler,
+    SymplecticEuler,
+    #[default]
+    Verlet,
+    ImplicitDrag,
+    ImplicitDragSymplectic,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum BackendName {
+    #[default]
+    Cpu,
+    Gpu,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum RotationMode {
+    #[default]
+    Auto,
+    Off,
+    On,
+}
+
+/// Instability monitor thresholds.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct MonitorSection {
+    pub enabled: bool,
+    /// Largest allowed overlap δ/r before the run stops.
+    pub max_overlap_ratio: f64,
+    /// Largest allowed energy gain without a source, as a fraction of the scene's energy scale.
+    pub energy_growth: f64,
+}
+
+impl Default for MonitorSection {
+    fn default() -> Self {
+        MonitorSection { enabled: true, max_overlap_ratio: 0.5, energy_growth: 0.5 }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DomainSection {
+    pub min: V3,
+    pub max: V3,
+    #[serde(default)]
+    pub periodic: [bool; 3],
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GravitySection {
+    pub acceleration: V3,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidSection {
+    /// Dynamic viscosity μ_f in Pa s (Stokes drag).
+    pub viscosity: Option<f64>,
+    #[serde(default)]
+    pub drag: DragName,
+    /// α in kg/m for quadratic drag.
+    pub coefficient: Option<f64>,
+    #[serde(default)]
+    pub flow: FlowSection,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum DragName {
+    #[default]
+    Stokes,
+    Quadratic,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum FlowSection {
+    Uniform(V3),
+    TaylorGreen(TaylorGreenSection),
+}
+
+impl Default for FlowSection {
+    fn default() -> Self {
+        FlowSection::Uniform([0.0; 3])
+    }
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TaylorGreenSection {
+    pub amplitude: f64,
+    pub frequency: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSection {
+    pub name: String,
+    pub density: f64,
+    pub youngs_modulus: Option<f64>,
+    pub poisson_ratio: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    pub normal: NormalSection,
+    pub restitution: f64,
+    #[serde(default)]
+    pub tangential: TangentialSection,
+    pub cohesion: Option<CohesionSection>,
+    /// Clamp the normal force so it never pulls (F_n·n ≥ 0).
+    #[serde(default)]
+    pub no_attraction: bool,
+    #[serde(default)]
+    pub pairs: Vec<PairSection>,
+}
+
+/// Per material pair overrides of the default contact.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairSection {
+    pub materials: [String; 2],
+    pub normal: Option<NormalSection>,
+    pub restitution: Option<f64>,
+    pub tangential: Option<TangentialSection>,
+    pub cohesion: Option<CohesionSection>,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(tag = "model", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum NormalSection {
+    Linear { stiffness: f64 },
+    Hertz {},
+}
+
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(tag = "model", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum TangentialSection {
+    #[default]
+    None,
+    ViscousCoulomb {
+        friction: f64,
+        /// k_f in N/m (c_t = k_f t_col).
+        stiffness: Option<f64>,
+        /// c_t in N s/m.
+        viscous: Option<f64>,
+    },
+    StickLimited {
+        friction: f64,
+    },
+    DynamicOnly {
+        friction: f64,
+    },
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CohesionSection {
+    pub stiffness: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleGroup {
+    pub name: Option<String>,
+    pub material: String,
+    pub shape: ShapeSection,
+    #[serde(default)]
+    pub fixed: bool,
+    pub positions: Option<Vec<V3>>,
+    pub lattice: Option<LatticeSection>,
+    pub random: Option<RandomSection>,
+    pub velocity: Option<VelocitySpec>,
+    pub angular_velocity: Option<V3>,
+    #[serde(default)]
+    pub track: bool,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeSection {
+    Sphere(SphereSection),
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereSection {
+    pub diameter: DiameterSpec,
+    /// Absolute effect diameter d_e (cohesion range).
+    pub effect_diameter: Option<f64>,
+    /// Effect diameter as a multiple of each particle's diameter.
+    pub effect_ratio: Option<f64>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum DiameterSpec {
+    Fixed(f64),
+    Uniform(DiameterRange),
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DiameterRange {
+    pub min: f64,
+    pub max: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LatticeSection {
+    pub min: V3,
+    pub max: V3,
+    pub spacing: f64,
+    #[serde(default)]
+    pub jitter: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RandomSection {
+    pub count: usize,
+    pub region: RegionSection,
+    #[serde(default = "yes")]
+    pub no_overlap: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSection {
+    pub min: V3,
+    pub max: V3,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum VelocitySpec {
+    Vector(V3),
+    Random(RandomVelocityWrapper),
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RandomVelocityWrapper {
+    pub random: RandomVelocity,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RandomVelocity {
+    pub mean_speed: f64,
+    #[serde(default)]
+    pub std: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSection {
+    pub name: Option<String>,
+    pub material: String,
+    pub plane: Option<PlaneSection>,
+    pub quad: Option<QuadSection>,
+    #[serde(rename = "box")]
+    pub box_: Option<BoxSection>,
+    pub cylinder: Option<CylinderSection>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneSection {
+    pub point: V3,
+    pub normal: V3,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuadSection {
+    pub corners: [V3; 4],
+    #[serde(default = "yes")]
+    pub two_sided: bool,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxSection {
+    pub min: V3,
+    pub max: V3,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderSection {
+    pub point: V3,
+    pub axis: V3,
+    pub radius: f64,
+    pub length: f64,
+    #[serde(default = "yes")]
+    pub inside: bool,
+}
