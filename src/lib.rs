@@ -1,0 +1,24 @@
+//! tumble: a discrete element method engine for granular flow.
+//!
+//! This facade ties the layers together: a scene file compiles into a plan
+//! ([`tumble_scene`]), a backend runs it ([`tumble_cpu`]), and [`run`] writes
+//! the outputs (`summary.json`, `observables.csv`, `tracks.csv`) while the
+//! instability monitor watches every output interval.
+//!
+//! ```no_run
+//! let options = tumble::RunOptions { out_dir: "out/demo".into(), ..Default::default() };
+//! let summary = tumble::run_scene_file("scenes/hopper_box.toml".as_ref(), &options).unwrap();
+//! println!("{} particle-steps/s", summary.particle_steps_per_second);
+//! ```
+
+pub mod cli;
+mod monitor;
+mod output;
+mod run;
+mod simulation;
+
+pub use monitor::{Instability, Monitor};
+pub use run::{RunError, RunOptions, RunSummary, load_scene, run_compiled, run_scene_file};
+pub use simulation::Simulation;
+pub use tumble_cpu::{Observables, TrackRow};
+pub use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};

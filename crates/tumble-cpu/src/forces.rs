@@ -1,0 +1,185 @@
+//! The contact pass, gather style: each particle sums only its own force and
+//! torque. A pair is computed in canonical order (lower id first) and negated
+//! for the other side, so pair forces are exactly equal and opposite.
+
+use crate::state::State;
+use glam::DVec3;
+use tumble_broad::CellGrid;
+use tumble_contact::{
+    collision_time, cohesion_energy, cohesion_force, normal_force, tangential_force,
+};
+use tumble_geom::{PeriodicBox, sphere_sphere};
+use tumble_scene::{PairParams, Plan};
+
+/// What the contact pass gives one particle.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ContactSum {
+    pub force: DVec3,
+    pub torque: DVec3,
+    /// Elastic energy of the contacts this particle owns (pairs where it has the lower id, and walls).
+    pub elastic: f64,
+    /// Power dissipated (≥ 0) in the contacts this particle owns.
+    pub dissipation: f64,
+    /// Body contacts this particle owns.
+    pub contacts: u32,
+    /// Largest δ / min(r_i, r_j) over all of its contacts.
+    pub max_overlap_ratio: f64,
+}
+
+/// A particle's copy in cell order, for the candidate scan.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SortedEntry {
+    pub pos: DVec3,
+    pub reach: f64,
+}
+
+/// Read-only inputs of the contact pass.
+pub struct ContactInputs<'a> {
+    pub plan: &'a Plan,
+    pub state: &'a State,
+    /// Velocities the forces see (Verlet: the predicted v_{n+1}).
+    pub vel: &'a [DVec3],
+    pub omega: &'a [DVec3],
+    pub grid: &'a CellGrid,
+    pub sorted: &'a [SortedEntry],
+}
+
+/// Force of one contact on body a, from the contact normal n (b to a), the
+/// overlaps and the relative velocity of a against b at the contact point.
+struct ContactForce {
+    force: DVec3,
+    tangential: DVec3,
+    elastic: f64,
+    dissipation: f64,
+}
+
+#[inline(always)]
+fn contact_force<const COH: bool>(
+    p: &PairParams,
+    n: DVec3,
+    overlap: f64,
+    effect_overlap: f64,
+    v_rel: DVec3,
+    m_star: f64,
+    r_star: f64,
+    dt: f64,
+) -> ContactForce {
+    let mut out = ContactForce { force: DVec3::ZERO, tangential: DVec3::ZERO, elastic: 0.0, dissipation: 0.0 };
+    if COH && p.cohesion > 0.0 && effect_overlap > 0.0 {
+        out.force = n * cohesion_force(p.cohesion, effect_overlap);
+        out.elastic = cohesion_energy(p.cohesion, effect_overlap);
+    }
+    if overlap > 0.0 {
+        let vn = v_rel.dot(n);
+        let nf = normal_force(&p.normal, overlap, vn, m_star, r_star);
+        let applied = if p.no_attraction { nf.total().max(0.0) } else { nf.total() };
+        let vt = v_rel - n * vn;
+        let t_col = match p.tangential {
+            tumble_contact::TangentialLaw::ViscousCoulomb { viscous: tumble_contact::ViscousParameter::Stiffness(_), .. } => {
+                collision_time(nf.stiffness, m_star, p.normal.restitution())
+            }
+            _ => 0.0,
+        };
+        let ft = tangential_force(&p.tangential, applied.abs(), vt, m_star, dt, t_col);
+        out.force += n * applied + ft;
+        out.tangential = ft;
+        out.elastic += nf.energy;
+        out.dissipation = -((applied - nf.elastic) * vn + ft.dot(vt));
+    }
+    out
+}
+
+/// Contact forces on particle `i` from its neighbours and the walls.
+#[inline]
+pub fn particle_contacts<const ROT: bool, const COH: bool>(c: &ContactInputs, i: usize) -> ContactSum {
+    let s = c.state;
+    let plan = c.plan;
+    let domain: &PeriodicBox = &plan.domain;
+    let order = c.grid.order();
+    let xi = s.pos[i];
+    let reach_i = s.reach[i];
+    let id_i = s.id[i];
+    let mut sum = ContactSum::default();
+    c.grid.for_each_neighbour_run(c.grid.cell_of(i), |start, end| {
+        for slot in start..end {
+            let e = c.sorted[slot];
+            let d = domain.minimum_image(xi - e.pos);
+            let cutoff = reach_i + e.reach;
+            if d.length_squared() >= cutoff * cutoff {
+                continue;
+            }
+            let j = order[slot] as usize;
+            if j == i || (s.inv_mass[i] == 0.0 && s.inv_mass[j] == 0.0) {
+                continue;
+            }
+            // Canonical order: a has the lower id; the pair is computed as a against b.
+            let i_is_a = id_i < s.id[j];
+            let (a, b) = if i_is_a { (i, j) } else { (j, i) };
+            let d_ab = if i_is_a { d } else { domain.minimum_image(s.pos[a] - s.pos[b]) };
+            let Some(g) = sphere_sphere(d_ab, s.radius[a], s.radius[b]) else { continue };
+            let effect_overlap = if COH { s.reach[a] + s.reach[b] - g.distance } else { 0.0 };
+            if g.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
+                continue;
+            }
+            let params = plan.pair(s.material[a], s.material[b]);
+            let mut v_rel = c.vel[a] - c.vel[b];
+            if ROT {
+                v_rel += c.omega[a].cross(g.arm_i) - c.omega[b].cross(g.arm_j);
+            }
+            let m_star = 1.0 / (s.inv_mass[a] + s.inv_mass[b]);
+            let r_star = s.radius[a] * s.radius[b] / (s.radius[a] + s.radius[b]);
+            let f = contact_force::<COH>(params, g.normal, g.overlap, effect_overlap, v_rel, m_star, r_star, plan.dt);
+            if i_is_a {
+                sum.force += f.force;
+                if ROT {
+                    sum.torque += g.arm_i.cross(f.tangential);
+                }
+                sum.elastic += f.elastic;
+                sum.dissipation += f.dissipation;
+                sum.contacts += (g.overlap > 0.0) as u32;
+            } else {
+                sum.force -= f.force;
+                if ROT {
+                    sum.torque += g.arm_j.cross(-f.tangential);
+                }
+            }
+            if g.overlap > 0.0 {
+                sum.max_overlap_ratio = sum.max_overlap_ratio.max(g.overlap / s.radius[a].min(s.radius[b]));
+            }
+        }
+    });
+    if s.inv_mass[i] == 0.0 && plan.walls.is_empty() {
+        return sum;
+    }
+    // Walls: static, infinite mass, R* = r_i.
+    let r = s.radius[i];
+    let extra = reach_i - r;
+    for w in &plan.walls {
+        let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
+        let effect_overlap = k.overlap + extra;
+        if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
+            continue;
+        }
+        if s.inv_mass[i] == 0.0 {
+            continue;
+        }
+        let params = plan.pair(s.material[i], w.material);
+        let arm = k.point - xi;
+        let mut v_rel = c.vel[i];
+        if ROT {
+            v_rel += c.omega[i].cross(arm);
+        }
+        let f = contact_force::<COH>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, plan.dt);
+        sum.force += f.force;
+        if ROT {
+            sum.torque += arm.cross(f.tangential);
+        }
+        sum.elastic += f.elastic;
+        sum.dissipation += f.dissipation;
+        if k.overlap > 0.0 {
+            sum.contacts += 1;
+            sum.max_overlap_ratio = sum.max_overlap_ratio.max(k.overlap / r);
+        }
+    }
+    sum
+}

@@ -1,0 +1,117 @@
+//! Particle arrays (structure of arrays), re-sorted by cell for locality.
+
+use glam::DVec3;
+use tumble_broad::permute;
+use tumble_scene::{CompiledScene, Drag};
+
+/// Per-particle state. Arrays the plan does not need (rotation, drag) stay empty.
+#[derive(Clone, Debug, Default)]
+pub struct State {
+    pub id: Vec<u32>,
+    pub pos: Vec<DVec3>,
+    pub vel: Vec<DVec3>,
+    /// Acceleration from the last force pass (contact, gravity, explicit drag).
+    pub acc: Vec<DVec3>,
+    pub omega: Vec<DVec3>,
+    pub alpha: Vec<DVec3>,
+    pub radius: Vec<f64>,
+    /// Search reach: effect radius with cohesion, body radius without.
+    pub reach: Vec<f64>,
+    pub mass: Vec<f64>,
+    /// Zero for fixed particles (infinite mass).
+    pub inv_mass: Vec<f64>,
+    pub inv_inertia: Vec<f64>,
+    pub material: Vec<u16>,
+    pub group: Vec<u16>,
+    pub track: Vec<bool>,
+    /// Stokes relaxation time τ_p, or the quadratic drag coefficient over mass.
+    pub drag: Vec<f64>,
+    /// Energy dissipated in this particle's contacts so far (each pair counted once).
+    pub dissipated: Vec<f64>,
+    /// Work done on this particle by the fluid so far.
+    pub fluid_work: Vec<f64>,
+}
+
+impl State {
+    pub fn from_scene(scene: &CompiledScene) -> State {
+        let plan = &scene.plan;
+        let p = &scene.particles;
+        let n = p.len();
+        let mut s = State::default();
+        for i in 0..n {
+            let m = plan.materials[p.material[i] as usize].density * 4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3);
+            s.id.push(i as u32);
+            s.pos.push(p.position[i]);
+            s.vel.push(p.velocity[i]);
+            s.acc.push(DVec3::ZERO);
+            s.radius.push(p.radius[i]);
+            s.reach.push(if plan.cohesion { p.effect_radius[i].max(p.radius[i]) } else { p.radius[i] });
+            s.mass.push(m);
+            s.inv_mass.push(if p.fixed[i] { 0.0 } else { 1.0 / m });
+            s.material.push(p.material[i]);
+            s.group.push(p.group[i]);
+            s.track.push(p.track[i]);
+            s.dissipated.push(0.0);
+            if plan.rotation {
+                s.omega.push(p.angular_velocity[i]);
+                s.alpha.push(DVec3::ZERO);
+                s.inv_inertia.push(if p.fixed[i] { 0.0 } else { 1.0 / (0.4 * m * p.radius[i] * p.radius[i]) });
+            }
+            if let Some(f) = &plan.fluid {
+                s.fluid_work.push(0.0);
+                s.drag.push(match f.drag {
+                    Drag::Stokes { viscosity } => tumble_contact::stokes_relaxation_time(
+                        plan.materials[p.material[i] as usize].density,
+                        2.0 * p.radius[i],
+                        viscosity,
+                    ),
+                    Drag::Quadratic { coefficient } => coefficient / m,
+                });
+            }
+        }
+        s
+    }
+
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Applies `f` to every per-particle array, so reorderings cannot miss one.
+    fn for_each_array(&mut self, mut f3: impl FnMut(&mut Vec<DVec3>), mut f1: impl FnMut(&mut Vec<f64>), mut fu: impl FnMut(&mut Vec<u32>), mut fs: impl FnMut(&mut Vec<u16>), mut fb: impl FnMut(&mut Vec<bool>)) {
+        for v in [&mut self.pos, &mut self.vel, &mut self.acc, &mut self.omega, &mut self.alpha] {
+            if !v.is_empty() {
+                f3(v);
+            }
+        }
+        for v in [&mut self.radius, &mut self.reach, &mut self.mass, &mut self.inv_mass, &mut self.inv_inertia, &mut self.drag, &mut self.dissipated, &mut self.fluid_work] {
+            if !v.is_empty() {
+                f1(v);
+            }
+        }
+        fu(&mut self.id);
+        fs(&mut self.material);
+        fs(&mut self.group);
+        fb(&mut self.track);
+    }
+
+    /// Reorders every array by `order` (new slot k holds old particle order[k]).
+    pub fn permute(&mut self, order: &[u32]) {
+        self.for_each_array(|v| permute(v, order), |v| permute(v, order), |v| permute(v, order), |v| permute(v, order), |v| permute(v, order));
+    }
+
+    /// Keeps only the particles for which `keep` is true, preserving order.
+    pub fn retain(&mut self, keep: &[bool]) {
+        fn filter<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
+            let mut k = 0;
+            v.retain(|_| {
+                k += 1;
+                keep[k - 1]
+            });
+        }
+        self.for_each_array(|v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep));
+    }
+}

@@ -1,0 +1,223 @@
+//! The step: broad phase, contacts, body forces, integration (architecture.md, "The step").
+
+use crate::forces::{ContactInputs, ContactSum, SortedEntry, particle_contacts};
+use crate::CpuSimulation;
+use glam::DVec3;
+use rayon::prelude::*;
+use tumble_contact::{FlowField, quadratic_drag};
+use tumble_integrate::{
+    Integrator, euler, implicit_drag, symplectic_euler, verlet_force_velocity, verlet_kick, verlet_kick_drift,
+};
+use tumble_scene::Drag;
+
+/// Per-particle body-force context, copied out of the plan once per pass.
+#[derive(Clone, Copy)]
+struct Body {
+    gravity: DVec3,
+    drag: Option<(Drag, FlowField)>,
+}
+
+impl Body {
+    /// Explicit drag acceleration and force at (x, v) for a particle with drag parameter `k`.
+    #[inline]
+    fn drag_acc(&self, x: DVec3, v: DVec3, k: f64) -> DVec3 {
+        match self.drag {
+            None => DVec3::ZERO,
+            Some((Drag::Stokes { .. }, flow)) => (flow.velocity(x) - v) / k,
+            Some((Drag::Quadratic { .. }, _)) => quadratic_drag(k, v),
+        }
+    }
+}
+
+impl CpuSimulation {
+    fn body(&self) -> Body {
+        Body { gravity: self.plan.gravity, drag: self.plan.fluid.map(|f| (f.drag, f.flow)) }
+    }
+
+    /// Bins particles into the grid; re-sorts the arrays by cell when asked.
+    pub(crate) fn broad_phase(&mut self, resort: bool) {
+        self.grid.build(&self.state.pos);
+        if resort {
+            let order = self.grid.order().to_vec();
+            self.state.permute(&order);
+            self.grid.build(&self.state.pos);
+        }
+        let (pos, reach) = (&self.state.pos, &self.state.reach);
+        self.sorted.clear();
+        self.sorted.extend(self.grid.order().iter().map(|&i| SortedEntry { pos: pos[i as usize], reach: reach[i as usize] }));
+    }
+
+    /// The contact pass over all particles, monomorphised on the plan's features.
+    fn contact_pass(&mut self, use_eval: bool) {
+        let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
+        let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega, grid: &self.grid, sorted: &self.sorted };
+        let kernel: fn(&ContactInputs, usize) -> ContactSum = match (self.plan.rotation, self.plan.cohesion) {
+            (false, false) => particle_contacts::<false, false>,
+            (true, false) => particle_contacts::<true, false>,
+            (false, true) => particle_contacts::<false, true>,
+            (true, true) => particle_contacts::<true, true>,
+        };
+        let n = self.state.len();
+        let sums = &mut self.sums;
+        self.pool.install(|| (0..n).into_par_iter().map(|i| kernel(&inputs, i)).collect_into_vec(sums));
+    }
+
+    /// Accelerations from contact sums plus gravity and explicit drag, at velocities `vel`.
+    fn accelerations(&mut self, use_eval: bool, drag_explicit: bool) {
+        let body = self.body();
+        let dt = self.plan.dt;
+        let s = &mut self.state;
+        let vel = if use_eval { &self.eval_vel } else { &s.vel };
+        let sums = &self.sums;
+        let (pos, inv_mass, drag) = (&s.pos, &s.inv_mass, &s.drag);
+        let fluid_work = &mut s.fluid_work;
+        self.pool.install(|| {
+            s.acc.par_iter_mut().enumerate().for_each(|(i, a)| {
+                *a = if inv_mass[i] == 0.0 { DVec3::ZERO } else { sums[i].force * inv_mass[i] + body.gravity };
+            });
+            if drag_explicit && body.drag.is_some() {
+                s.acc.par_iter_mut().zip(fluid_work.par_iter_mut()).enumerate().for_each(|(i, (a, w))| {
+                    if inv_mass[i] != 0.0 {
+                        let ad = body.drag_acc(pos[i], vel[i], drag[i]);
+                        *a += ad;
+                        *w += ad.dot(vel[i]) / inv_mass[i] * dt;
+                    }
+                });
+            }
+            if !s.alpha.is_empty() {
+                let inv_inertia = &s.inv_inertia;
+                s.alpha.par_iter_mut().enumerate().for_each(|(i, al)| *al = sums[i].torque * inv_inertia[i]);
+            }
+        });
+        let dt = self.plan.dt;
+        for (d, sum) in s.dissipated.iter_mut().zip(sums) {
+            *d += sum.dissipation * dt;
+        }
+    }
+
+    /// Forces at t = 0, so Verlet's first half kick has an acceleration.
+    pub(crate) fn initial_forces(&mut self) {
+        self.contact_pass(false);
+        let explicit = !self.plan.integrator.implicit_drag();
+        // The t = 0 pass only seeds accelerations: it must not count dissipation or fluid work.
+        let saved = (self.state.dissipated.clone(), self.state.fluid_work.clone());
+        self.accelerations(false, explicit);
+        (self.state.dissipated, self.state.fluid_work) = saved;
+    }
+
+    /// One time step with the plan's integrator.
+    pub fn step_once(&mut self) {
+        let dt = self.plan.dt;
+        let resort = self.step % self.plan.resort_interval as u64 == 0;
+        match self.plan.integrator {
+            Integrator::Verlet => {
+                {
+                    let s = &mut self.state;
+                    let (acc, alpha) = (&s.acc, &s.alpha);
+                    let inv_mass = &s.inv_mass;
+                    self.pool.install(|| {
+                        s.pos.par_iter_mut().zip(s.vel.par_iter_mut()).enumerate().for_each(|(i, (x, v))| {
+                            if inv_mass[i] != 0.0 {
+                                (*x, *v) = verlet_kick_drift(*x, *v, acc[i], dt);
+                            }
+                        });
+                        s.omega.par_iter_mut().enumerate().for_each(|(i, w)| *w += alpha[i] * (0.5 * dt));
+                    });
+                }
+                self.boundaries();
+                self.broad_phase(resort);
+                // Velocity-dependent forces see the second-order estimate of v_{n+1}.
+                let s = &self.state;
+                self.eval_vel.clear();
+                self.eval_vel.extend(s.vel.iter().zip(&s.acc).map(|(&v, &a)| verlet_force_velocity(v, a, dt)));
+                self.eval_omega.clear();
+                self.eval_omega.extend(s.omega.iter().zip(&s.alpha).map(|(&w, &a)| verlet_force_velocity(w, a, dt)));
+                self.contact_pass(true);
+                self.accelerations(true, true);
+                let s = &mut self.state;
+                let (acc, alpha, inv_mass) = (&s.acc, &s.alpha, &s.inv_mass);
+                self.pool.install(|| {
+                    s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
+                        if inv_mass[i] != 0.0 {
+                            *v = verlet_kick(*v, acc[i], dt);
+                        }
+                    });
+                    s.omega.par_iter_mut().enumerate().for_each(|(i, w)| *w += alpha[i] * (0.5 * dt));
+                });
+            }
+            integrator => {
+                self.broad_phase(resort);
+                self.contact_pass(false);
+                let implicit = integrator.implicit_drag();
+                self.accelerations(false, !implicit);
+                let body = self.body();
+                let s = &mut self.state;
+                let (acc, inv_mass, drag) = (&s.acc, &s.inv_mass, &s.drag);
+                let symplectic = integrator == Integrator::ImplicitDragSymplectic;
+                let mut work = Vec::new();
+                self.pool.install(|| {
+                    s.pos
+                        .par_iter_mut()
+                        .zip(s.vel.par_iter_mut())
+                        .enumerate()
+                        .map(|(i, (x, v))| {
+                            if inv_mass[i] == 0.0 {
+                                return 0.0;
+                            }
+                            let v_old = *v;
+                            match integrator {
+                                Integrator::Euler => (*x, *v) = euler(*x, *v, acc[i], dt),
+                                Integrator::SymplecticEuler => (*x, *v) = symplectic_euler(*x, *v, acc[i], dt),
+                                _ => {
+                                    let (tau, u) = match body.drag {
+                                        None => (f64::INFINITY, DVec3::ZERO),
+                                        Some((Drag::Stokes { .. }, flow)) => (drag[i], flow.velocity(*x)),
+                                        // Quadratic drag linearised at the current speed: τ = m / (α|v|).
+                                        Some((Drag::Quadratic { .. }, _)) => (1.0 / (drag[i] * v.length()), DVec3::ZERO),
+                                    };
+                                    (*x, *v) = implicit_drag(*x, *v, acc[i], tau, u, dt, symplectic);
+                                    if tau.is_finite() {
+                                        // Work of the implicit drag m(u − v_new)/τ over the step.
+                                        return (u - *v).dot(v_old + *v) * (0.5 * dt / (tau * inv_mass[i]));
+                                    }
+                                }
+                            }
+                            0.0
+                        })
+                        .collect_into_vec(&mut work);
+                    s.omega.par_iter_mut().zip(s.alpha.par_iter()).for_each(|(w, a)| *w += *a * dt);
+                });
+                if implicit && body.drag.is_some() {
+                    for (w, dw) in s.fluid_work.iter_mut().zip(&work) {
+                        *w += dw;
+                    }
+                }
+            }
+        }
+        self.step += 1;
+        if self.plan.integrator.forces_first() {
+            self.boundaries();
+        }
+    }
+
+    /// Wraps periodic axes and removes particles that left through other sides.
+    fn boundaries(&mut self) {
+        let domain = self.plan.domain;
+        let s = &mut self.state;
+        if domain.periodic.iter().any(|&p| p) {
+            self.pool.install(|| s.pos.par_iter_mut().for_each(|x| *x = domain.wrap(*x)));
+        }
+        if domain.periodic.iter().all(|&p| p) {
+            return;
+        }
+        let keep: Vec<bool> = s.pos.iter().map(|&x| domain.contains(x)).collect();
+        let gone = keep.iter().filter(|&&k| !k).count();
+        if gone > 0 {
+            s.retain(&keep);
+            self.removed += gone;
+            self.sums.clear();
+            self.eval_vel.clear();
+            self.eval_omega.clear();
+        }
+    }
+}

@@ -1,0 +1,102 @@
+//! The command line (scene-and-cli.md, "Command line").
+
+use crate::{RunError, RunOptions, load_scene, run_compiled};
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Parser, Debug)]
+#[command(name = "tumble", version, about = "Discrete element method engine for granular flow")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run a scene and write summary.json, observables.csv and tracks.csv.
+    Run {
+        /// The scene file (TOML).
+        scene: PathBuf,
+        /// Output folder [default: out/<scene name>/].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Backend: cpu (gpu arrives with the GPU backend).
+        #[arg(long, default_value = "cpu")]
+        backend: String,
+        /// Worker threads [default: all cores].
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Override run.duration (seconds).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Override run.dt (seconds).
+        #[arg(long)]
+        dt: Option<f64>,
+        /// No progress lines.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Print the model plan: active features and why, dt, t_col, steps per collision, memory.
+    Plan {
+        /// The scene file (TOML).
+        scene: PathBuf,
+    },
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn main_with(cli: Cli) -> i32 {
+    match cli.command {
+        Command::Plan { scene } => match load_scene(&scene, None, None) {
+            Ok(c) => {
+                print!("{}", c.plan.describe(c.particles.len()));
+                0
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                2
+            }
+        },
+        Command::Run { scene, out, backend, threads, duration, dt, quiet } => {
+            if backend != "cpu" {
+                eprintln!("error: --backend {backend}: only the cpu backend exists in this build (valid: cpu)");
+                return 2;
+            }
+            if threads == Some(0) {
+                eprintln!("error: --threads must be at least 1");
+                return 2;
+            }
+            let compiled = match load_scene(&scene, duration, dt) {
+                Ok(c) => c,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return 2;
+                }
+            };
+            let mut options = RunOptions { out_dir: out, duration, dt, progress: !quiet, ..Default::default() };
+            if let Some(t) = threads {
+                options.threads = t;
+            }
+            match run_compiled(compiled, &options) {
+                Ok(s) => {
+                    println!(
+                        "{} steps of {} particles in {:.3} s: {:.3e} particle-steps/s; outputs in {}",
+                        s.steps,
+                        s.particles,
+                        s.wall_seconds,
+                        s.particle_steps_per_second,
+                        s.out_dir.display()
+                    );
+                    0
+                }
+                Err(e @ RunError::Unstable(_)) => {
+                    eprintln!("error: {e}");
+                    3
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    2
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,81 @@
+//! The instability monitor: stops a run that blows up, naming the cause and a Δt that works.
+
+use crate::Observables;
+use std::fmt;
+use tumble_scene::Plan;
+
+/// Why a run was stopped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instability {
+    pub step: u64,
+    pub time: f64,
+    pub cause: String,
+    pub dt: f64,
+    /// The Δt the plan would choose for this scene.
+    pub suggested_dt: f64,
+}
+
+impl fmt::Display for Instability {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "simulation unstable at step {} (t = {:.6e} s): {}; dt = {:.4e} s is too large, use dt <= {:.4e} s",
+            self.step, self.time, self.cause, self.dt, self.suggested_dt
+        )
+    }
+}
+
+/// Watches observables between output intervals.
+pub struct Monitor {
+    enabled: bool,
+    max_overlap_ratio: f64,
+    energy_growth: f64,
+    has_source: bool,
+    initial_energy: f64,
+    energy_scale: f64,
+    dt: f64,
+    suggested_dt: f64,
+}
+
+impl Monitor {
+    /// A monitor for a plan, given the observables at t = 0 and the scene's potential-energy range.
+    pub fn new(plan: &Plan, initial: &Observables, potential_range: f64) -> Self {
+        let suggested_dt = plan.timescales.stability_limit.map_or(plan.timescales.default_dt, |l| l.min(plan.timescales.default_dt));
+        Monitor {
+            enabled: plan.monitor.enabled,
+            max_overlap_ratio: plan.monitor.max_overlap_ratio,
+            energy_growth: plan.monitor.energy_growth,
+            has_source: plan.fluid.is_some(),
+            initial_energy: initial.mechanical_energy() + initial.dissipated_energy,
+            energy_scale: (initial.kinetic_energy + initial.rotational_energy + initial.elastic_energy.abs() + potential_range).max(f64::MIN_POSITIVE),
+            dt: plan.dt,
+            suggested_dt,
+        }
+    }
+
+    /// Checks one row of observables; non-finite values are always fatal.
+    pub fn check(&self, step: u64, o: &Observables) -> Result<(), Instability> {
+        let fail = |cause: String| Err(Instability { step, time: o.time, cause, dt: self.dt, suggested_dt: self.suggested_dt });
+        if !o.finite {
+            return fail("a position, velocity or energy became non-finite (NaN or infinity)".into());
+        }
+        if !self.enabled {
+            return Ok(());
+        }
+        if o.max_overlap_ratio > self.max_overlap_ratio {
+            return fail(format!("overlap δ/r = {:.3} exceeds the bound {}", o.max_overlap_ratio, self.max_overlap_ratio));
+        }
+        if !self.has_source {
+            let gain = o.mechanical_energy() + o.dissipated_energy - self.initial_energy;
+            if gain > self.energy_growth * self.energy_scale {
+                return fail(format!(
+                    "energy grew by {:.3e} J without a source ({:.0} % of the scene's energy scale {:.3e} J)",
+                    gain,
+                    100.0 * gain / self.energy_scale,
+                    self.energy_scale
+                ));
+            }
+        }
+        Ok(())
+    }
+}
