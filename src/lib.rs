@@ -12,6 +12,7 @@
 //! ```
 
 pub mod cli;
+pub mod verify;
 mod monitor;
 mod output;
 mod run;

@@ -69,7 +69,7 @@ fn contact_force<const COH: bool>(
         out.force = n * cohesion_force(p.cohesion, effect_overlap);
         out.elastic = cohesion_energy(p.cohesion, effect_overlap);
     }
-    if overlap > 0.0 {
+    if overlap >= 0.0 {
         let vn = v_rel.dot(n);
         let nf = normal_force(&p.normal, overlap, vn, m_star, r_star);
         let applied = if p.no_attraction { nf.total().max(0.0) } else { nf.total() };
@@ -105,7 +105,8 @@ pub fn particle_contacts<const ROT: bool, const COH: bool>(c: &ContactInputs, i:
             let e = c.sorted[slot];
             let d = domain.minimum_image(xi - e.pos);
             let cutoff = reach_i + e.reach;
-            if d.length_squared() >= cutoff * cutoff {
+            // Touching (δ = 0) counts: a contact that starts at rest overlap 0 feels its damping at once.
+            if d.length_squared() > cutoff * cutoff {
                 continue;
             }
             let j = order[slot] as usize;
@@ -118,7 +119,7 @@ pub fn particle_contacts<const ROT: bool, const COH: bool>(c: &ContactInputs, i:
             let d_ab = if i_is_a { d } else { domain.minimum_image(s.pos[a] - s.pos[b]) };
             let Some(g) = sphere_sphere(d_ab, s.radius[a], s.radius[b]) else { continue };
             let effect_overlap = if COH { s.reach[a] + s.reach[b] - g.distance } else { 0.0 };
-            if g.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
+            if g.overlap < 0.0 && (!COH || effect_overlap <= 0.0) {
                 continue;
             }
             let params = plan.pair(s.material[a], s.material[b]);

@@ -672,6 +672,7 @@ fn timescales(
     let mut ts = Timescales::default();
     let mut limit = f64::INFINITY;
     let mut t_col = f64::INFINITY;
+    let mut t_col_linear = f64::INFINITY;
     let mut rayleigh = f64::INFINITY;
     let speed = characteristic_speed(p, gravity, domain);
     for a in 0..n_mat {
@@ -689,7 +690,8 @@ fn timescales(
             for m_star in m_stars {
                 match pairs[a * n_mat + b].normal {
                     NormalLaw::Linear { stiffness, restitution, .. } => {
-                        t_col = t_col.min(collision_time(stiffness, m_star, restitution));
+                        t_col_linear = t_col_linear.min(collision_time(stiffness, m_star, restitution));
+                        t_col = t_col.min(t_col_linear);
                         limit = limit.min(2.0 / (stiffness / m_star).sqrt());
                     }
                     NormalLaw::Hertz { e_star, .. } => {
@@ -706,7 +708,10 @@ fn timescales(
     let mut default_dt = f64::INFINITY;
     if t_col.is_finite() {
         ts.collision_time = Some(t_col);
-        default_dt = t_col / 50.0;
+    }
+    // Linear contacts: t_col / 50; Hertz: 0.2 Δt_R (physics.md, "Time step").
+    if t_col_linear.is_finite() {
+        default_dt = t_col_linear / 50.0;
     }
     if rayleigh.is_finite() {
         ts.rayleigh_time = Some(rayleigh);
