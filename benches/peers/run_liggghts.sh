@@ -8,8 +8,8 @@
 #        Loop time, median/max go to the "#" line and the CSV. Other processes on a
 #        2-core box (e.g. cargo builds) slow the 2-rank runs by up to 2.5x, hence
 #        best-of-N, the wait for idle CPUs, and a per-repeat contention check (a repeat
-#        during which other processes used > 0.15 core is discarded and retried,
-#        at most MAX_ATTEMPTS=3*REPEATS runs per rank count).
+#        in which our ranks got < 92 % of P cores, or other processes used > 0.15 core,
+#        is discarded and retried, at most MAX_ATTEMPTS=3*REPEATS runs per rank count).
 #
 # Prints one line per rank count:
 #   liggghts ranks=P steps=S particles=N wall_s=X particle_steps_per_s=Y
@@ -58,6 +58,13 @@ cpu_jiffies() {
     for i in 1 2 3 4 5 6 7 8; do tot=$(( tot + a[i] )); done
     echo "$(( tot - a[4] - a[5] )) $tot"
 }
+# CPU seconds (user+sys) used so far by waited-for children of this shell (incl.
+# the MPI ranks, reaped by mpirun). `times` must run in THIS shell (no $(...)
+# subshell: rusage is not inherited by forks), so it writes to a file; sets CHCPU.
+children_cpu_s() {
+    times > "$WORK/times.txt"
+    CHCPU="$(sed -n 2p "$WORK/times.txt" | awk '{ t=0; for (i=1;i<=2;i++) { split($i,a,"m"); sub("s","",a[2]); t+=a[1]*60+a[2] }; printf "%.3f", t }')"
+}
 wait_idle() {
     local waited=0 busy
     while busy="$(cpu_busy_pct)"; [ "$busy" -gt 10 ]; do
@@ -81,23 +88,26 @@ for P in $RANKS; do
         ATT=$((ATT + 1))
         OUTF="$WORK/out_np${P}_a$ATT.txt"
         wait_idle
-        read -r B0 T0 <<<"$(cpu_jiffies)"
+        read -r B0 T0 <<<"$(cpu_jiffies)"; children_cpu_s; C0="$CHCPU"; E0="$(date +%s.%N)"
         ( cd "$WORK" && mpirun $OVERSUB -np "$P" liggghts -in "$INPUT" \
             -var nwarm "$NWARM" -var nsteps "$NSTEPS" -log none -echo none -nocite ) > "$OUTF" 2>&1 || {
             echo "liggghts run with $P ranks failed; output:" >&2; tail -40 "$OUTF" >&2; exit 1; }
-        read -r B1 T1 <<<"$(cpu_jiffies)"
+        read -r B1 T1 <<<"$(cpu_jiffies)"; children_cpu_s; C1="$CHCPU"; E1="$(date +%s.%N)"
         # "Loop time of X on P procs for S steps with N atoms" -- the 2nd one is the timed run
         LOOP="$(grep '^Loop time of' "$OUTF" | sed -n 2p)"
         if [ -z "$LOOP" ]; then echo "no timed Loop time line for $P ranks" >&2; tail -40 "$OUTF" >&2; exit 1; fi
         read -r X1 PP S N <<<"$(echo "$LOOP" | awk '{print $4, $6, $9, $12}')"
-        # Contention check: busy CPU beyond what our P ranks can use (P cores for the
-        # whole run) means some other process ran; more than 0.15 core on average
-        # -> the repeat is discarded (kept in the log) and retried.
-        FOREIGN="$(awk -v b=$((B1-B0)) -v t=$((T1-T0)) -v p="$P" -v n="$NCPU" \
-            'BEGIN{ if (t<=0) {print 0; exit}; f=(b/t)*n - p; if (f<0) f=0; printf "%.2f", f }')"
-        if awk -v f="$FOREIGN" 'BEGIN{exit !(f > 0.15)}'; then
-            NDIRTY=$((NDIRTY + 1)); DIRTY="$DIRTY $X1(+${FOREIGN}cpu)"
-            echo "# ranks=$P attempt $ATT: wall_s=$X1 discarded, other processes used ~${FOREIGN} cores" >&2
+        # Contention check. Our ranks busy-poll, so they should get ~P full cores for
+        # the whole run: OWN = (our CPU seconds)/(P*elapsed) should be ~1, and the
+        # machine should not be busier than P cores (FOREIGN = extra busy cores).
+        # A repeat with OWN < 0.92 or FOREIGN > 0.15 core is discarded and retried.
+        read -r OWN FOREIGN <<<"$(awk -v b=$((B1-B0)) -v t=$((T1-T0)) -v p="$P" -v n="$NCPU" \
+            -v c0="$C0" -v c1="$C1" -v e0="$E0" -v e1="$E1" 'BEGIN{
+              own = (c1-c0)/(p*(e1-e0)); f = (t>0) ? (b/t)*n - p : 0; if (f<0) f=0;
+              printf "%.2f %.2f", own, f }')"
+        if awk -v f="$FOREIGN" -v o="$OWN" 'BEGIN{exit !(f > 0.15 || o < 0.92)}'; then
+            NDIRTY=$((NDIRTY + 1)); DIRTY="$DIRTY $X1(own=$OWN,foreign=$FOREIGN)"
+            echo "# ranks=$P attempt $ATT: wall_s=$X1 discarded (own cpu share $OWN, other processes ~${FOREIGN} cores)" >&2
         else
             NCLEAN=$((NCLEAN + 1)); TIMES="$TIMES $X1"
         fi
@@ -117,7 +127,7 @@ for P in $RANKS; do
     BUILDS="$(grep '^Neighbor list builds' "$OUTF" | sed -n 2p | awk '{print $NF}')"
 
     echo "liggghts ranks=$PP steps=$S particles=$N wall_s=$X particle_steps_per_s=$Y"
-    echo "# ranks=$PP repeats=$REPEATS clean=$NCLEAN wall_s_clean=[${TIMES# }] discarded=[${DIRTY# }] median=$XMED max=$XMAX; end state: atoms=$ATOMS ke_J=$KE rot_ke_J=$RKE vmax_m_s=$VMAX zmin=$ZMIN zmax=$ZMAX neigh_builds=$BUILDS ($VERSION)"
+    echo "# ranks=$PP repeats=$REPEATS clean=$NCLEAN wall_s_used=[${TIMES# }] discarded=[${DIRTY# }] median=$XMED max=$XMAX; end state: atoms=$ATOMS ke_J=$KE rot_ke_J=$RKE vmax_m_s=$VMAX zmin=$ZMIN zmax=$ZMAX neigh_builds=$BUILDS ($VERSION)"
     if [ -n "$CSV" ]; then
         echo "liggghts,$PP,$S,$N,$X,$Y,$REPEATS,$XMED,$XMAX,$KE,$VMAX,$ZMIN,$ZMAX,$BUILDS,$VERSION" >> "$CSV"
     fi

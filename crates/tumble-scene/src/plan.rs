@@ -650,25 +650,22 @@ fn timescales(
     // Lightest movable particle and smallest radius per material; materials that only fixed particles or walls use.
     let mut lightest = vec![f64::INFINITY; n_mat];
     let mut smallest = vec![f64::INFINITY; n_mat];
-    let mut present = vec![false; n_mat];
+    let mut movable = vec![0usize; n_mat];
+    // Materials of surfaces a movable particle can hit: walls and fixed particles (m* = m).
+    let mut obstacle = vec![false; n_mat];
     for i in 0..p.len() {
         let m = p.material[i] as usize;
-        present[m] = true;
-        if !p.fixed[i] {
+        if p.fixed[i] {
+            obstacle[m] = true;
+        } else {
+            movable[m] += 1;
             lightest[m] = lightest[m].min(mass(i));
             smallest[m] = smallest[m].min(p.radius[i]);
         }
     }
-    let mut obstacle = vec![false; n_mat];
     for w in walls {
         obstacle[w.material as usize] = true;
     }
-    for i in 0..p.len() {
-        if p.fixed[i] {
-            obstacle[p.material[i] as usize] = true;
-        }
-    }
-    let several = p.len() > 1;
     let mut ts = Timescales::default();
     let mut limit = f64::INFINITY;
     let mut t_col = f64::INFINITY;
@@ -681,10 +678,11 @@ fn timescales(
         }
         for b in 0..n_mat {
             let mut m_stars = Vec::new();
-            if several && lightest[b].is_finite() {
+            // Two movable particles can meet only if there are two of them.
+            if movable[b] > usize::from(a == b) {
                 m_stars.push(lightest[a] * lightest[b] / (lightest[a] + lightest[b]));
             }
-            if obstacle[b] || (several && present[b] && !lightest[b].is_finite()) {
+            if obstacle[b] {
                 m_stars.push(lightest[a]);
             }
             for m_star in m_stars {

@@ -96,13 +96,13 @@ pub struct MonitorSection {
     pub enabled: bool,
     /// Largest allowed overlap δ/r before the run stops.
     pub max_overlap_ratio: f64,
-    /// Largest allowed energy gain without a source, as a fraction of the scene's energy scale.
+    /// Largest allowed energy gain without a source, as a fraction of the largest kinetic + elastic energy seen.
     pub energy_growth: f64,
 }
 
 impl Default for MonitorSection {
     fn default() -> Self {
-        MonitorSection { enabled: true, max_overlap_ratio: 0.5, energy_growth: 0.5 }
+        MonitorSection { enabled: true, max_overlap_ratio: 0.5, energy_growth: 0.25 }
     }
 }
 

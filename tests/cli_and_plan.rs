@@ -1,0 +1,120 @@
+//! The plan's time-step guard, the instability monitor, and `tumble run` / `tumble plan` outputs.
+
+use std::path::Path;
+use std::process::Command;
+use tumble::{RunError, RunOptions, compile, parse_scene, run_compiled};
+use tumble_scene::schema::DtSpec;
+
+fn scene_file(name: &str) -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(name)).unwrap()
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("tumble-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+#[test]
+fn dt_above_two_over_omega_is_refused_by_the_plan() {
+    let mut scene = parse_scene(&scene_file("scenes/verify/02_elastic_collision.toml")).unwrap();
+    let m = 10.0 * std::f64::consts::PI / 6.0 * 1e-3;
+    let limit = 2.0 / (1.0e5f64 / m).sqrt();
+    scene.run.dt = Some(DtSpec::Seconds(1.01 * limit));
+    let err = compile(&scene).unwrap_err().to_string();
+    assert!(err.contains("run.dt") && err.contains("stability limit"), "{err}");
+    assert!(err.contains(&format!("{limit:.4e}")), "names the limit: {err}");
+    scene.run.dt = Some(DtSpec::Seconds(0.99 * limit));
+    assert!(compile(&scene).is_ok());
+}
+
+#[test]
+fn a_forced_unstable_step_stops_with_a_message_and_valid_outputs() {
+    // A sphere resting on the floor, integrated at 1.5 × 2/ω: the contact oscillation grows every step.
+    let mut scene = parse_scene(&scene_file("scenes/verify/03_sliding.toml")).unwrap();
+    let m = 10.0 * std::f64::consts::PI / 6.0 * 1e-3;
+    let limit = 2.0 / (1.0e5f64 / m).sqrt();
+    scene.run.dt = Some(DtSpec::Seconds(1.5 * limit));
+    scene.run.integrator = tumble_scene::schema::IntegratorName::SymplecticEuler;
+    scene.run.output_interval = Some(1.5 * limit);
+    scene.run.allow_unstable_dt = true;
+    let compiled = compile(&scene).unwrap();
+    let out = tmp("unstable");
+    let err = run_compiled(compiled, &RunOptions { out_dir: Some(out.clone()), threads: 1, ..Default::default() }).unwrap_err();
+    let RunError::Unstable(e) = &err else { panic!("expected an instability, got {err}") };
+    let msg = err.to_string();
+    println!("{msg}");
+    assert!(msg.contains("unstable at step") && msg.contains("use dt <="), "{msg}");
+    assert!(e.suggested_dt < limit);
+    let csv = std::fs::read_to_string(out.join("observables.csv")).unwrap();
+    let mut rows = 0;
+    for line in csv.lines().skip(1) {
+        rows += 1;
+        for field in line.split(',') {
+            let v: f64 = field.parse().unwrap_or_else(|_| panic!("unparseable {field:?} in {line}"));
+            assert!(v.is_finite(), "non-finite value in {line}");
+        }
+    }
+    assert!(rows >= 1);
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert!(summary["stopped"].as_str().unwrap().contains("unstable"));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn tumble_run_writes_summary_observables_and_tracks() {
+    let out = tmp("run");
+    let result = Command::new(env!("CARGO_BIN_EXE_tumble"))
+        .args(["run", "scenes/verify/02_normal_collision.toml", "--threads", "2", "--quiet", "--out"])
+        .arg(&out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for key in ["scene", "backend", "device", "precision", "particles", "steps", "dt", "simulated_time", "wall_seconds", "particle_steps_per_second", "plan", "final", "removed_particles"] {
+        assert!(!summary[key].is_null(), "summary.json lacks {key}");
+    }
+    assert_eq!(summary["particles"], 2);
+    assert_eq!(summary["backend"], "cpu");
+    let obs = std::fs::read_to_string(out.join("observables.csv")).unwrap();
+    assert!(obs.starts_with("t,kinetic_energy,rotational_energy,potential_energy,elastic_energy,dissipated_energy,contacts,max_overlap_ratio\n"));
+    let steps = summary["steps"].as_u64().unwrap();
+    let every = (1e-5 / summary["dt"].as_f64().unwrap()).round().max(1.0) as u64;
+    assert_eq!(obs.lines().count() as u64, 1 + 1 + steps.div_ceil(every), "a header, a row at t = 0 and one per output interval");
+    let tracks = std::fs::read_to_string(out.join("tracks.csv")).unwrap();
+    assert!(tracks.starts_with("t,id,x,y,z,vx,vy,vz,wx,wy,wz\n"));
+    // The projectile (id 1) rebounds at e |u0| = 1.6 m/s.
+    let last: Vec<f64> = tracks.lines().last().unwrap().split(',').map(|f| f.parse().unwrap()).collect();
+    assert_eq!(last[1], 1.0);
+    assert!((last[5] - 1.6).abs() < 0.01, "{last:?}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn tumble_plan_explains_each_feature() {
+    let result = Command::new(env!("CARGO_BIN_EXE_tumble")).args(["plan", "scenes/verify/04_cohesive_collision.toml"]).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    let text = String::from_utf8_lossy(&result.stdout);
+    assert!(result.status.success());
+    for needle in ["t_col", "steps per collision", "memory", "rotation     off", "cohesion     on", "drag         off"] {
+        assert!(text.contains(needle), "plan lacks {needle:?}:\n{text}");
+    }
+}
+
+#[test]
+fn the_plan_carries_only_what_the_scene_needs() {
+    let plan = |path: &str| tumble::load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join(path), None, None).unwrap().plan;
+    let collision = plan("scenes/verify/02_normal_collision.toml");
+    assert!(!collision.rotation && !collision.cohesion && collision.fluid.is_none());
+    assert_eq!(collision.cell_size, 0.1, "no cohesion: the search reaches body contact only");
+    let cohesive = plan("scenes/verify/04_cohesive_collision.toml");
+    assert!(cohesive.cohesion && (cohesive.cell_size - 0.15).abs() < 1e-12);
+    assert!(plan("scenes/verify/08_slide_to_roll.toml").rotation);
+    assert!(!plan("scenes/verify/03_sliding.toml").rotation, "rotation = \"off\" wins");
+    assert!(plan("scenes/verify/01_stokes_drag.toml").fluid.is_some());
+    // Less state per particle when the scene needs less.
+    assert!(collision.bytes_per_particle < plan("scenes/verify/08_slide_to_roll.toml").bytes_per_particle);
+    // Default Δt = t_col / 50.
+    let t = collision.timescales.collision_time.unwrap();
+    assert!((collision.dt - t / 50.0).abs() < 1e-15);
+}

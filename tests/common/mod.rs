@@ -1,0 +1,55 @@
+//! Scene builders shared by the integration tests.
+#![allow(dead_code)]
+
+use glam::DVec3;
+use tumble::{CompiledScene, compile, parse_scene};
+
+/// One particle of a generated scene.
+#[derive(Clone, Debug)]
+pub struct P {
+    pub x: DVec3,
+    pub v: DVec3,
+    pub w: DVec3,
+    pub d: f64,
+    pub de: f64,
+}
+
+fn v3(v: DVec3) -> String {
+    format!("[{:e}, {:e}, {:e}]", v.x, v.y, v.z)
+}
+
+/// A scene with one group per particle, friction, optional cohesion and rotation on.
+pub fn scene_text(particles: &[P], cohesion: bool, periodic: bool, half_box: f64, extra_run: &str) -> String {
+    let mut s = format!(
+        "name = \"generated\"\n[run]\nduration = 1.0e-3\ndt = 1.0e-5\nintegrator = \"verlet\"\nrotation = \"on\"\n{extra_run}\n\
+         [domain]\nmin = [{m}, {m}, {m}]\nmax = [{h}, {h}, {h}]\nperiodic = [{p}, {p}, {p}]\n\
+         [[materials]]\nname = \"glass\"\ndensity = 2500.0\n\
+         [contact]\nnormal = {{ model = \"linear\", stiffness = 1.0e4 }}\nrestitution = 0.7\n\
+         tangential = {{ model = \"viscous-coulomb\", friction = 0.5, viscous = 2.0 }}\n",
+        m = -half_box,
+        h = half_box,
+        p = periodic
+    );
+    if cohesion {
+        s += "cohesion = { stiffness = 50.0 }\n";
+    }
+    for p in particles {
+        s += &format!(
+            "[[particles]]\nmaterial = \"glass\"\nshape = {{ sphere = {{ diameter = {:e}, effect_diameter = {:e} }} }}\npositions = [{}]\nvelocity = {}\nangular_velocity = {}\ntrack = true\n",
+            p.d,
+            p.de,
+            v3(p.x),
+            v3(p.v),
+            v3(p.w)
+        );
+    }
+    s
+}
+
+pub fn scene(particles: &[P], cohesion: bool, periodic: bool, half_box: f64, extra_run: &str) -> CompiledScene {
+    let text = scene_text(particles, cohesion, periodic, half_box, extra_run);
+    let mut scene = parse_scene(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    // Generated pairs may overlap on purpose.
+    scene.run.allow_unstable_dt = true;
+    compile(&scene).unwrap_or_else(|e| panic!("{e}"))
+}
