@@ -91,7 +91,7 @@ fn contact_force<const COH: bool>(
 
 /// Contact forces on particle `i` from its neighbours and the walls.
 #[inline]
-pub fn particle_contacts<const ROT: bool, const COH: bool>(c: &ContactInputs, i: usize) -> ContactSum {
+pub fn particle_contacts<const ROT: bool, const COH: bool, const PERIODIC: bool>(c: &ContactInputs, i: usize) -> ContactSum {
     let s = c.state;
     let plan = c.plan;
     let domain: &PeriodicBox = &plan.domain;
@@ -103,7 +103,7 @@ pub fn particle_contacts<const ROT: bool, const COH: bool>(c: &ContactInputs, i:
     c.grid.for_each_neighbour_run(c.grid.cell_of(i), |start, end| {
         for slot in start..end {
             let e = c.sorted[slot];
-            let d = domain.minimum_image(xi - e.pos);
+            let d = if PERIODIC { domain.minimum_image(xi - e.pos) } else { xi - e.pos };
             let cutoff = reach_i + e.reach;
             // Touching (δ = 0) counts: a contact that starts at rest overlap 0 feels its damping at once.
             if d.length_squared() > cutoff * cutoff {
@@ -116,7 +116,13 @@ pub fn particle_contacts<const ROT: bool, const COH: bool>(c: &ContactInputs, i:
             // Canonical order: a has the lower id; the pair is computed as a against b.
             let i_is_a = id_i < s.id[j];
             let (a, b) = if i_is_a { (i, j) } else { (j, i) };
-            let d_ab = if i_is_a { d } else { domain.minimum_image(s.pos[a] - s.pos[b]) };
+            let d_ab = if i_is_a {
+                d
+            } else if PERIODIC {
+                domain.minimum_image(s.pos[a] - s.pos[b])
+            } else {
+                s.pos[a] - s.pos[b]
+            };
             let Some(g) = sphere_sphere(d_ab, s.radius[a], s.radius[b]) else { continue };
             let effect_overlap = if COH { s.reach[a] + s.reach[b] - g.distance } else { 0.0 };
             if g.overlap < 0.0 && (!COH || effect_overlap <= 0.0) {

@@ -43,19 +43,25 @@ impl CpuSimulation {
             self.grid.build(&self.state.pos);
         }
         let (pos, reach) = (&self.state.pos, &self.state.reach);
-        self.sorted.clear();
-        self.sorted.extend(self.grid.order().iter().map(|&i| SortedEntry { pos: pos[i as usize], reach: reach[i as usize] }));
+        let order = self.grid.order();
+        let sorted = &mut self.sorted;
+        self.pool.install(|| order.par_iter().map(|&i| SortedEntry { pos: pos[i as usize], reach: reach[i as usize] }).collect_into_vec(sorted));
     }
 
     /// The contact pass over all particles, monomorphised on the plan's features.
     fn contact_pass(&mut self, use_eval: bool) {
         let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
         let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega, grid: &self.grid, sorted: &self.sorted };
-        let kernel: fn(&ContactInputs, usize) -> ContactSum = match (self.plan.rotation, self.plan.cohesion) {
-            (false, false) => particle_contacts::<false, false>,
-            (true, false) => particle_contacts::<true, false>,
-            (false, true) => particle_contacts::<false, true>,
-            (true, true) => particle_contacts::<true, true>,
+        let periodic = self.plan.domain.periodic.iter().any(|&p| p);
+        let kernel: fn(&ContactInputs, usize) -> ContactSum = match (self.plan.rotation, self.plan.cohesion, periodic) {
+            (false, false, false) => particle_contacts::<false, false, false>,
+            (true, false, false) => particle_contacts::<true, false, false>,
+            (false, true, false) => particle_contacts::<false, true, false>,
+            (true, true, false) => particle_contacts::<true, true, false>,
+            (false, false, true) => particle_contacts::<false, false, true>,
+            (true, false, true) => particle_contacts::<true, false, true>,
+            (false, true, true) => particle_contacts::<false, true, true>,
+            (true, true, true) => particle_contacts::<true, true, true>,
         };
         let n = self.state.len();
         let sums = &mut self.sums;
@@ -128,10 +134,11 @@ impl CpuSimulation {
                 self.broad_phase(resort);
                 // Velocity-dependent forces see the second-order estimate of v_{n+1}.
                 let s = &self.state;
-                self.eval_vel.clear();
-                self.eval_vel.extend(s.vel.iter().zip(&s.acc).map(|(&v, &a)| verlet_force_velocity(v, a, dt)));
-                self.eval_omega.clear();
-                self.eval_omega.extend(s.omega.iter().zip(&s.alpha).map(|(&w, &a)| verlet_force_velocity(w, a, dt)));
+                let (eval_vel, eval_omega) = (&mut self.eval_vel, &mut self.eval_omega);
+                self.pool.install(|| {
+                    s.vel.par_iter().zip(&s.acc).map(|(&v, &a)| verlet_force_velocity(v, a, dt)).collect_into_vec(eval_vel);
+                    s.omega.par_iter().zip(&s.alpha).map(|(&w, &a)| verlet_force_velocity(w, a, dt)).collect_into_vec(eval_omega);
+                });
                 self.contact_pass(true);
                 self.accelerations(true, true);
                 let s = &mut self.state;
@@ -210,9 +217,12 @@ impl CpuSimulation {
         if domain.periodic.iter().all(|&p| p) {
             return;
         }
+        if self.pool.install(|| s.pos.par_iter().all(|&x| domain.contains(x))) {
+            return;
+        }
         let keep: Vec<bool> = s.pos.iter().map(|&x| domain.contains(x)).collect();
         let gone = keep.iter().filter(|&&k| !k).count();
-        if gone > 0 {
+        {
             s.retain(&keep);
             self.removed += gone;
             self.sums.clear();
