@@ -6,8 +6,8 @@
 //! instability monitor watches every output interval.
 //!
 //! ```no_run
-//! let options = tumble::RunOptions { out_dir: "out/demo".into(), ..Default::default() };
-//! let summary = tumble::run_scene_file("scenes/hopper_box.toml".as_ref(), &options).unwrap();
+//! let options = tumble::RunOptions { out_dir: Some("out/demo".into()), ..Default::default() };
+//! let summary = tumble::run_scene_file("scenes/box_settle.toml".as_ref(), &options).unwrap();
 //! println!("{} particle-steps/s", summary.particle_steps_per_second);
 //! ```
 

@@ -73,6 +73,8 @@ pub struct Timescales {
     pub stability_limit: Option<f64>,
     /// Shortest drag relaxation time τ_p.
     pub drag_time: Option<f64>,
+    /// Shortest relaxation time m*_t / c_t of the viscous tangential force.
+    pub tangential_time: Option<f64>,
     /// The Δt the plan would choose by itself.
     pub default_dt: f64,
 }
@@ -141,6 +143,9 @@ impl Plan {
         }
         if let Some(t) = self.timescales.rayleigh_time {
             let _ = writeln!(s, "rayleigh     {t:.6e} s");
+        }
+        if let Some(t) = self.timescales.tangential_time {
+            let _ = writeln!(s, "tau_t        {t:.6e} s (viscous tangential relaxation m*_t / c_t)");
         }
         if let Some(t) = self.timescales.drag_time {
             let _ = writeln!(s, "tau_p        {t:.6e} s (shortest drag relaxation time)");
@@ -412,7 +417,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         IntegratorName::ImplicitDragSymplectic => "implicit-drag-symplectic",
     })
     .unwrap();
-    let timescales = timescales(&particles, &materials, &pairs, &walls, fluid.as_ref(), integrator, gravity, &domain);
+    let timescales = timescales(&particles, &materials, &pairs, &walls, fluid.as_ref(), integrator, gravity, &domain, rotation);
     let dt = match run.dt {
         None => timescales.default_dt.min(run.duration),
         Some(DtSpec::Seconds(dt)) => positive("run.dt", dt)?,
@@ -503,6 +508,14 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     if let Some(t) = timescales.collision_time {
         if t / dt < 10.0 {
             warnings.push(format!("only {:.1} steps per collision; results will be inaccurate (50 is the default)", t / dt));
+        }
+    }
+    if let Some(t) = timescales.tangential_time {
+        if dt > t / 6.0 {
+            warnings.push(format!(
+                "dt is more than 1/6 of the viscous tangential relaxation time {t:.3e} s: dense packings may chatter (energy booked as dissipated while at rest); use dt <= {:.3e} or a smaller c_t",
+                t / 6.0
+            ));
         }
     }
     let bytes_per_particle = 8 * (3 * 3 + 6) // position, velocity, acceleration; radius, effect, inverse mass, mass, dissipation, elastic
@@ -644,6 +657,7 @@ fn timescales(
     integrator: Integrator,
     gravity: DVec3,
     domain: &PeriodicBox,
+    rotation: bool,
 ) -> Timescales {
     let n_mat = materials.len();
     let mass = |i: usize| materials[p.material[i] as usize].density * 4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3);
@@ -671,6 +685,7 @@ fn timescales(
     let mut t_col = f64::INFINITY;
     let mut t_col_linear = f64::INFINITY;
     let mut rayleigh = f64::INFINITY;
+    let mut tangential = f64::INFINITY;
     let speed = characteristic_speed(p, gravity, domain);
     for a in 0..n_mat {
         if !lightest[a].is_finite() {
@@ -686,6 +701,23 @@ fn timescales(
                 m_stars.push(lightest[a]);
             }
             for m_star in m_stars {
+                // The explicit viscous tangential force relaxes slip at rate c_t / m*_t, where
+                // m*_t = (2/7) m* for rolling spheres: stable for Δt < 2 m*_t / c_t per contact.
+                if let TangentialLaw::ViscousCoulomb { viscous, .. } = pairs[a * n_mat + b].tangential {
+                    let c_t = match (viscous, pairs[a * n_mat + b].normal) {
+                        (ViscousParameter::Coefficient(c), _) => c,
+                        (ViscousParameter::Stiffness(k_f), NormalLaw::Linear { stiffness, restitution, .. }) => {
+                            k_f * collision_time(stiffness, m_star, restitution)
+                        }
+                        (ViscousParameter::Stiffness(k_f), NormalLaw::Hertz { e_star, restitution, .. }) => {
+                            // Hertz has no single t_col: take the tangent stiffness at an overlap of 1 % of r.
+                            let r = smallest[a];
+                            k_f * collision_time(2.0 * e_star * (r * 0.01 * r).sqrt(), m_star, restitution)
+                        }
+                    };
+                    let m_t = if rotation { 2.0 / 7.0 * m_star } else { m_star };
+                    tangential = tangential.min(m_t / c_t);
+                }
                 match pairs[a * n_mat + b].normal {
                     NormalLaw::Linear { stiffness, restitution, .. } => {
                         t_col_linear = t_col_linear.min(collision_time(stiffness, m_star, restitution));
@@ -710,6 +742,12 @@ fn timescales(
     // Linear contacts: t_col / 50; Hertz: 0.2 Δt_R (physics.md, "Time step").
     if t_col_linear.is_finite() {
         default_dt = t_col_linear / 50.0;
+    }
+    if tangential.is_finite() {
+        ts.tangential_time = Some(tangential);
+        limit = limit.min(2.0 * tangential);
+        // A particle in a packing has several contacts whose viscous rates add up.
+        default_dt = default_dt.min(tangential / 3.0);
     }
     if rayleigh.is_finite() {
         ts.rayleigh_time = Some(rayleigh);
