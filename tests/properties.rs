@@ -127,3 +127,31 @@ fn results_are_bit_identical_for_1_2_and_4_threads() {
     assert_eq!(one, run(2).0);
     assert_eq!(one, run(4).0);
 }
+
+#[test]
+fn the_neighbour_list_never_misses_a_contact() {
+    // Fast, polydisperse, periodic: particles cross the skin often and the list must keep up.
+    let mut particles = cloud(216, 11, 0.1);
+    for p in &mut particles {
+        p.v *= 3.0;
+    }
+    let mut sim = Simulation::new(scene(&particles, false, true, 0.1, "resort_interval = 5"), 2);
+    let domain = sim.plan().domain;
+    let mut checked = 0;
+    for _ in 0..400 {
+        sim.advance(1);
+        let s = sim.cpu().state();
+        // Brute force by id: bodies touching (|d| < r_a + r_b).
+        let mut by_id = vec![0usize; s.len()];
+        for i in 0..s.len() {
+            by_id[s.id[i] as usize] = i;
+        }
+        let x: Vec<DVec3> = by_id.iter().map(|&i| s.pos[i]).collect();
+        let r: Vec<f64> = by_id.iter().map(|&i| s.radius[i]).collect();
+        let expected = tumble_broad::brute_force_pairs(&x, &r, &domain);
+        assert_eq!(sim.cpu().touching_pairs(), expected);
+        checked += expected.len();
+    }
+    assert!(checked > 1000, "the test must see contacts ({checked})");
+    assert!(sim.cpu().neighbour_builds() > 10, "and rebuilds ({})", sim.cpu().neighbour_builds());
+}

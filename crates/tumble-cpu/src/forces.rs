@@ -4,11 +4,11 @@
 
 use crate::state::State;
 use glam::DVec3;
-use tumble_broad::CellGrid;
+use crate::neighbours::NeighbourList;
 use tumble_contact::{
     collision_time, cohesion_energy, cohesion_force, normal_force, tangential_force,
 };
-use tumble_geom::{PeriodicBox, sphere_sphere};
+use tumble_geom::sphere_sphere;
 use tumble_scene::{PairParams, Plan};
 
 /// What the contact pass gives one particle.
@@ -40,8 +40,19 @@ pub struct ContactInputs<'a> {
     /// Velocities the forces see (Verlet: the predicted v_{n+1}).
     pub vel: &'a [DVec3],
     pub omega: &'a [DVec3],
-    pub grid: &'a CellGrid,
-    pub sorted: &'a [SortedEntry],
+}
+
+/// One pair's contribution, computed once in canonical order (a has the lower id).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PairOut {
+    /// Force on a; b receives the negation.
+    pub force: DVec3,
+    pub torque_a: DVec3,
+    pub torque_b: DVec3,
+    pub elastic: f64,
+    pub dissipation: f64,
+    /// δ / min(r_a, r_b), or negative when the bodies do not touch.
+    pub overlap_ratio: f64,
 }
 
 /// Force of one contact on body a, from the contact normal n (b to a), the
@@ -89,85 +100,82 @@ fn contact_force<const COH: bool>(
     out
 }
 
-/// Contact forces on particle `i` from its neighbours and the walls.
+/// The contact of pair (a, b), a with the lower id; zero when out of range.
 #[inline]
-pub fn particle_contacts<const ROT: bool, const COH: bool, const PERIODIC: bool>(c: &ContactInputs, i: usize) -> ContactSum {
+pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool>(c: &ContactInputs, a: usize, b: usize) -> PairOut {
     let s = c.state;
     let plan = c.plan;
-    let domain: &PeriodicBox = &plan.domain;
-    let order = c.grid.order();
-    let xi = s.pos[i];
-    let reach_i = s.reach[i];
-    let id_i = s.id[i];
+    let mut out = PairOut { overlap_ratio: -1.0, ..Default::default() };
+    let d = if PERIODIC { plan.domain.minimum_image(s.pos[a] - s.pos[b]) } else { s.pos[a] - s.pos[b] };
+    let cutoff = s.reach[a] + s.reach[b];
+    // Touching (δ = 0) counts: a contact that starts at zero overlap feels its damping at once.
+    if d.length_squared() > cutoff * cutoff {
+        return out;
+    }
+    let Some(g) = sphere_sphere(d, s.radius[a], s.radius[b]) else { return out };
+    let effect_overlap = if COH { cutoff - g.distance } else { 0.0 };
+    if g.overlap < 0.0 && (!COH || effect_overlap <= 0.0) {
+        return out;
+    }
+    let params = plan.pair(s.material[a], s.material[b]);
+    let mut v_rel = c.vel[a] - c.vel[b];
+    if ROT {
+        v_rel += c.omega[a].cross(g.arm_i) - c.omega[b].cross(g.arm_j);
+    }
+    let m_star = 1.0 / (s.inv_mass[a] + s.inv_mass[b]);
+    let r_star = s.radius[a] * s.radius[b] / (s.radius[a] + s.radius[b]);
+    let f = contact_force::<COH>(params, g.normal, g.overlap, effect_overlap, v_rel, m_star, r_star, plan.dt);
+    out.force = f.force;
+    if ROT {
+        out.torque_a = g.arm_i.cross(f.tangential);
+        out.torque_b = g.arm_j.cross(-f.tangential);
+    }
+    out.elastic = f.elastic;
+    out.dissipation = f.dissipation;
+    if g.overlap >= 0.0 {
+        out.overlap_ratio = g.overlap / s.radius[a].min(s.radius[b]);
+    }
+    out
+}
+
+/// Particle `i`'s sum: its pairs, gathered in list order, then the walls.
+#[inline]
+pub fn gather<const ROT: bool, const COH: bool>(c: &ContactInputs, list: &NeighbourList, pairs: &[PairOut], i: usize) -> ContactSum {
     let mut sum = ContactSum::default();
-    c.grid.for_each_neighbour_run(c.grid.cell_of(i), |start, end| {
-        for slot in start..end {
-            let e = c.sorted[slot];
-            let d = if PERIODIC { domain.minimum_image(xi - e.pos) } else { xi - e.pos };
-            let cutoff = reach_i + e.reach;
-            // Touching (δ = 0) counts: a contact that starts at rest overlap 0 feels its damping at once.
-            if d.length_squared() > cutoff * cutoff {
-                continue;
-            }
-            let j = order[slot] as usize;
-            if j == i || (s.inv_mass[i] == 0.0 && s.inv_mass[j] == 0.0) {
-                continue;
-            }
-            // Canonical order: a has the lower id; the pair is computed as a against b.
-            let i_is_a = id_i < s.id[j];
-            let (a, b) = if i_is_a { (i, j) } else { (j, i) };
-            let d_ab = if i_is_a {
-                d
-            } else if PERIODIC {
-                domain.minimum_image(s.pos[a] - s.pos[b])
-            } else {
-                s.pos[a] - s.pos[b]
-            };
-            let Some(g) = sphere_sphere(d_ab, s.radius[a], s.radius[b]) else { continue };
-            let effect_overlap = if COH { s.reach[a] + s.reach[b] - g.distance } else { 0.0 };
-            if g.overlap < 0.0 && (!COH || effect_overlap <= 0.0) {
-                continue;
-            }
-            let params = plan.pair(s.material[a], s.material[b]);
-            let mut v_rel = c.vel[a] - c.vel[b];
+    for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
+        let p = &pairs[(e >> 1) as usize];
+        if e & 1 == 0 {
+            sum.force += p.force;
             if ROT {
-                v_rel += c.omega[a].cross(g.arm_i) - c.omega[b].cross(g.arm_j);
+                sum.torque += p.torque_a;
             }
-            let m_star = 1.0 / (s.inv_mass[a] + s.inv_mass[b]);
-            let r_star = s.radius[a] * s.radius[b] / (s.radius[a] + s.radius[b]);
-            let f = contact_force::<COH>(params, g.normal, g.overlap, effect_overlap, v_rel, m_star, r_star, plan.dt);
-            if i_is_a {
-                sum.force += f.force;
-                if ROT {
-                    sum.torque += g.arm_i.cross(f.tangential);
-                }
-                sum.elastic += f.elastic;
-                sum.dissipation += f.dissipation;
-                sum.contacts += (g.overlap > 0.0) as u32;
-            } else {
-                sum.force -= f.force;
-                if ROT {
-                    sum.torque += g.arm_j.cross(-f.tangential);
-                }
-            }
-            if g.overlap > 0.0 {
-                sum.max_overlap_ratio = sum.max_overlap_ratio.max(g.overlap / s.radius[a].min(s.radius[b]));
+            // Energies and contacts are booked on the canonical side only.
+            sum.elastic += p.elastic;
+            sum.dissipation += p.dissipation;
+            sum.contacts += (p.overlap_ratio > 0.0) as u32;
+        } else {
+            sum.force -= p.force;
+            if ROT {
+                sum.torque += p.torque_b;
             }
         }
-    });
-    if s.inv_mass[i] == 0.0 && plan.walls.is_empty() {
+        sum.max_overlap_ratio = sum.max_overlap_ratio.max(p.overlap_ratio);
+    }
+    let s = c.state;
+    let plan = c.plan;
+    let near = &list.wall_entries[list.wall_start[i] as usize..list.wall_start[i + 1] as usize];
+    if near.is_empty() {
         return sum;
     }
     // Walls: static, infinite mass, R* = r_i.
+    let xi = s.pos[i];
     let r = s.radius[i];
-    let extra = reach_i - r;
-    for w in &plan.walls {
+    let extra = s.reach[i] - r;
+    for &w in near {
+        let w = &plan.walls[w as usize];
         let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
         let effect_overlap = k.overlap + extra;
         if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
-            continue;
-        }
-        if s.inv_mass[i] == 0.0 {
             continue;
         }
         let params = plan.pair(s.material[i], w.material);

@@ -34,6 +34,7 @@
 //! ```
 
 mod forces;
+mod neighbours;
 mod observables;
 mod state;
 mod step;
@@ -42,7 +43,8 @@ pub use forces::ContactSum;
 pub use observables::{Observables, TrackRow};
 pub use state::State;
 
-use forces::SortedEntry;
+use forces::{PairOut, SortedEntry};
+use neighbours::NeighbourList;
 use glam::DVec3;
 use tumble_broad::CellGrid;
 use tumble_scene::{CompiledScene, Plan};
@@ -55,6 +57,9 @@ pub struct CpuSimulation {
     grid: CellGrid,
     sorted: Vec<SortedEntry>,
     sums: Vec<ContactSum>,
+    neighbours: NeighbourList,
+    pair_out: Vec<PairOut>,
+    last_resort: Option<u64>,
     eval_vel: Vec<DVec3>,
     eval_omega: Vec<DVec3>,
     step: u64,
@@ -68,7 +73,8 @@ impl CpuSimulation {
         let threads = threads.max(1);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
         let state = State::from_scene(&scene);
-        let grid = CellGrid::new(&scene.plan.domain, scene.plan.cell_size);
+        let grid = CellGrid::new(&scene.plan.domain, scene.plan.cell_size + scene.plan.skin);
+        let neighbours = NeighbourList::new(scene.plan.skin);
         let mut sim = CpuSimulation {
             plan: scene.plan,
             pool,
@@ -76,13 +82,16 @@ impl CpuSimulation {
             grid,
             sorted: Vec::new(),
             sums: Vec::new(),
+            neighbours,
+            pair_out: Vec::new(),
+            last_resort: None,
             eval_vel: Vec::new(),
             eval_omega: Vec::new(),
             step: 0,
             removed: 0,
             threads,
         };
-        sim.broad_phase(true);
+        sim.broad_phase();
         sim.initial_forces();
         sim
     }
@@ -124,6 +133,26 @@ impl CpuSimulation {
     /// Index of the particle with id `id`, if it is still in the domain.
     pub fn index_of(&self, id: u32) -> Option<usize> {
         self.state.id.iter().position(|&k| k == id)
+    }
+
+    /// Neighbour-list rebuilds so far.
+    pub fn neighbour_builds(&self) -> u64 {
+        self.neighbours.builds
+    }
+
+    /// Particle pairs (by id, lower first) whose bodies touched in the last force pass.
+    pub fn touching_pairs(&self) -> Vec<(u32, u32)> {
+        let id = &self.state.id;
+        let mut pairs: Vec<(u32, u32)> = self
+            .neighbours
+            .pairs
+            .iter()
+            .zip(&self.pair_out)
+            .filter(|(_, out)| out.overlap_ratio >= 0.0)
+            .map(|(p, _)| (id[p[0] as usize], id[p[1] as usize]))
+            .collect();
+        pairs.sort_unstable();
+        pairs
     }
 
     /// The contact sums of the last force pass, by array index.

@@ -1,6 +1,7 @@
 //! The step: broad phase, contacts, body forces, integration (architecture.md, "The step").
 
-use crate::forces::{ContactInputs, ContactSum, SortedEntry, particle_contacts};
+use crate::forces::{ContactInputs, ContactSum, PairOut, SortedEntry, gather, pair_contact};
+use crate::neighbours::NeighbourList;
 use crate::CpuSimulation;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -34,38 +35,59 @@ impl CpuSimulation {
         Body { gravity: self.plan.gravity, drag: self.plan.fluid.map(|f| (f.drag, f.flow)) }
     }
 
-    /// Bins particles into the grid; re-sorts the arrays by cell when asked.
-    pub(crate) fn broad_phase(&mut self, resort: bool) {
+    /// Rebuilds the neighbour list when a particle may have crossed the skin;
+    /// at a rebuild at least `resort_interval` steps after the last re-sort, the
+    /// particle arrays are re-sorted by cell first.
+    pub(crate) fn broad_phase(&mut self) {
+        let domain = self.plan.domain;
+        if !self.pool.install(|| self.neighbours.needs_rebuild(&self.state.pos, &domain)) {
+            return;
+        }
         self.grid.build(&self.state.pos);
-        if resort {
+        if self.last_resort.is_none_or(|last| self.step >= last + self.plan.resort_interval as u64) {
             let order = self.grid.order().to_vec();
             self.state.permute(&order);
             self.grid.build(&self.state.pos);
+            self.last_resort = Some(self.step);
         }
         let (pos, reach) = (&self.state.pos, &self.state.reach);
         let order = self.grid.order();
         let sorted = &mut self.sorted;
-        self.pool.install(|| order.par_iter().map(|&i| SortedEntry { pos: pos[i as usize], reach: reach[i as usize] }).collect_into_vec(sorted));
+        let (grid, state, list, walls) = (&self.grid, &self.state, &mut self.neighbours, &self.plan.walls);
+        self.pool.install(|| {
+            order.par_iter().map(|&i| SortedEntry { pos: pos[i as usize], reach: reach[i as usize] }).collect_into_vec(sorted);
+            list.build(grid, sorted, state, &domain, walls);
+        });
     }
 
-    /// The contact pass over all particles, monomorphised on the plan's features.
+    /// The contact pass: every listed pair once, then each particle gathers its own sum.
     fn contact_pass(&mut self, use_eval: bool) {
         let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
-        let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega, grid: &self.grid, sorted: &self.sorted };
+        let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega };
         let periodic = self.plan.domain.periodic.iter().any(|&p| p);
-        let kernel: fn(&ContactInputs, usize) -> ContactSum = match (self.plan.rotation, self.plan.cohesion, periodic) {
-            (false, false, false) => particle_contacts::<false, false, false>,
-            (true, false, false) => particle_contacts::<true, false, false>,
-            (false, true, false) => particle_contacts::<false, true, false>,
-            (true, true, false) => particle_contacts::<true, true, false>,
-            (false, false, true) => particle_contacts::<false, false, true>,
-            (true, false, true) => particle_contacts::<true, false, true>,
-            (false, true, true) => particle_contacts::<false, true, true>,
-            (true, true, true) => particle_contacts::<true, true, true>,
+        // Monomorphised on the plan's features: a scene without them runs none of their code.
+        let pair: fn(&ContactInputs, usize, usize) -> PairOut = match (self.plan.rotation, self.plan.cohesion, periodic) {
+            (false, false, false) => pair_contact::<false, false, false>,
+            (true, false, false) => pair_contact::<true, false, false>,
+            (false, true, false) => pair_contact::<false, true, false>,
+            (true, true, false) => pair_contact::<true, true, false>,
+            (false, false, true) => pair_contact::<false, false, true>,
+            (true, false, true) => pair_contact::<true, false, true>,
+            (false, true, true) => pair_contact::<false, true, true>,
+            (true, true, true) => pair_contact::<true, true, true>,
+        };
+        let sum: fn(&ContactInputs, &NeighbourList, &[PairOut], usize) -> ContactSum = match (self.plan.rotation, self.plan.cohesion) {
+            (false, false) => gather::<false, false>,
+            (true, false) => gather::<true, false>,
+            (false, true) => gather::<false, true>,
+            (true, true) => gather::<true, true>,
         };
         let n = self.state.len();
-        let sums = &mut self.sums;
-        self.pool.install(|| (0..n).into_par_iter().map(|i| kernel(&inputs, i)).collect_into_vec(sums));
+        let (list, pair_out, sums) = (&self.neighbours, &mut self.pair_out, &mut self.sums);
+        self.pool.install(|| {
+            list.pairs.par_iter().with_min_len(1024).map(|p| pair(&inputs, p[0] as usize, p[1] as usize)).collect_into_vec(pair_out);
+            (0..n).into_par_iter().with_min_len(512).map(|i| sum(&inputs, list, pair_out, i)).collect_into_vec(sums);
+        });
     }
 
     /// Accelerations from contact sums plus gravity and explicit drag, at velocities `vel`.
@@ -114,7 +136,6 @@ impl CpuSimulation {
     /// One time step with the plan's integrator.
     pub fn step_once(&mut self) {
         let dt = self.plan.dt;
-        let resort = self.step % self.plan.resort_interval as u64 == 0;
         match self.plan.integrator {
             Integrator::Verlet => {
                 {
@@ -131,7 +152,7 @@ impl CpuSimulation {
                     });
                 }
                 self.boundaries();
-                self.broad_phase(resort);
+                self.broad_phase();
                 // Velocity-dependent forces see the second-order estimate of v_{n+1}.
                 let s = &self.state;
                 let (eval_vel, eval_omega) = (&mut self.eval_vel, &mut self.eval_omega);
@@ -153,7 +174,7 @@ impl CpuSimulation {
                 });
             }
             integrator => {
-                self.broad_phase(resort);
+                self.broad_phase();
                 self.contact_pass(false);
                 let implicit = integrator.implicit_drag();
                 self.accelerations(false, !implicit);
@@ -225,6 +246,7 @@ impl CpuSimulation {
         {
             s.retain(&keep);
             self.removed += gone;
+            self.neighbours.invalidate();
             self.sums.clear();
             self.eval_vel.clear();
             self.eval_omega.clear();

@@ -100,7 +100,10 @@ pub struct Plan {
     pub pairs: Vec<PairParams>,
     pub walls: Vec<Wall>,
     pub group_names: Vec<String>,
+    /// Largest interaction diameter (body, or effect with cohesion).
     pub cell_size: f64,
+    /// Verlet-list skin: pairs within reach + skin are listed; rebuilt after a move of skin/2.
+    pub skin: f64,
     pub timescales: Timescales,
     pub features: Vec<Feature>,
     pub warnings: Vec<String>,
@@ -123,7 +126,7 @@ impl Plan {
 
     fn grid_dims(&self) -> [usize; 3] {
         let e = self.domain.extent();
-        [0, 1, 2].map(|k| ((e[k] / self.cell_size).floor() as usize).clamp(1, 1 << 21))
+        [0, 1, 2].map(|k| ((e[k] / (self.cell_size + self.skin)).floor() as usize).clamp(1, 1 << 21))
     }
 
     /// Steps per shortest collision, when there is one.
@@ -153,7 +156,7 @@ impl Plan {
         if let Some(t) = self.timescales.stability_limit {
             let _ = writeln!(s, "limit        {t:.6e} s (largest stable dt)");
         }
-        let _ = writeln!(s, "cell size    {:.6e} m, grid {:?}", self.cell_size, self.grid_dims());
+        let _ = writeln!(s, "cell size    {:.6e} m + skin {:.3e} m, grid {:?}", self.cell_size, self.skin, self.grid_dims());
         let _ = writeln!(
             s,
             "memory       {:.1} MiB ({} bytes per particle)",
@@ -397,11 +400,12 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         .map(|i| if cohesion { particles.effect_radius[i].max(particles.radius[i]) } else { particles.radius[i] })
         .fold(0.0, f64::max);
     let cell_size = 2.0 * max_reach;
+    let skin = 0.1 * cell_size;
     for k in 0..3 {
-        if domain.periodic[k] && domain.extent()[k] < 2.0 * cell_size {
+        if domain.periodic[k] && domain.extent()[k] < 2.0 * (cell_size + skin) {
             return Err(SceneError::field(
                 "domain.periodic",
-                format!("axis {k} is periodic but only {} m long; it must be at least two interaction diameters ({} m)", domain.extent()[k], 2.0 * cell_size),
+                format!("axis {k} is periodic but only {} m long; it must be at least two interaction diameters plus skin ({} m)", domain.extent()[k], 2.0 * (cell_size + skin)),
             ));
         }
     }
@@ -519,7 +523,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         }
     }
     let bytes_per_particle = 8 * (3 * 3 + 6) // position, velocity, acceleration; radius, effect, inverse mass, mass, dissipation, elastic
-        + 8 * 4 // sorted position and reach for the broad phase
+        + 8 * 4 + 8 * 3 // sorted position and reach for the broad phase, reference position of the neighbour list
+        + 6 * (4 * 2 + 4 * 2) + 6 * if rotation { 72 } else { 48 } // ~6 listed pairs: indices, incidence, pair results
         + 2 + 2 + 4 + 4 + 4 + 4 + 8 // material, group, id, flags, order, cell, overlap
         + if rotation { 8 * 7 } else { 0 } // angular velocity and acceleration, inverse inertia
         + if integrator == Integrator::Verlet { 24 * if rotation { 2 } else { 1 } } else { 0 }
@@ -545,6 +550,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             walls,
             group_names: scene.particles.iter().enumerate().map(|(g, p)| p.name.clone().unwrap_or_else(|| format!("group{g}"))).collect(),
             cell_size,
+            skin,
             timescales,
             features,
             warnings,
