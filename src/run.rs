@@ -183,6 +183,7 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
         "wall_seconds": s.wall_seconds,
         "particle_steps_per_second": finite_or_null(s.particle_steps_per_second),
         "removed_particles": sim.removed(),
+        "neighbour_list_builds": sim.cpu().neighbour_builds(),
         "plan": {
             "integrator": plan.integrator.name(),
             "collision_time": plan.timescales.collision_time,

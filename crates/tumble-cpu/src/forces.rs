@@ -101,7 +101,7 @@ fn contact_force<const COH: bool>(
 }
 
 /// The contact of pair (a, b), a with the lower id; zero when out of range.
-#[inline]
+#[inline(always)]
 pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool>(c: &ContactInputs, a: usize, b: usize) -> PairOut {
     let s = c.state;
     let plan = c.plan;
@@ -139,7 +139,7 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool>(c: &
 }
 
 /// Particle `i`'s sum: its pairs, gathered in list order, then the walls.
-#[inline]
+#[inline(always)]
 pub fn gather<const ROT: bool, const COH: bool>(c: &ContactInputs, list: &NeighbourList, pairs: &[PairOut], i: usize) -> ContactSum {
     let mut sum = ContactSum::default();
     for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {

@@ -52,7 +52,7 @@ use tumble_scene::{CompiledScene, Plan};
 /// A running CPU simulation.
 pub struct CpuSimulation {
     plan: Plan,
-    pool: rayon::ThreadPool,
+    pool: std::sync::Arc<rayon::ThreadPool>,
     state: State,
     grid: CellGrid,
     sorted: Vec<SortedEntry>,
@@ -71,7 +71,7 @@ impl CpuSimulation {
     /// Sets up the state and evaluates the initial forces, on `threads` worker threads.
     pub fn new(scene: CompiledScene, threads: usize) -> Self {
         let threads = threads.max(1);
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+        let pool = std::sync::Arc::new(rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool"));
         let state = State::from_scene(&scene);
         let grid = CellGrid::new(&scene.plan.domain, scene.plan.cell_size + scene.plan.skin);
         let neighbours = NeighbourList::new(scene.plan.skin);
@@ -125,9 +125,13 @@ impl CpuSimulation {
 
     /// Advances `steps` steps.
     pub fn advance(&mut self, steps: u64) {
-        for _ in 0..steps {
-            self.step_once();
-        }
+        // One hand-over to the pool for all the steps; the passes' own installs then run inline.
+        let pool = self.pool.clone();
+        pool.install(|| {
+            for _ in 0..steps {
+                self.step_once();
+            }
+        });
     }
 
     /// Index of the particle with id `id`, if it is still in the domain.

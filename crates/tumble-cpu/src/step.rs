@@ -1,7 +1,6 @@
 //! The step: broad phase, contacts, body forces, integration (architecture.md, "The step").
 
-use crate::forces::{ContactInputs, ContactSum, PairOut, SortedEntry, gather, pair_contact};
-use crate::neighbours::NeighbourList;
+use crate::forces::{ContactInputs, SortedEntry, gather, pair_contact};
 use crate::CpuSimulation;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -62,31 +61,32 @@ impl CpuSimulation {
 
     /// The contact pass: every listed pair once, then each particle gathers its own sum.
     fn contact_pass(&mut self, use_eval: bool) {
-        let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
-        let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega };
         let periodic = self.plan.domain.periodic.iter().any(|&p| p);
         // Monomorphised on the plan's features: a scene without them runs none of their code.
-        let pair: fn(&ContactInputs, usize, usize) -> PairOut = match (self.plan.rotation, self.plan.cohesion, periodic) {
-            (false, false, false) => pair_contact::<false, false, false>,
-            (true, false, false) => pair_contact::<true, false, false>,
-            (false, true, false) => pair_contact::<false, true, false>,
-            (true, true, false) => pair_contact::<true, true, false>,
-            (false, false, true) => pair_contact::<false, false, true>,
-            (true, false, true) => pair_contact::<true, false, true>,
-            (false, true, true) => pair_contact::<false, true, true>,
-            (true, true, true) => pair_contact::<true, true, true>,
-        };
-        let sum: fn(&ContactInputs, &NeighbourList, &[PairOut], usize) -> ContactSum = match (self.plan.rotation, self.plan.cohesion) {
-            (false, false) => gather::<false, false>,
-            (true, false) => gather::<true, false>,
-            (false, true) => gather::<false, true>,
-            (true, true) => gather::<true, true>,
-        };
+        match (self.plan.rotation, self.plan.cohesion, periodic) {
+            (false, false, false) => self.contact_pass_with::<false, false, false>(use_eval),
+            (true, false, false) => self.contact_pass_with::<true, false, false>(use_eval),
+            (false, true, false) => self.contact_pass_with::<false, true, false>(use_eval),
+            (true, true, false) => self.contact_pass_with::<true, true, false>(use_eval),
+            (false, false, true) => self.contact_pass_with::<false, false, true>(use_eval),
+            (true, false, true) => self.contact_pass_with::<true, false, true>(use_eval),
+            (false, true, true) => self.contact_pass_with::<false, true, true>(use_eval),
+            (true, true, true) => self.contact_pass_with::<true, true, true>(use_eval),
+        }
+    }
+
+    fn contact_pass_with<const ROT: bool, const COH: bool, const PERIODIC: bool>(&mut self, use_eval: bool) {
+        let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
+        let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega };
         let n = self.state.len();
         let (list, pair_out, sums) = (&self.neighbours, &mut self.pair_out, &mut self.sums);
         self.pool.install(|| {
-            list.pairs.par_iter().with_min_len(1024).map(|p| pair(&inputs, p[0] as usize, p[1] as usize)).collect_into_vec(pair_out);
-            (0..n).into_par_iter().with_min_len(512).map(|i| sum(&inputs, list, pair_out, i)).collect_into_vec(sums);
+            list.pairs
+                .par_iter()
+                .with_min_len(1024)
+                .map(|p| pair_contact::<ROT, COH, PERIODIC>(&inputs, p[0] as usize, p[1] as usize))
+                .collect_into_vec(pair_out);
+            (0..n).into_par_iter().with_min_len(512).map(|i| gather::<ROT, COH>(&inputs, list, pair_out, i)).collect_into_vec(sums);
         });
     }
 

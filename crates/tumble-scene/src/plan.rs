@@ -400,7 +400,11 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         .map(|i| if cohesion { particles.effect_radius[i].max(particles.radius[i]) } else { particles.radius[i] })
         .fold(0.0, f64::max);
     let cell_size = 2.0 * max_reach;
-    let skin = 0.1 * cell_size;
+    let skin_fraction = scene.run.skin.unwrap_or(DEFAULT_SKIN);
+    if !(skin_fraction > 0.0 && skin_fraction <= 1.0) {
+        return Err(SceneError::field("run.skin", format!("must lie in (0, 1] (a fraction of the interaction diameter), got {skin_fraction}")));
+    }
+    let skin = skin_fraction * cell_size;
     for k in 0..3 {
         if domain.periodic[k] && domain.extent()[k] < 2.0 * (cell_size + skin) {
             return Err(SceneError::field(
@@ -625,6 +629,9 @@ fn pair_params(
     };
     Ok(PairParams { normal, tangential, cohesion, no_attraction })
 }
+
+/// Default neighbour-list skin, as a fraction of the largest interaction diameter.
+const DEFAULT_SKIN: f64 = 0.1;
 
 /// Body contacts closer than this fraction of the smaller diameter count as overlapping.
 const OVERLAP_TOLERANCE: f64 = 1e-9;

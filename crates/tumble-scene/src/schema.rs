@@ -40,6 +40,8 @@ pub struct RunSection {
     pub allow_unstable_dt: bool,
     /// Steps between re-sorts of the particle arrays by cell.
     pub resort_interval: Option<u32>,
+    /// Neighbour-list skin as a fraction of the largest interaction diameter.
+    pub skin: Option<f64>,
     #[serde(default)]
     pub monitor: MonitorSection,
 }
