@@ -20,9 +20,9 @@ pub enum Command {
         /// Output folder [default: out/<scene name>/].
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Backend: cpu (gpu arrives with the GPU backend).
-        #[arg(long, default_value = "cpu")]
-        backend: String,
+        /// Backend: cpu (gpu arrives with the GPU backend) [default: the scene's run.backend].
+        #[arg(long)]
+        backend: Option<String>,
         /// Worker threads [default: all cores].
         #[arg(long)]
         threads: Option<usize>,
@@ -57,8 +57,8 @@ pub fn main_with(cli: Cli) -> i32 {
             }
         },
         Command::Run { scene, out, backend, threads, duration, dt, quiet } => {
-            if backend != "cpu" {
-                eprintln!("error: --backend {backend}: only the cpu backend exists in this build (valid: cpu)");
+            if let Some(b) = backend.as_deref().filter(|&b| b != "cpu") {
+                eprintln!("error: --backend {b}: only the cpu backend exists in this build (valid: cpu)");
                 return 2;
             }
             if threads == Some(0) {
@@ -72,6 +72,10 @@ pub fn main_with(cli: Cli) -> i32 {
                     return 2;
                 }
             };
+            if backend.is_none() && scene_asks_for_gpu(&compiled) {
+                eprintln!("error: {}: run.backend: \"gpu\" is not in this build yet; use backend = \"cpu\" or --backend cpu", scene.display());
+                return 2;
+            }
             let mut options = RunOptions { out_dir: out, duration, dt, progress: !quiet, ..Default::default() };
             if let Some(t) = threads {
                 options.threads = t;
@@ -99,4 +103,8 @@ pub fn main_with(cli: Cli) -> i32 {
             }
         }
     }
+}
+
+fn scene_asks_for_gpu(c: &tumble_scene::CompiledScene) -> bool {
+    c.plan.backend == tumble_scene::schema::BackendName::Gpu
 }

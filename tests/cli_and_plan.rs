@@ -118,3 +118,17 @@ fn the_plan_carries_only_what_the_scene_needs() {
     let t = collision.timescales.collision_time.unwrap();
     assert!((collision.dt - t / 50.0).abs() < 1e-15);
 }
+
+#[test]
+fn a_scene_asking_for_the_gpu_backend_is_refused_until_it_exists() {
+    let dir = tmp("gpu");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("gpu.toml");
+    std::fs::write(&scene, scene_file("scenes/verify/02_normal_collision.toml").replace("integrator = \"verlet\"", "integrator = \"verlet\"\nbackend = \"gpu\"")).unwrap();
+    let out = dir.join("out");
+    let result = Command::new(env!("CARGO_BIN_EXE_tumble")).arg("run").arg(&scene).arg("--out").arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("run.backend") && !out.exists(), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
