@@ -15,11 +15,16 @@ fn tmp(name: &str) -> std::path::PathBuf {
     d
 }
 
+/// 2/ω of the verification sphere (d = 0.1 m, ρ = 10 kg/m³) on a fixed partner with k_n = 1e5 N/m.
+fn collision_limit() -> f64 {
+    let m = 10.0 * std::f64::consts::PI / 6.0 * 1e-3;
+    2.0 / (1.0e5f64 / m).sqrt()
+}
+
 #[test]
 fn dt_above_two_over_omega_is_refused_by_the_plan() {
     let mut scene = parse_scene(&scene_file("scenes/verify/02_elastic_collision.toml")).unwrap();
-    let m = 10.0 * std::f64::consts::PI / 6.0 * 1e-3;
-    let limit = 2.0 / (1.0e5f64 / m).sqrt();
+    let limit = collision_limit();
     scene.run.dt = Some(DtSpec::Seconds(1.01 * limit));
     let err = compile(&scene).unwrap_err().to_string();
     assert!(err.contains("run.dt") && err.contains("stability limit"), "{err}");
@@ -32,8 +37,7 @@ fn dt_above_two_over_omega_is_refused_by_the_plan() {
 fn a_forced_unstable_step_stops_with_a_message_and_valid_outputs() {
     // A sphere resting on the floor, integrated at 1.5 × 2/ω: the contact oscillation grows every step.
     let mut scene = parse_scene(&scene_file("scenes/verify/03_sliding.toml")).unwrap();
-    let m = 10.0 * std::f64::consts::PI / 6.0 * 1e-3;
-    let limit = 2.0 / (1.0e5f64 / m).sqrt();
+    let limit = collision_limit();
     scene.run.dt = Some(DtSpec::Seconds(1.5 * limit));
     scene.run.integrator = tumble_scene::schema::IntegratorName::SymplecticEuler;
     scene.run.output_interval = Some(1.5 * limit);
