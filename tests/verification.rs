@@ -165,3 +165,35 @@ fn case9_energy_is_accounted_to_one_percent() {
     assert!(dissipated > 0.3, "the test must dissipate a real share of the energy");
     assert!(error < 0.01);
 }
+
+#[test]
+fn a_small_stokes_particle_follows_the_taylor_green_flow() {
+    // τ_p → 0 makes the particle a tracer: v − u_f(x) = −τ_p Du/Dt + O(τ_p²).
+    let text = verify::STOKES_DRAG
+        .replace("flow = { uniform = [1.0, 0.0, 0.0] }", "flow = { taylor_green = { amplitude = 1.0, frequency = 1.0 } }")
+        .replace("viscosity = 0.00193", "viscosity = 1.0")
+        .replace("duration = 14.3926", "duration = 1.0")
+        .replace("positions = [[0.0, 0.0, 0.0]]", "positions = [[0.3, 0.7, 0.6]]")
+        .replace("min = [-1.0, -1.0, -1.0]", "min = [0.0, 0.0, 0.0]")
+        .replace("max = [20.0, 1.0, 1.0]", "max = [6.283185307179586, 6.283185307179586, 6.283185307179586]\nperiodic = [true, true, true]");
+    let tau = 10.0 * 0.01 / 18.0;
+    let flow = tumble_contact::FlowField::TaylorGreen { amplitude: 1.0, frequency: 1.0 };
+    // Du/Dt = (u·∇)u of the steady field, by central differences.
+    let material_acceleration = |x: glam::DVec3| {
+        let (u, h) = (flow.velocity(x), 1e-6);
+        (flow.velocity(x + u * h) - flow.velocity(x - u * h)) / (2.0 * h)
+    };
+    for integrator in [Verlet, ImplicitDrag] {
+        let t = verify::trajectory(verify::scene_with(&text, integrator, Some(tau / 20.0)));
+        let (mut worst, mut lag) = (0.0f64, 0.0f64);
+        for (_, r) in t.samples.iter().skip(t.samples.len() / 2) {
+            let slip = r[0].velocity - flow.velocity(r[0].position);
+            let predicted = -material_acceleration(r[0].position) * tau;
+            worst = worst.max((slip - predicted).length());
+            lag = lag.max(predicted.length());
+        }
+        println!("{integrator:?}: max |v − u_f + τ Du/Dt| = {worst:.3e}, max τ|Du/Dt| = {lag:.3e}");
+        // The lag behind the flow is −τ_p Du/Dt to first order: a wrong sign or factor is O(lag).
+        assert!(lag > 0.5 * tau && worst < 0.2 * lag, "{integrator:?}: {worst} vs {lag}");
+    }
+}

@@ -73,7 +73,8 @@ impl CpuSimulation {
         let threads = threads.max(1);
         let pool = std::sync::Arc::new(rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool"));
         let state = State::from_scene(&scene);
-        let grid = CellGrid::new(&scene.plan.domain, scene.plan.cell_size + scene.plan.skin);
+        // A one-cell placeholder: the first broad phase sizes the real grid to the particles.
+        let grid = CellGrid::new(&scene.plan.domain, scene.plan.domain.extent().max_element());
         let neighbours = NeighbourList::new(scene.plan.skin);
         let mut sim = CpuSimulation {
             plan: scene.plan,

@@ -2,6 +2,8 @@
 
 use crate::forces::{ContactInputs, SortedEntry, gather, pair_contact};
 use crate::CpuSimulation;
+use tumble_broad::CellGrid;
+use tumble_geom::PeriodicBox;
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_contact::{FlowField, quadratic_drag};
@@ -42,6 +44,7 @@ impl CpuSimulation {
         if !self.pool.install(|| self.neighbours.needs_rebuild(&self.state.pos, &domain)) {
             return;
         }
+        self.grid = CellGrid::new(&self.grid_bounds(), self.plan.cell_size + self.plan.skin);
         self.grid.build(&self.state.pos);
         if self.last_resort.is_none_or(|last| self.step >= last + self.plan.resort_interval as u64) {
             let order = self.grid.order().to_vec();
@@ -57,6 +60,26 @@ impl CpuSimulation {
             order.par_iter().map(|&i| SortedEntry { pos: pos[i as usize], reach: reach[i as usize] }).collect_into_vec(sorted);
             list.build(grid, sorted, state, &domain, walls);
         });
+    }
+
+    /// The region the grid must cover: the whole domain along periodic axes (cells must tile
+    /// it), the particles' bounding box along the others, so a large, sparse domain stays cheap.
+    fn grid_bounds(&self) -> PeriodicBox {
+        let domain = self.plan.domain;
+        let (lo, hi) = self.pool.install(|| {
+            self.state.pos.par_iter().fold(|| (DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &x| (lo.min(x), hi.max(x))).reduce(
+                || (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                |(a, b), (c, d)| (a.min(c), b.max(d)),
+            )
+        });
+        let mut bounds = domain;
+        for k in 0..3 {
+            if !domain.periodic[k] && lo[k] <= hi[k] {
+                bounds.min[k] = lo[k].max(domain.min[k]);
+                bounds.max[k] = hi[k].min(domain.max[k]).max(bounds.min[k] + self.plan.cell_size + self.plan.skin);
+            }
+        }
+        bounds
     }
 
     /// The contact pass: every listed pair once, then each particle gathers its own sum.
