@@ -2,7 +2,10 @@
 
 use crate::{RunError, RunOptions, load_scene, run_compiled};
 use clap::{Parser, Subcommand};
+use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 #[derive(Parser, Debug)]
 #[command(name = "tumble", version, about = "Discrete element method engine for granular flow")]
@@ -36,6 +39,8 @@ pub enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Run the analytic verification cases and print the table; exit status 1 on any failure.
+    Verify,
     /// Print the model plan: active features and why, dt, t_col, steps per collision, memory.
     Plan {
         /// The scene file (TOML).
@@ -46,6 +51,12 @@ pub enum Command {
 /// Runs the command line; returns the process exit code.
 pub fn main_with(cli: Cli) -> i32 {
     match cli.command {
+        Command::Verify => {
+            let (table, pass) = crate::verify::report();
+            print!("{table}");
+            println!("{}", if pass { "all verification checks passed" } else { "verification FAILED" });
+            if pass { 0 } else { 1 }
+        }
         Command::Plan { scene } => match load_scene(&scene, None, None) {
             Ok(c) => {
                 print!("{}", c.plan.describe(c.particles.len()));
@@ -76,7 +87,19 @@ pub fn main_with(cli: Cli) -> i32 {
                 eprintln!("error: {}: run.backend: \"gpu\" is not in this build yet; use backend = \"cpu\" or --backend cpu", scene.display());
                 return 2;
             }
-            let mut options = RunOptions { out_dir: out, duration, dt, progress: !quiet, ..Default::default() };
+            // Ctrl-C stops the run after the current chunk; every output is flushed first.
+            let interrupt = Arc::new(AtomicBool::new(false));
+            let flag = interrupt.clone();
+            let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+            let mut options = RunOptions {
+                out_dir: out,
+                duration,
+                dt,
+                progress: !quiet,
+                terminal: std::io::stderr().is_terminal(),
+                interrupt: Some(interrupt),
+                ..Default::default()
+            };
             if let Some(t) = threads {
                 options.threads = t;
             }
@@ -95,6 +118,10 @@ pub fn main_with(cli: Cli) -> i32 {
                 Err(e @ RunError::Unstable(_)) => {
                     eprintln!("error: {e}");
                     3
+                }
+                Err(e @ RunError::Interrupted { .. }) => {
+                    eprintln!("{e}");
+                    130
                 }
                 Err(e) => {
                     eprintln!("error: {e}");

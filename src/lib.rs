@@ -15,8 +15,10 @@ pub mod cli;
 pub mod verify;
 mod monitor;
 mod output;
+mod progress;
 mod run;
 mod simulation;
+pub mod vtk;
 
 pub use monitor::{Instability, Monitor};
 pub use run::{RunError, RunOptions, RunSummary, load_scene, run_compiled, run_scene_file};

@@ -2,6 +2,10 @@
 
 use crate::monitor::{Instability, Monitor};
 use crate::output::{ObservablesCsv, TracksCsv};
+use crate::progress::Progress;
+use crate::vtk::SnapshotWriter;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use crate::Simulation;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -17,8 +21,12 @@ pub struct RunOptions {
     pub threads: usize,
     pub duration: Option<f64>,
     pub dt: Option<f64>,
-    /// Print periodic progress lines to standard error.
+    /// Report progress on standard error.
     pub progress: bool,
+    /// Draw a redrawn bar (a terminal) rather than plain periodic lines.
+    pub terminal: bool,
+    /// Set from another thread (Ctrl-C) to stop after the current chunk, with every output flushed.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 impl Default for RunOptions {
@@ -29,6 +37,8 @@ impl Default for RunOptions {
             duration: None,
             dt: None,
             progress: false,
+            terminal: false,
+            interrupt: None,
         }
     }
 }
@@ -50,6 +60,8 @@ pub enum RunError {
     Io(PathBuf, std::io::Error),
     /// The run went unstable; partial outputs were written.
     Unstable(Instability),
+    /// Stopped by the user; everything computed so far was written.
+    Interrupted { step: u64, out_dir: PathBuf },
 }
 
 impl fmt::Display for RunError {
@@ -58,6 +70,7 @@ impl fmt::Display for RunError {
             RunError::Scene(e) => write!(f, "{e}"),
             RunError::Io(p, e) => write!(f, "{}: {e}", p.display()),
             RunError::Unstable(e) => write!(f, "{e}"),
+            RunError::Interrupted { step, out_dir } => write!(f, "interrupted at step {step}; outputs so far are in {}", out_dir.display()),
         }
     }
 }
@@ -95,39 +108,62 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let fluid = sim.plan().fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, fluid))?;
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir))?;
+    let mut snapshots = match sim.plan().snapshot_every {
+        Some(_) => Some(io(&out_dir, SnapshotWriter::create(&out_dir))?),
+        None => None,
+    };
     let initial = sim.observables();
     let monitor = Monitor::new(sim.plan(), &initial, potential_range(&sim));
     io(&out_dir, obs_csv.row(&initial, fluid))?;
     io(&out_dir, tracks_csv.rows(0.0, &sim.tracks()))?;
+    if let Some(w) = snapshots.as_mut() {
+        io(&out_dir, w.write(0, &sim))?;
+    }
 
-    let (total, every) = (sim.plan().steps, sim.plan().output_every);
+    let (total, every, snapshot_every) = (sim.plan().steps, sim.plan().output_every, sim.plan().snapshot_every);
+    let mut progress = options.progress.then(|| Progress::new(options.terminal, total, sim.plan().duration));
     let start = Instant::now();
-    let mut last_report = Instant::now();
     let mut particle_steps = 0u128;
     let mut stopped = None;
+    let next = |step: u64, every: u64| (step / every + 1) * every;
     while sim.steps() < total {
-        let chunk = every.min(total - sim.steps());
+        // Advance to the next output or snapshot, in chunks short enough to answer Ctrl-C promptly.
+        let mut target = next(sim.steps(), every).min(total);
+        if let Some(k) = snapshot_every {
+            target = target.min(next(sim.steps(), k));
+        }
+        let chunk = (target - sim.steps()).min(MAX_CHUNK);
         let n = sim.particles() as u128;
         sim.advance(chunk);
         particle_steps += n * chunk as u128;
-        let o = sim.observables();
-        if let Err(e) = monitor.check(sim.steps(), &o) {
-            stopped = Some(e);
+        if options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed)) {
+            stopped = Some(Stop::Interrupted);
             break;
         }
-        io(&out_dir, obs_csv.row(&o, fluid))?;
-        io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
-        if options.progress && last_report.elapsed().as_secs_f64() > 2.0 {
-            last_report = Instant::now();
-            let wall = start.elapsed().as_secs_f64();
-            eprintln!(
-                "t = {:.4e} s ({:.0} %), {:.0} steps/s, {:.3e} particle-steps/s",
-                o.time,
-                100.0 * sim.steps() as f64 / total as f64,
-                sim.steps() as f64 / wall,
-                particle_steps as f64 / wall
-            );
+        let step = sim.steps();
+        if step % every == 0 || step == total {
+            let o = sim.observables();
+            if let Err(e) = monitor.check(step, &o) {
+                stopped = Some(Stop::Unstable(e));
+                break;
+            }
+            io(&out_dir, obs_csv.row(&o, fluid))?;
+            io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
         }
+        if let (Some(w), Some(k)) = (snapshots.as_mut(), snapshot_every) {
+            if step % k == 0 {
+                if !sim.observables().finite {
+                    continue; // the monitor stops the run at the next output; never write NaN
+                }
+                io(&out_dir, w.write((step / k) as usize, &sim))?;
+            }
+        }
+        if let Some(p) = progress.as_mut() {
+            p.update(step, sim.time(), particle_steps);
+        }
+    }
+    if let Some(p) = progress.as_mut() {
+        p.finish(sim.steps(), sim.time(), particle_steps);
     }
     let wall_seconds = start.elapsed().as_secs_f64();
     let final_observables = sim.observables();
@@ -139,12 +175,26 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         particle_steps_per_second: particle_steps as f64 / wall_seconds.max(1e-12),
         final_observables,
     };
-    let json = summary_json(&sim, &summary, &plan_text, stopped.as_ref());
+    let stop_text = match &stopped {
+        Some(Stop::Unstable(e)) => Some(e.to_string()),
+        Some(Stop::Interrupted) => Some(format!("interrupted by the user at step {} (t = {:.6e} s)", sim.steps(), sim.time())),
+        None => None,
+    };
+    let json = summary_json(&sim, &summary, &plan_text, stop_text);
     io(&out_dir, std::fs::write(out_dir.join("summary.json"), json))?;
     match stopped {
-        Some(e) => Err(RunError::Unstable(e)),
+        Some(Stop::Unstable(e)) => Err(RunError::Unstable(e)),
+        Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir }),
         None => Ok(summary),
     }
+}
+
+/// Most steps advanced between two checks of the interrupt flag and the progress display.
+const MAX_CHUNK: u64 = 200;
+
+enum Stop {
+    Unstable(Instability),
+    Interrupted,
 }
 
 /// Σ m |g| × the domain's extent along g: the potential energy gravity can release.
@@ -163,7 +213,7 @@ fn finite_or_null(x: f64) -> serde_json::Value {
     if x.is_finite() { serde_json::json!(x) } else { serde_json::Value::Null }
 }
 
-fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Option<&Instability>) -> String {
+fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Option<String>) -> String {
     let plan = sim.plan();
     let o = &s.final_observables;
     let features: serde_json::Map<String, serde_json::Value> = plan
@@ -202,7 +252,7 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
             "dissipated_energy": finite_or_null(o.dissipated_energy),
             "contacts": o.contacts,
         },
-        "stopped": stopped.map(|e| e.to_string()),
+        "stopped": stopped,
     });
     serde_json::to_string_pretty(&value).unwrap() + "\n"
 }

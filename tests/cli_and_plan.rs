@@ -136,3 +136,13 @@ fn a_scene_asking_for_the_gpu_backend_is_refused_until_it_exists() {
     assert!(stderr.contains("run.backend") && !out.exists(), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn tumble_verify_prints_the_table_and_passes() {
+    let result = Command::new(env!("CARGO_BIN_EXE_tumble")).arg("verify").output().unwrap();
+    let text = String::from_utf8_lossy(&result.stdout);
+    assert_eq!(result.status.code(), Some(0), "{text}");
+    assert!(text.contains("all verification checks passed") && !text.contains("FAIL"));
+    // One row per expectation plus the single-step checks.
+    assert!(text.lines().filter(|l| l.ends_with("pass")).count() >= tumble::verify::expectations().len() + 7, "{text}");
+}

@@ -5,8 +5,12 @@
 //! time steps and integrators, and compares with the closed form.
 
 mod cases;
+mod expect;
+mod report;
 
 pub use cases::*;
+pub use expect::{Expectation, ORDER_TOLERANCE, Verdict, expectations, verdicts};
+pub use report::report;
 
 use crate::{Simulation, TrackRow};
 use tumble_integrate::Integrator;
@@ -87,4 +91,15 @@ pub fn trajectory(scene: CompiledScene) -> Trajectory {
         samples.push((sim.time(), sim.tracks()));
     }
     Trajectory { samples, particle_steps, wall_seconds: start.elapsed().as_secs_f64(), last: sim }
+}
+
+/// Every convergence study: cases 1, 2 (damped and elastic), 4 and 5, all integrators.
+pub fn convergence_rows() -> Vec<ErrorRow> {
+    let all = Integrator::ALL;
+    let mut rows = stokes_drag(&all);
+    rows.extend(normal_collision(0.8, &all));
+    rows.extend(normal_collision(1.0, &all));
+    rows.extend(cohesive_collision(&all).0);
+    rows.extend(quadratic_drag(&all));
+    rows
 }

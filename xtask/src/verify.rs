@@ -1,16 +1,9 @@
 use std::fmt::Write as _;
 use tumble::verify::{self, ErrorRow, fitted_order};
-use tumble_integrate::Integrator;
 
 /// All convergence rows of the verification cases.
 pub fn all_rows() -> Vec<ErrorRow> {
-    let all = Integrator::ALL;
-    let mut rows = verify::stokes_drag(&all);
-    rows.extend(verify::normal_collision(0.8, &all));
-    rows.extend(verify::normal_collision(1.0, &all));
-    rows.extend(verify::cohesive_collision(&all).0);
-    rows.extend(verify::quadratic_drag(&all));
-    rows
+    verify::convergence_rows()
 }
 
 pub fn run(_args: &[String]) -> i32 {
