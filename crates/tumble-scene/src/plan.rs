@@ -507,7 +507,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             active: true,
             reason: describe_law(&pairs[0].normal),
         },
-        Feature { name: "tangential", active: any_friction, reason: format!("{:?}", pairs[0].tangential) },
+        Feature { name: "tangential", active: any_friction, reason: describe_tangential(&pairs[0].tangential) },
     ];
     if !movable {
         features.push(Feature { name: "motion", active: false, reason: "every particle is fixed".into() });
@@ -570,6 +570,20 @@ fn describe_law(law: &NormalLaw) -> String {
     match law {
         NormalLaw::Linear { stiffness, restitution, .. } => format!("linear spring-dashpot, k_n = {stiffness:e} N/m, e = {restitution}"),
         NormalLaw::Hertz { e_star, restitution, .. } => format!("Hertz with Tsuji damping, E* = {e_star:e} Pa, e = {restitution}"),
+    }
+}
+
+fn describe_tangential(law: &TangentialLaw) -> String {
+    match law {
+        TangentialLaw::None => "none: no tangential force".into(),
+        TangentialLaw::ViscousCoulomb { friction, viscous: ViscousParameter::Coefficient(c) } => {
+            format!("viscous-Coulomb, μ = {friction}, c_t = {c:e} N s/m (history-free)")
+        }
+        TangentialLaw::ViscousCoulomb { friction, viscous: ViscousParameter::Stiffness(k) } => {
+            format!("viscous-Coulomb, μ = {friction}, c_t = k_f t_col with k_f = {k:e} N/m (history-free)")
+        }
+        TangentialLaw::StickLimited { friction } => format!("stick-limited, μ = {friction} (history-free)"),
+        TangentialLaw::DynamicOnly { friction } => format!("dynamic-only, μ = {friction}: oscillates around rest (a documented failure case)"),
     }
 }
 
