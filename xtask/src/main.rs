@@ -1,7 +1,9 @@
 //! `cargo xtask verify` prints the verification table and writes it as CSV;
 //! `cargo xtask conformance` runs the conformance suite on every backend present.
 
+mod charts;
 mod conformance;
+mod svg;
 mod verify;
 
 fn main() {
@@ -9,8 +11,9 @@ fn main() {
     let code = match args.first().map(String::as_str) {
         Some("verify") => verify::run(&args[1..]),
         Some("conformance") => conformance::run(&args[1..]),
+        Some("charts") => charts::run(&args[1..]),
         _ => {
-            eprintln!("usage: cargo xtask <verify|conformance>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure");
+            eprintln!("usage: cargo xtask <verify|conformance|charts>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map and convergence charts (SVG + CSV) in docs/charts/");
             2
         }
     };
