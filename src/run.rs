@@ -109,7 +109,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, fluid))?;
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir))?;
     let mut snapshots = match sim.plan().snapshot_every {
-        Some(_) => Some(io(&out_dir, SnapshotWriter::create(&out_dir))?),
+        Some(_) => Some(io(&out_dir, SnapshotWriter::create(&out_dir, sim.plan()))?),
         None => None,
     };
     let initial = sim.observables();

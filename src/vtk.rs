@@ -1,5 +1,5 @@
 //! ParaView snapshots: `snapshots/particles_NNNNNN.vtp` (VTK XML PolyData, ASCII) and
-//! `particles.pvd`, the time series that opens them all.
+//! `particles.pvd`, the time series that opens them all; `walls.vtp` for the static walls.
 
 use crate::Simulation;
 use std::fmt::Write as _;
@@ -13,8 +13,12 @@ pub struct SnapshotWriter {
 }
 
 impl SnapshotWriter {
-    pub fn create(out_dir: &Path) -> io::Result<Self> {
+    /// Creates snapshots/ and, when the scene has walls, `walls.vtp` (they do not move).
+    pub fn create(out_dir: &Path, plan: &tumble_scene::Plan) -> io::Result<Self> {
         std::fs::create_dir_all(out_dir.join("snapshots"))?;
+        if !plan.walls.is_empty() {
+            std::fs::write(out_dir.join("walls.vtp"), walls_vtp(plan))?;
+        }
         Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), entries: Vec::new() })
     }
 
@@ -70,4 +74,67 @@ fn array(out: &mut String, ty: &str, name: &str, components: usize, values: impl
         out.push_str(&v);
     }
     out.push_str("\n        </DataArray>\n");
+}
+
+/// The static walls as VTK XML PolyData polygons: quads as they are, planes as a square
+/// covering the domain, cylinders as 48 facets.
+pub fn walls_vtp(plan: &tumble_scene::Plan) -> String {
+    use tumble_geom::{DVec3, SurfaceShape};
+    let mut points: Vec<DVec3> = Vec::new();
+    let mut polys: Vec<Vec<usize>> = Vec::new();
+    let mut wall_of_poly: Vec<usize> = Vec::new();
+    let centre = 0.5 * (plan.domain.min + plan.domain.max);
+    let size = plan.domain.extent().length();
+    for (w, wall) in plan.walls.iter().enumerate() {
+        let mut quad = |corners: [DVec3; 4]| {
+            polys.push((points.len()..points.len() + 4).collect());
+            points.extend(corners);
+            wall_of_poly.push(w);
+        };
+        match &wall.shape {
+            SurfaceShape::Quad(q) => quad(q.corners),
+            SurfaceShape::Plane(p) => {
+                let foot = centre - p.normal * p.signed_distance(centre);
+                let u = p.normal.any_orthonormal_vector() * size;
+                let v = p.normal.cross(u);
+                quad([foot - u - v, foot + u - v, foot + u + v, foot - u + v]);
+            }
+            SurfaceShape::Cylinder(c) => {
+                let (u, v) = c.axis.any_orthonormal_pair();
+                let ring = |k: usize, s: f64| {
+                    let phi = std::f64::consts::TAU * k as f64 / 48.0;
+                    c.point + c.axis * s + (u * phi.cos() + v * phi.sin()) * c.radius
+                };
+                for k in 0..48 {
+                    quad([ring(k, 0.0), ring(k + 1, 0.0), ring(k + 1, c.length), ring(k, c.length)]);
+                }
+            }
+        }
+    }
+    let mut out = String::new();
+    let _ = writeln!(out, "<?xml version=\"1.0\"?>");
+    let _ = writeln!(out, "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">");
+    let _ = writeln!(out, "  <PolyData>");
+    let _ = writeln!(
+        out,
+        "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"{}\">",
+        points.len(),
+        polys.len()
+    );
+    let _ = writeln!(out, "      <CellData Scalars=\"wall\">");
+    array(&mut out, "Int32", "wall", 1, wall_of_poly.iter().map(|w| w.to_string()));
+    array(&mut out, "Int32", "material", 1, wall_of_poly.iter().map(|&w| plan.walls[w].material.to_string()));
+    let _ = writeln!(out, "      </CellData>");
+    let _ = writeln!(out, "      <Points>");
+    array(&mut out, "Float64", "position", 3, points.iter().flat_map(|p| p.to_array()).map(|v| v.to_string()));
+    let _ = writeln!(out, "      </Points>");
+    let _ = writeln!(out, "      <Polys>");
+    array(&mut out, "Int64", "connectivity", 1, polys.iter().flatten().map(|i| i.to_string()));
+    array(&mut out, "Int64", "offsets", 1, polys.iter().scan(0, |n, p| {
+        *n += p.len();
+        Some(n.to_string())
+    }));
+    let _ = writeln!(out, "      </Polys>");
+    let _ = writeln!(out, "    </Piece>\n  </PolyData>\n</VTKFile>");
+    out
 }

@@ -98,6 +98,12 @@ fn snapshots_read_back_with_the_particles_state() {
     let compiled = tumble::compile(&scene).unwrap();
     let n = compiled.particles.len();
     tumble::run_compiled(compiled, &tumble::RunOptions { out_dir: Some(out.clone()), threads: 2, ..Default::default() }).unwrap();
+    // The box's six faces as polygons.
+    let walls = std::fs::read_to_string(out.join("walls.vtp")).unwrap();
+    assert!(walls.contains("NumberOfPolys=\"6\""), "{walls}");
+    assert_eq!(data_array(&walls, "offsets"), vec![4.0, 8.0, 12.0, 16.0, 20.0, 24.0]);
+    let corners = data_array(&walls, "position");
+    assert!(corners.iter().all(|&c| c == 0.0 || c == 0.15 || c == 0.35), "box corners: {corners:?}");
     let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
     let files: Vec<&str> = pvd.lines().filter_map(|l| l.split("file=\"").nth(1)).map(|f| f.trim_end_matches("\"/>")).collect();
     assert_eq!(files.len(), 3, "t = 0, 0.01, 0.02: {pvd}");
