@@ -12,12 +12,12 @@
 //! ```
 
 pub mod cli;
-pub mod verify;
 mod monitor;
 mod output;
 mod progress;
 mod run;
 mod simulation;
+pub mod verify;
 pub mod vtk;
 
 pub use monitor::{Instability, Monitor};

@@ -44,7 +44,8 @@ impl Monitor {
     /// A monitor for a plan, given the observables at t = 0 and the scene's potential-energy range.
     pub fn new(plan: &Plan, initial: &Observables, potential_range: f64) -> Self {
         // The plan's own choice, and never more than half the step that failed.
-        let suggested_dt = plan.timescales.stability_limit.map_or(plan.timescales.default_dt, |l| l.min(plan.timescales.default_dt)).min(0.5 * plan.dt);
+        let suggested_dt =
+            plan.timescales.stability_limit.map_or(plan.timescales.default_dt, |l| l.min(plan.timescales.default_dt)).min(0.5 * plan.dt);
         Monitor {
             enabled: plan.monitor.enabled,
             max_overlap_ratio: plan.monitor.max_overlap_ratio,

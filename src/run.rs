@@ -1,14 +1,14 @@
 //! Running a scene end to end: compile, step, monitor, write outputs.
 
+use crate::Simulation;
 use crate::monitor::{Instability, Monitor};
 use crate::output::{ObservablesCsv, TracksCsv};
 use crate::progress::Progress;
 use crate::vtk::SnapshotWriter;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use crate::Simulation;
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use tumble_scene::schema::DtSpec;
 use tumble_scene::{CompiledScene, SceneError, compile, read_scene};
@@ -61,7 +61,10 @@ pub enum RunError {
     /// The run went unstable; partial outputs were written.
     Unstable(Instability),
     /// Stopped by the user; everything computed so far was written.
-    Interrupted { step: u64, out_dir: PathBuf },
+    Interrupted {
+        step: u64,
+        out_dir: PathBuf,
+    },
 }
 
 impl fmt::Display for RunError {
@@ -141,7 +144,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
             break;
         }
         let step = sim.steps();
-        if step % every == 0 || step == total {
+        if step.is_multiple_of(every) || step == total {
             let o = sim.observables();
             if let Err(e) = monitor.check(step, &o) {
                 stopped = Some(Stop::Unstable(e));
@@ -150,13 +153,13 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
             io(&out_dir, obs_csv.row(&o, fluid))?;
             io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
         }
-        if let (Some(w), Some(k)) = (snapshots.as_mut(), snapshot_every) {
-            if step % k == 0 {
-                if !sim.observables().finite {
-                    continue; // the monitor stops the run at the next output; never write NaN
-                }
-                io(&out_dir, w.write((step / k) as usize, &sim))?;
+        if let (Some(w), Some(k)) = (snapshots.as_mut(), snapshot_every)
+            && step.is_multiple_of(k)
+        {
+            if !sim.observables().finite {
+                continue; // the monitor stops the run at the next output; never write NaN
             }
+            io(&out_dir, w.write((step / k) as usize, &sim))?;
         }
         if let Some(p) = progress.as_mut() {
             p.update(step, sim.time(), particle_steps);
@@ -216,11 +219,8 @@ fn finite_or_null(x: f64) -> serde_json::Value {
 fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Option<String>) -> String {
     let plan = sim.plan();
     let o = &s.final_observables;
-    let features: serde_json::Map<String, serde_json::Value> = plan
-        .features
-        .iter()
-        .map(|f| (f.name.to_string(), serde_json::json!({ "active": f.active, "reason": f.reason })))
-        .collect();
+    let features: serde_json::Map<String, serde_json::Value> =
+        plan.features.iter().map(|f| (f.name.to_string(), serde_json::json!({ "active": f.active, "reason": f.reason }))).collect();
     let value = serde_json::json!({
         "scene": plan.name,
         "backend": sim.backend_name(),

@@ -130,10 +130,16 @@ pub fn walls_vtp(plan: &tumble_scene::Plan) -> String {
     let _ = writeln!(out, "      </Points>");
     let _ = writeln!(out, "      <Polys>");
     array(&mut out, "Int64", "connectivity", 1, polys.iter().flatten().map(|i| i.to_string()));
-    array(&mut out, "Int64", "offsets", 1, polys.iter().scan(0, |n, p| {
-        *n += p.len();
-        Some(n.to_string())
-    }));
+    array(
+        &mut out,
+        "Int64",
+        "offsets",
+        1,
+        polys.iter().scan(0, |n, p| {
+            *n += p.len();
+            Some(n.to_string())
+        }),
+    );
     let _ = writeln!(out, "      </Polys>");
     let _ = writeln!(out, "    </Piece>\n  </PolyData>\n</VTKFile>");
     out

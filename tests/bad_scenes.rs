@@ -13,7 +13,12 @@ fn corpus() -> Vec<(PathBuf, String)> {
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .map(|p| {
             let text = std::fs::read_to_string(&p).unwrap();
-            let expect = text.lines().next().and_then(|l| l.strip_prefix("# expect: ")).unwrap_or_else(|| panic!("{} lacks # expect:", p.display())).to_string();
+            let expect = text
+                .lines()
+                .next()
+                .and_then(|l| l.strip_prefix("# expect: "))
+                .unwrap_or_else(|| panic!("{} lacks # expect:", p.display()))
+                .to_string();
             (p, expect)
         })
         .collect();

@@ -76,7 +76,21 @@ fn tumble_run_writes_summary_observables_and_tracks() {
         .unwrap();
     assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
     let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    for key in ["scene", "backend", "device", "precision", "particles", "steps", "dt", "simulated_time", "wall_seconds", "particle_steps_per_second", "plan", "final", "removed_particles"] {
+    for key in [
+        "scene",
+        "backend",
+        "device",
+        "precision",
+        "particles",
+        "steps",
+        "dt",
+        "simulated_time",
+        "wall_seconds",
+        "particle_steps_per_second",
+        "plan",
+        "final",
+        "removed_particles",
+    ] {
         assert!(!summary[key].is_null(), "summary.json lacks {key}");
     }
     assert_eq!(summary["particles"], 2);
@@ -97,7 +111,11 @@ fn tumble_run_writes_summary_observables_and_tracks() {
 
 #[test]
 fn tumble_plan_explains_each_feature() {
-    let result = Command::new(env!("CARGO_BIN_EXE_tumble")).args(["plan", "scenes/verify/04_cohesive_collision.toml"]).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    let result = Command::new(env!("CARGO_BIN_EXE_tumble"))
+        .args(["plan", "scenes/verify/04_cohesive_collision.toml"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
     let text = String::from_utf8_lossy(&result.stdout);
     assert!(result.status.success());
     for needle in ["t_col", "steps per collision", "memory", "rotation     off", "cohesion     on", "drag         off"] {
@@ -128,7 +146,11 @@ fn a_scene_asking_for_the_gpu_backend_is_refused_until_it_exists() {
     let dir = tmp("gpu");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("gpu.toml");
-    std::fs::write(&scene, scene_file("scenes/verify/02_normal_collision.toml").replace("integrator = \"verlet\"", "integrator = \"verlet\"\nbackend = \"gpu\"")).unwrap();
+    std::fs::write(
+        &scene,
+        scene_file("scenes/verify/02_normal_collision.toml").replace("integrator = \"verlet\"", "integrator = \"verlet\"\nbackend = \"gpu\""),
+    )
+    .unwrap();
     let out = dir.join("out");
     let result = Command::new(env!("CARGO_BIN_EXE_tumble")).arg("run").arg(&scene).arg("--out").arg(&out).output().unwrap();
     let stderr = String::from_utf8_lossy(&result.stderr);

@@ -20,7 +20,12 @@ fn progress_is_a_bar_on_a_terminal_and_lines_in_a_pipe() {
     let bin = env!("CARGO_BIN_EXE_tumble");
     let out = tmp("progress");
     // A pipe: plain lines, no carriage returns.
-    let piped = Command::new(bin).args(["run", "scenes/verify/09_energy_balance.toml", "--duration", "0.02", "--out"]).arg(&out).current_dir(root()).output().unwrap();
+    let piped = Command::new(bin)
+        .args(["run", "scenes/verify/09_energy_balance.toml", "--duration", "0.02", "--out"])
+        .arg(&out)
+        .current_dir(root())
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&piped.stderr);
     assert!(piped.status.success(), "{err}");
     assert!(err.lines().any(|l| l.starts_with("progress") && l.contains("particle-steps/s") && l.contains("left")), "{err}");
@@ -109,12 +114,13 @@ fn snapshots_read_back_with_the_particles_state() {
     assert_eq!(files.len(), 3, "t = 0, 0.01, 0.02: {pvd}");
     let last = std::fs::read_to_string(out.join(files[2])).unwrap();
     assert!(last.contains(&format!("NumberOfPoints=\"{n}\"")));
-    let (radius, velocity, points, ids) = (data_array(&last, "radius"), data_array(&last, "velocity"), data_array(&last, "position"), data_array(&last, "id"));
+    let (radius, velocity, points, ids) =
+        (data_array(&last, "radius"), data_array(&last, "velocity"), data_array(&last, "position"), data_array(&last, "id"));
     assert_eq!((radius.len(), velocity.len(), points.len(), ids.len()), (n, 3 * n, 3 * n, n));
     assert!(radius.iter().all(|&r| (0.0045..=0.0055).contains(&r)), "diameters 9–11 mm");
     assert_eq!(data_array(&last, "connectivity").len(), n);
     // The last snapshot holds the state tracks.csv has at the same time.
-    let t_snap: f64 = pvd.lines().filter_map(|l| l.split("timestep=\"").nth(1)).last().unwrap().split('"').next().unwrap().parse().unwrap();
+    let t_snap: f64 = pvd.lines().filter_map(|l| l.split("timestep=\"").nth(1)).next_back().unwrap().split('"').next().unwrap().parse().unwrap();
     let tracks = std::fs::read_to_string(out.join("tracks.csv")).unwrap();
     let rows: Vec<Vec<f64>> = tracks.lines().skip(1).map(|l| l.split(',').map(|f| f.parse().unwrap()).collect()).collect();
     let same_time: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == t_snap).collect();

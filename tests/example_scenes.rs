@@ -6,7 +6,8 @@ use tumble::{RunOptions, load_scene, run_compiled};
 #[test]
 fn every_example_scene_runs() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut scenes: Vec<_> = std::fs::read_dir(&root).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    let mut scenes: Vec<_> =
+        std::fs::read_dir(&root).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
     scenes.push(root.join("bench/packed_bed.toml"));
     scenes.sort();
     assert!(scenes.len() >= 5);

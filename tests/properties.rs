@@ -20,8 +20,7 @@ fn pair_scene(a: P, b: P, cohesion: bool) -> Simulation {
 }
 
 fn particle() -> impl Strategy<Value = P> {
-    (vec3(0.02), vec3(1.0), vec3(50.0), 0.01f64..0.03, 1.0f64..1.5)
-        .prop_map(|(x, v, w, d, ratio)| P { x, v, w, d, de: d * ratio })
+    (vec3(0.02), vec3(1.0), vec3(50.0), 0.01f64..0.03, 1.0f64..1.5).prop_map(|(x, v, w, d, ratio)| P { x, v, w, d, de: d * ratio })
 }
 
 proptest! {

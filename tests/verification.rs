@@ -20,8 +20,20 @@ fn check(rows: &[ErrorRow], measures: &[&str]) {
     }
     for v in verdicts {
         let x = v.expectation;
-        println!("{:<22} {:<26} order {:5.2} (theory {}) error {:.3e} (limit {:.0e})", x.measure, x.integrator.name(), v.measured_order, x.order, v.finest_error, x.limit);
-        assert!(v.pass, "{} {}, {:?}: order {:.2} (expected {}), error {:.3e} (limit {:.0e})", x.case, x.measure, x.integrator, v.measured_order, x.order, v.finest_error, x.limit);
+        println!(
+            "{:<22} {:<26} order {:5.2} (theory {}) error {:.3e} (limit {:.0e})",
+            x.measure,
+            x.integrator.name(),
+            v.measured_order,
+            x.order,
+            v.finest_error,
+            x.limit
+        );
+        assert!(
+            v.pass,
+            "{} {}, {:?}: order {:.2} (expected {}), error {:.3e} (limit {:.0e})",
+            x.case, x.measure, x.integrator, v.measured_order, x.order, v.finest_error, x.limit
+        );
     }
 }
 

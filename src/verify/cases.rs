@@ -34,11 +34,8 @@ pub fn stokes_drag(integrators: &[Integrator]) -> Vec<ErrorRow> {
         for divisor in DIVISORS {
             let dt = tau / divisor;
             let t = trajectory(scene_with(STOKES_DRAG, integrator, Some(dt)));
-            let error = t
-                .samples
-                .iter()
-                .map(|(time, r)| (r[0].position.x - (tau * ((-time / tau).exp() - 1.0) + time)).abs() / tau)
-                .fold(0.0, f64::max);
+            let error =
+                t.samples.iter().map(|(time, r)| (r[0].position.x - (tau * ((-time / tau).exp() - 1.0) + time)).abs() / tau).fold(0.0, f64::max);
             rows.push(row("1 stokes drag", "x(t) / (u τ)", integrator, divisor, dt, error, &t));
         }
     }
@@ -127,7 +124,8 @@ pub fn sliding(integrator: Integrator, divisor: f64, dynamic_only: bool) -> Slid
     let t = trajectory(scene_with(&text, integrator, Some(dt)));
     let (mu, u0) = (0.6, 1.0);
     let t_stop = u0 / (mu * G);
-    let mut r = SlidingResult { dt, velocity_error: 0.0, position_error: 0.0, speed_after_stop: 0.0, sign_changes_after_stop: 0, drift_after_stop: 0.0 };
+    let mut r =
+        SlidingResult { dt, velocity_error: 0.0, position_error: 0.0, speed_after_stop: 0.0, sign_changes_after_stop: 0, drift_after_stop: 0.0 };
     let mut last_sign = 0.0;
     let mut x_at_rest = None;
     for (time, rows) in &t.samples {
@@ -181,7 +179,18 @@ impl CohesiveSolution {
         let a = -eta / (2.0 * m);
         let b = (4.0 * m * (k_n - k_c) - eta * eta).sqrt() / (2.0 * m);
         let x_star = (k_n * D - k_c * D_E) / (k_n - k_c);
-        let mut s = CohesiveSolution { t_contact: t_i, t_separation: 0.0, leave_speed: 0.0, escape_speed: omega_c * (D_E - D), m, a, b, x_star, v_i, omega_c };
+        let mut s = CohesiveSolution {
+            t_contact: t_i,
+            t_separation: 0.0,
+            leave_speed: 0.0,
+            escape_speed: omega_c * (D_E - D),
+            m,
+            a,
+            b,
+            x_star,
+            v_i,
+            omega_c,
+        };
         // First return to x = d after half a damped period: bisect on x(s) − d.
         let (mut lo, mut hi) = (0.5 * std::f64::consts::PI / b, 1.5 * std::f64::consts::PI / b);
         for _ in 0..200 {
@@ -206,11 +215,7 @@ impl CohesiveSolution {
 
     /// x(t) up to the first separation.
     pub fn x(&self, t: f64) -> f64 {
-        if t < self.t_contact {
-            D_E + (-2.0) * (self.omega_c * t).sinh() / self.omega_c
-        } else {
-            self.contact_x(t - self.t_contact)
-        }
+        if t < self.t_contact { D_E + (-2.0) * (self.omega_c * t).sinh() / self.omega_c } else { self.contact_x(t - self.t_contact) }
     }
 }
 
@@ -257,11 +262,7 @@ pub fn quadratic_drag(integrators: &[Integrator]) -> Vec<ErrorRow> {
         for divisor in DIVISORS {
             let dt = time_scale / divisor;
             let t = trajectory(scene_with(QUADRATIC_DRAG, integrator, Some(dt)));
-            let error = t
-                .samples
-                .iter()
-                .map(|(time, r)| (r[0].velocity.z + v_term * (time / time_scale).tanh()).abs() / v_term)
-                .fold(0.0, f64::max);
+            let error = t.samples.iter().map(|(time, r)| (r[0].velocity.z + v_term * (time / time_scale).tanh()).abs() / v_term).fold(0.0, f64::max);
             rows.push(row("5 quadratic drag", "v(t) / v_terminal", integrator, divisor, dt, error, &t));
         }
     }

@@ -38,7 +38,8 @@ pub fn expectations() -> Vec<Expectation> {
         &[(Euler, 1.0, 1e-3), (SymplecticEuler, 1.0, 5e-3), (Verlet, 2.0, 1e-5), (ImplicitDrag, 1.0, 3e-3), (ImplicitDragSymplectic, 1.0, 1e-3)],
     );
     // In contact the force is smooth: the contact starts exactly at t = 0.
-    let smooth = [(Euler, 1.0, 2e-2), (SymplecticEuler, 1.0, 3e-3), (Verlet, 2.0, 5e-5), (ImplicitDrag, 1.0, 1e-2), (ImplicitDragSymplectic, 1.0, 3e-3)];
+    let smooth =
+        [(Euler, 1.0, 2e-2), (SymplecticEuler, 1.0, 3e-3), (Verlet, 2.0, 5e-5), (ImplicitDrag, 1.0, 1e-2), (ImplicitDragSymplectic, 1.0, 3e-3)];
     e.extend(each("2 damped collision", "x(t) in contact", &smooth));
     e.extend(each("2 damped collision", "v(t) in contact", &smooth.map(|(i, o, l)| (i, o, 3.0 * l))));
     // Leaving contact, the damping force jumps from η v to 0 between two steps: first order for every scheme.
@@ -53,7 +54,11 @@ pub fn expectations() -> Vec<Expectation> {
         "x(t) in contact",
         &[(SymplecticEuler, 2.0, 1e-4), (Verlet, 2.0, 1e-4), (ImplicitDragSymplectic, 2.0, 1e-4), (Euler, 1.0, 2e-2), (ImplicitDrag, 1.0, 1e-2)],
     ));
-    e.extend(each("2 elastic collision", "v(t) in contact", &[(SymplecticEuler, 1.0, 1e-2), (Verlet, 2.0, 1e-4), (Euler, 1.0, 3e-2), (ImplicitDrag, 1.0, 2e-2)]));
+    e.extend(each(
+        "2 elastic collision",
+        "v(t) in contact",
+        &[(SymplecticEuler, 1.0, 1e-2), (Verlet, 2.0, 1e-4), (Euler, 1.0, 3e-2), (ImplicitDrag, 1.0, 2e-2)],
+    ));
     e.extend(each(
         "4 cohesive collision",
         "x(t) approach",

@@ -9,7 +9,11 @@ use tumble_integrate::Integrator;
 pub fn report() -> (String, bool) {
     let mut out = String::new();
     let mut all = true;
-    let _ = writeln!(out, "{:<22} {:<20} {:<25} {:>9} {:>9} {:>11} {:>9}  result", "case", "measure", "integrator", "order", "expected", "error@T/256", "limit");
+    let _ = writeln!(
+        out,
+        "{:<22} {:<20} {:<25} {:>9} {:>9} {:>11} {:>9}  result",
+        "case", "measure", "integrator", "order", "expected", "error@T/256", "limit"
+    );
     for v in verdicts(&convergence_rows()) {
         let x = v.expectation;
         all &= v.pass;

@@ -30,11 +30,8 @@ pub fn run(_args: &[String]) -> i32 {
     let t = Instant::now();
     let stability = stability_runs();
     eprintln!("stability runs: {:.1} s", t.elapsed().as_secs_f64());
-    let outputs = [
-        ("speed_vs_accuracy", speed_vs_accuracy(&series)),
-        ("convergence", convergence(&series)),
-        ("stability_map", stability_map(&stability)),
-    ];
+    let outputs =
+        [("speed_vs_accuracy", speed_vs_accuracy(&series)), ("convergence", convergence(&series)), ("stability_map", stability_map(&stability))];
     for (name, (svg, csv)) in outputs {
         for (ext, text) in [("svg", svg), ("csv", csv)] {
             let path: PathBuf = dir.join(format!("{name}.{ext}"));
@@ -242,7 +239,18 @@ fn convergence(series: &[Series]) -> (String, String) {
             let p = if order.is_finite() { format!("{order:.2}") } else { "n/a".to_string() };
             entries.push((st, format!("{}  p = {p}", i.name())));
             for r in &rows {
-                let _ = writeln!(csv, "{},{},{},{},{},{},{},{}", r.case, r.measure, i.name(), r.steps_per_scale, 1.0 / r.steps_per_scale, r.dt, r.error, order);
+                let _ = writeln!(
+                    csv,
+                    "{},{},{},{},{},{},{},{}",
+                    r.case,
+                    r.measure,
+                    i.name(),
+                    r.steps_per_scale,
+                    1.0 / r.steps_per_scale,
+                    r.dt,
+                    r.error,
+                    order
+                );
             }
         }
         svg.legend(right + 12.0, ptop + 4.0, &entries, true, 11.0);
@@ -395,7 +403,9 @@ fn stability_map(runs: &StabilityRuns) -> (String, String) {
     );
     let rs = ratios();
     let x = LogAxis::range(rs[0] / 1.15, rs[rs.len() - 1] * 1.15, left, right);
-    let mut csv = format!("# {CRITERION}\n# t_col from plan.timescales.collision_time; limit_over_tcol from plan.timescales.stability_limit (Hertz: Rayleigh time; also 2/omega at the resting overlap)\n# drawn as drifting: stable by the criterion but max_energy_growth_over_mgd > 1e-3\nmodel,integrator,dt_over_tcol,dt,t_col,limits_over_tcol,stable,reason,steps_run,max_energy_growth_over_mgd,max_overlap_ratio\n");
+    let mut csv = format!(
+        "# {CRITERION}\n# t_col from plan.timescales.collision_time; limit_over_tcol from plan.timescales.stability_limit (Hertz: Rayleigh time; also 2/omega at the resting overlap)\n# drawn as drifting: stable by the criterion but max_energy_growth_over_mgd > 1e-3\nmodel,integrator,dt_over_tcol,dt,t_col,limits_over_tcol,stable,reason,steps_run,max_energy_growth_over_mgd,max_overlap_ratio\n"
+    );
     // Band backgrounds and labels first, axis grid over them, then markers.
     let mut y = top;
     let mut layout = Vec::new();
@@ -420,7 +430,14 @@ fn stability_map(runs: &StabilityRuns) -> (String, String) {
         // The band's header line, over the grid.
         let limits: Vec<String> = model.limits.iter().map(|(n, l)| format!("{n} = {:.3} t_col", l / model.t_col)).collect();
         svg.rect(left, band_top - header_h, right - left, header_h - 3.0, "#ffffff", "none");
-        svg.text(left, band_top - header_h + 20.0, 11.5, Anchor::Start, "#444444", &format!("t_col = {:.3} ms;  {}", model.t_col * 1e3, limits.join(";  ")));
+        svg.text(
+            left,
+            band_top - header_h + 20.0,
+            11.5,
+            Anchor::Start,
+            "#444444",
+            &format!("t_col = {:.3} ms;  {}", model.t_col * 1e3, limits.join(";  ")),
+        );
         for (n, (name, limit)) in model.limits.iter().enumerate() {
             let r = limit / model.t_col;
             let dash = if n == 0 { None } else { Some("6,4") };
@@ -468,7 +485,14 @@ fn stability_map(runs: &StabilityRuns) -> (String, String) {
     svg.marker(Shape::Circle, left + 10.0, ly, 11.0, "#1a9850", false);
     svg.text(left + 22.0, ly + 4.0, 12.0, Anchor::Start, "#222222", "stable");
     svg.marker(Shape::Circle, left + 90.0, ly, 10.0, "#e08214", true);
-    svg.text(left + 102.0, ly + 4.0, 12.0, Anchor::Start, "#222222", "stable by the criterion, but energy grew > 0.001 m g d (≈ 400× the linear resting contact's energy)");
+    svg.text(
+        left + 102.0,
+        ly + 4.0,
+        12.0,
+        Anchor::Start,
+        "#222222",
+        "stable by the criterion, but energy grew > 0.001 m g d (≈ 400× the linear resting contact's energy)",
+    );
     svg.marker(Shape::Cross, left + 10.0, ly + 24.0, 10.0, "#d73027", false);
     svg.text(left + 22.0, ly + 28.0, 12.0, Anchor::Start, "#222222", "unstable (reason in the CSV)");
     svg.line((left + 220.0, ly + 24.0), (left + 250.0, ly + 24.0), "#222222", 2.0, None);

@@ -81,7 +81,8 @@ pub fn run(_args: &[String]) -> i32 {
             failures += usize::from(!pass);
             let verdict = if pass { "pass" } else { "FAIL" };
             println!("{:<42} {:<8} {:>14.6e} {:>14.6e} {:>10.2e} {:>10.0e}  {verdict}", r.name, b.name(), r.value, r.reference, error, r.tolerance);
-            markdown += &format!("| {} | {} | {:.6e} | {:.6e} | {:.2e} | {:.0e} | {verdict} |\n", r.name, b.name(), r.value, r.reference, error, r.tolerance);
+            markdown +=
+                &format!("| {} | {} | {:.6e} | {:.6e} | {:.2e} | {:.0e} | {verdict} |\n", r.name, b.name(), r.value, r.reference, error, r.tolerance);
         }
     }
     let _ = std::fs::create_dir_all("target");

@@ -13,7 +13,9 @@ fn main() {
         Some("conformance") => conformance::run(&args[1..]),
         Some("charts") => charts::run(&args[1..]),
         _ => {
-            eprintln!("usage: cargo xtask <verify|conformance|charts>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map and convergence charts (SVG + CSV) in docs/charts/");
+            eprintln!(
+                "usage: cargo xtask <verify|conformance|charts>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map and convergence charts (SVG + CSV) in docs/charts/"
+            );
             2
         }
     };

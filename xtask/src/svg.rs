@@ -103,10 +103,7 @@ impl Svg {
 
     pub fn line(&mut self, (x1, y1): (f64, f64), (x2, y2): (f64, f64), stroke: &str, width: f64, dash: Option<&str>) {
         let dash = dash.map(|d| format!(r#" stroke-dasharray="{d}""#)).unwrap_or_default();
-        let _ = writeln!(
-            self.body,
-            r#"<line x1="{x1:.1}" y1="{y1:.1}" x2="{x2:.1}" y2="{y2:.1}" stroke="{stroke}" stroke-width="{width}"{dash}/>"#
-        );
+        let _ = writeln!(self.body, r#"<line x1="{x1:.1}" y1="{y1:.1}" x2="{x2:.1}" y2="{y2:.1}" stroke="{stroke}" stroke-width="{width}"{dash}/>"#);
     }
 
     pub fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, fill: &str, stroke: &str) {
@@ -137,9 +134,13 @@ impl Svg {
         let poly = |pts: &[(f64, f64)]| pts.iter().map(|(a, b)| format!("{:.1},{:.1}", x + a, y + b)).collect::<Vec<_>>().join(" ");
         let s = match shape {
             Shape::Circle => format!(r#"<circle cx="{x:.1}" cy="{y:.1}" r="{r:.1}" {paint}/>"#),
-            Shape::Square => format!(r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" {paint}/>"#, x - 0.85 * r, y - 0.85 * r, 1.7 * r, 1.7 * r),
+            Shape::Square => {
+                format!(r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" {paint}/>"#, x - 0.85 * r, y - 0.85 * r, 1.7 * r, 1.7 * r)
+            }
             Shape::Triangle => format!(r#"<polygon points="{}" {paint}/>"#, poly(&[(0.0, -1.15 * r), (1.05 * r, 0.8 * r), (-1.05 * r, 0.8 * r)])),
-            Shape::TriangleDown => format!(r#"<polygon points="{}" {paint}/>"#, poly(&[(0.0, 1.15 * r), (1.05 * r, -0.8 * r), (-1.05 * r, -0.8 * r)])),
+            Shape::TriangleDown => {
+                format!(r#"<polygon points="{}" {paint}/>"#, poly(&[(0.0, 1.15 * r), (1.05 * r, -0.8 * r), (-1.05 * r, -0.8 * r)]))
+            }
             Shape::Diamond => format!(r#"<polygon points="{}" {paint}/>"#, poly(&[(0.0, -1.2 * r), (1.2 * r, 0.0), (0.0, 1.2 * r), (-1.2 * r, 0.0)])),
             Shape::Cross => format!(
                 r#"<path d="M{:.1},{:.1} L{:.1},{:.1} M{:.1},{:.1} L{:.1},{:.1}" stroke="{colour}" stroke-width="2.2" fill="none"/>"#,

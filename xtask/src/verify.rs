@@ -14,8 +14,28 @@ pub fn run(_args: &[String]) -> i32 {
         let order = fitted_order(&group[group.len() - 4..]);
         for (k, r) in group.iter().enumerate() {
             let o = if k + 1 == group.len() { format!("{order:7.2}") } else { String::new() };
-            println!("{:<22} {:<20} {:<25} {:>8} {:>12.4e} {:>12.4e} {:>7}", r.case, r.measure, r.integrator.name(), format!("1/{}", r.steps_per_scale), r.dt, r.error, o);
-            let _ = writeln!(csv, "{},{},{},{},{},{},{},{}", r.case, r.measure, r.integrator.name(), r.steps_per_scale, r.dt, r.error, r.particle_steps, r.wall_seconds);
+            println!(
+                "{:<22} {:<20} {:<25} {:>8} {:>12.4e} {:>12.4e} {:>7}",
+                r.case,
+                r.measure,
+                r.integrator.name(),
+                format!("1/{}", r.steps_per_scale),
+                r.dt,
+                r.error,
+                o
+            );
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{},{},{},{}",
+                r.case,
+                r.measure,
+                r.integrator.name(),
+                r.steps_per_scale,
+                r.dt,
+                r.error,
+                r.particle_steps,
+                r.wall_seconds
+            );
         }
     }
     let _ = std::fs::create_dir_all("docs");

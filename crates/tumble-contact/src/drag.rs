@@ -7,7 +7,10 @@ use glam::DVec3;
 pub enum FlowField {
     Uniform(DVec3),
     /// Taylor–Green vortex with amplitude A and frequency a (physics.md).
-    TaylorGreen { amplitude: f64, frequency: f64 },
+    TaylorGreen {
+        amplitude: f64,
+        frequency: f64,
+    },
 }
 
 impl FlowField {
@@ -53,8 +56,7 @@ mod tests {
         let f = FlowField::TaylorGreen { amplitude: 5.0, frequency: 3.0 };
         let h = 1e-6;
         for p in [DVec3::new(0.1, 0.7, 1.3), DVec3::new(2.0, -0.4, 0.9)] {
-            let div = (f.velocity(p + DVec3::X * h).x - f.velocity(p - DVec3::X * h).x
-                + f.velocity(p + DVec3::Y * h).y
+            let div = (f.velocity(p + DVec3::X * h).x - f.velocity(p - DVec3::X * h).x + f.velocity(p + DVec3::Y * h).y
                 - f.velocity(p - DVec3::Y * h).y
                 + f.velocity(p + DVec3::Z * h).z
                 - f.velocity(p - DVec3::Z * h).z)

@@ -23,7 +23,7 @@ pub use cohesion::{cohesion_energy, cohesion_force, stickiness_number};
 pub use drag::{FlowField, quadratic_drag, stokes_drag, stokes_relaxation_time};
 pub use normal::{NormalForce, NormalLaw, normal_force};
 pub use params::{
-    collision_time, damping_ratio, hertz_beta, hertz_contact_time, hertz_effective_moduli, hertz_max_force,
-    hertz_max_overlap, linear_damping, rayleigh_time,
+    collision_time, damping_ratio, hertz_beta, hertz_contact_time, hertz_effective_moduli, hertz_max_force, hertz_max_overlap, linear_damping,
+    rayleigh_time,
 };
 pub use tangential::{TangentialLaw, ViscousParameter, tangential_force};

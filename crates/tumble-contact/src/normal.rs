@@ -51,12 +51,7 @@ pub fn normal_force(law: &NormalLaw, overlap: f64, vn: f64, m_star: f64, r_star:
     match *law {
         NormalLaw::Linear { stiffness, damping_ratio, .. } => {
             let eta = 2.0 * damping_ratio * (m_star * stiffness).sqrt();
-            NormalForce {
-                elastic: stiffness * overlap,
-                damping: -eta * vn,
-                energy: 0.5 * stiffness * overlap * overlap,
-                stiffness,
-            }
+            NormalForce { elastic: stiffness * overlap, damping: -eta * vn, energy: 0.5 * stiffness * overlap * overlap, stiffness }
         }
         NormalLaw::Hertz { e_star, beta, .. } => {
             let root = (r_star * overlap).sqrt();

@@ -16,20 +16,27 @@ pub enum ViscousParameter {
 pub enum TangentialLaw {
     None,
     /// F_t = −min(μ|F_n|, c_t|v_t|) t̂ (Blaze-DEM).
-    ViscousCoulomb { friction: f64, viscous: ViscousParameter },
+    ViscousCoulomb {
+        friction: f64,
+        viscous: ViscousParameter,
+    },
     /// F_t = −min(μ|F_n|, m*|v_t|/Δt) t̂.
-    StickLimited { friction: f64 },
+    StickLimited {
+        friction: f64,
+    },
     /// F_t = −μ|F_n| t̂: no static part; oscillates around rest (a documented failure case).
-    DynamicOnly { friction: f64 },
+    DynamicOnly {
+        friction: f64,
+    },
 }
 
 impl TangentialLaw {
     pub fn friction(&self) -> f64 {
         match *self {
             TangentialLaw::None => 0.0,
-            TangentialLaw::ViscousCoulomb { friction, .. }
-            | TangentialLaw::StickLimited { friction }
-            | TangentialLaw::DynamicOnly { friction } => friction,
+            TangentialLaw::ViscousCoulomb { friction, .. } | TangentialLaw::StickLimited { friction } | TangentialLaw::DynamicOnly { friction } => {
+                friction
+            }
         }
     }
 }
@@ -46,9 +53,9 @@ pub fn tangential_force(law: &TangentialLaw, normal: f64, vt: DVec3, m_star: f64
     }
     let coulomb = match *law {
         TangentialLaw::None => return DVec3::ZERO,
-        TangentialLaw::ViscousCoulomb { friction, .. }
-        | TangentialLaw::StickLimited { friction }
-        | TangentialLaw::DynamicOnly { friction } => friction * normal,
+        TangentialLaw::ViscousCoulomb { friction, .. } | TangentialLaw::StickLimited { friction } | TangentialLaw::DynamicOnly { friction } => {
+            friction * normal
+        }
     };
     let magnitude = match *law {
         TangentialLaw::ViscousCoulomb { viscous, .. } => {

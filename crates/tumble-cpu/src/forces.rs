@@ -2,12 +2,10 @@
 //! torque. A pair is computed in canonical order (lower id first) and negated
 //! for the other side, so pair forces are exactly equal and opposite.
 
+use crate::neighbours::NeighbourList;
 use crate::state::State;
 use glam::DVec3;
-use crate::neighbours::NeighbourList;
-use tumble_contact::{
-    collision_time, cohesion_energy, cohesion_force, normal_force, tangential_force,
-};
+use tumble_contact::{cohesion_energy, cohesion_force, collision_time, normal_force, tangential_force};
 use tumble_geom::sphere_sphere;
 use tumble_scene::{PairParams, Plan};
 

@@ -44,8 +44,8 @@ pub use observables::{Observables, TrackRow};
 pub use state::State;
 
 use forces::{PairOut, SortedEntry};
-use neighbours::NeighbourList;
 use glam::DVec3;
+use neighbours::NeighbourList;
 use tumble_broad::CellGrid;
 use tumble_scene::{CompiledScene, Plan};
 

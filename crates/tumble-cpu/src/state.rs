@@ -60,11 +60,9 @@ impl State {
             if let Some(f) = &plan.fluid {
                 s.fluid_work.push(0.0);
                 s.drag.push(match f.drag {
-                    Drag::Stokes { viscosity } => tumble_contact::stokes_relaxation_time(
-                        plan.materials[p.material[i] as usize].density,
-                        2.0 * p.radius[i],
-                        viscosity,
-                    ),
+                    Drag::Stokes { viscosity } => {
+                        tumble_contact::stokes_relaxation_time(plan.materials[p.material[i] as usize].density, 2.0 * p.radius[i], viscosity)
+                    }
                     Drag::Quadratic { coefficient } => coefficient / m,
                 });
             }
@@ -81,13 +79,29 @@ impl State {
     }
 
     /// Applies `f` to every per-particle array, so reorderings cannot miss one.
-    fn for_each_array(&mut self, mut f3: impl FnMut(&mut Vec<DVec3>), mut f1: impl FnMut(&mut Vec<f64>), mut fu: impl FnMut(&mut Vec<u32>), mut fs: impl FnMut(&mut Vec<u16>), mut fb: impl FnMut(&mut Vec<bool>)) {
+    fn for_each_array(
+        &mut self,
+        mut f3: impl FnMut(&mut Vec<DVec3>),
+        mut f1: impl FnMut(&mut Vec<f64>),
+        mut fu: impl FnMut(&mut Vec<u32>),
+        mut fs: impl FnMut(&mut Vec<u16>),
+        mut fb: impl FnMut(&mut Vec<bool>),
+    ) {
         for v in [&mut self.pos, &mut self.vel, &mut self.acc, &mut self.omega, &mut self.alpha] {
             if !v.is_empty() {
                 f3(v);
             }
         }
-        for v in [&mut self.radius, &mut self.reach, &mut self.mass, &mut self.inv_mass, &mut self.inv_inertia, &mut self.drag, &mut self.dissipated, &mut self.fluid_work] {
+        for v in [
+            &mut self.radius,
+            &mut self.reach,
+            &mut self.mass,
+            &mut self.inv_mass,
+            &mut self.inv_inertia,
+            &mut self.drag,
+            &mut self.dissipated,
+            &mut self.fluid_work,
+        ] {
             if !v.is_empty() {
                 f1(v);
             }

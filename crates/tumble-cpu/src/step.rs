@@ -1,15 +1,13 @@
 //! The step: broad phase, contacts, body forces, integration (architecture.md, "The step").
 
-use crate::forces::{ContactInputs, SortedEntry, gather, pair_contact};
 use crate::CpuSimulation;
-use tumble_broad::CellGrid;
-use tumble_geom::PeriodicBox;
+use crate::forces::{ContactInputs, SortedEntry, gather, pair_contact};
 use glam::DVec3;
 use rayon::prelude::*;
+use tumble_broad::CellGrid;
 use tumble_contact::{FlowField, quadratic_drag};
-use tumble_integrate::{
-    Integrator, euler, implicit_drag, symplectic_euler, verlet_force_velocity, verlet_kick, verlet_kick_drift,
-};
+use tumble_geom::PeriodicBox;
+use tumble_integrate::{Integrator, euler, implicit_drag, symplectic_euler, verlet_force_velocity, verlet_kick, verlet_kick_drift};
 use tumble_scene::Drag;
 
 /// Per-particle body-force context, copied out of the plan once per pass.
@@ -67,10 +65,11 @@ impl CpuSimulation {
     fn grid_bounds(&self) -> PeriodicBox {
         let domain = self.plan.domain;
         let (lo, hi) = self.pool.install(|| {
-            self.state.pos.par_iter().fold(|| (DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &x| (lo.min(x), hi.max(x))).reduce(
-                || (DVec3::INFINITY, DVec3::NEG_INFINITY),
-                |(a, b), (c, d)| (a.min(c), b.max(d)),
-            )
+            self.state
+                .pos
+                .par_iter()
+                .fold(|| (DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &x| (lo.min(x), hi.max(x)))
+                .reduce(|| (DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), (c, d)| (a.min(c), b.max(d)))
         });
         let mut bounds = domain;
         for k in 0..3 {

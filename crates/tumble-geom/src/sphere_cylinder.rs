@@ -33,11 +33,7 @@ impl Cylinder {
             return None; // on the axis: no defined direction, and far from an inside shell
         }
         let out = radial / rho;
-        let (normal, overlap) = if self.inside {
-            (-out, radius - (self.radius - rho))
-        } else {
-            (out, radius - (rho - self.radius))
-        };
+        let (normal, overlap) = if self.inside { (-out, radius - (self.radius - rho)) } else { (out, radius - (rho - self.radius)) };
         (overlap > -reach).then(|| SurfaceContact {
             normal,
             overlap,

@@ -23,11 +23,7 @@ impl Plane {
         let h = self.signed_distance(centre);
         let overlap = radius - h;
         // A sphere whose centre crossed the plane is still pushed back out along the normal.
-        (overlap > -reach).then(|| SurfaceContact {
-            normal: self.normal,
-            overlap,
-            point: centre - self.normal * (h + 0.5 * overlap.max(0.0)),
-        })
+        (overlap > -reach).then(|| SurfaceContact { normal: self.normal, overlap, point: centre - self.normal * (h + 0.5 * overlap.max(0.0)) })
     }
 }
 

@@ -62,11 +62,7 @@ impl Quad {
         let side = if self.two_sided && h < 0.0 { -self.normal } else { self.normal };
         if self.foot_inside(foot) {
             let overlap = radius - side.dot(centre - self.corners[0]);
-            return (overlap > -reach).then(|| SurfaceContact {
-                normal: side,
-                overlap,
-                point: foot - side * (0.5 * overlap.max(0.0)),
-            });
+            return (overlap > -reach).then(|| SurfaceContact { normal: side, overlap, point: foot - side * (0.5 * overlap.max(0.0)) });
         }
         // Edge or corner region: a one-sided quad is not touched from behind.
         if !self.two_sided && h <= 0.0 {
@@ -91,10 +87,7 @@ mod tests {
     use super::*;
 
     fn unit_square() -> Quad {
-        Quad::new(
-            [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y],
-            false,
-        )
+        Quad::new([DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y], false)
     }
 
     #[test]

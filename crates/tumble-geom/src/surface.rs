@@ -37,13 +37,7 @@ impl SurfaceShape {
 }
 
 /// Builds the contact from the closest surface point and the sphere.
-pub(crate) fn contact_from_closest(
-    centre: DVec3,
-    radius: f64,
-    reach: f64,
-    closest: DVec3,
-    fallback_normal: DVec3,
-) -> Option<SurfaceContact> {
+pub(crate) fn contact_from_closest(centre: DVec3, radius: f64, reach: f64, closest: DVec3, fallback_normal: DVec3) -> Option<SurfaceContact> {
     let d = centre - closest;
     let dist = d.length();
     let overlap = radius - dist;

@@ -30,13 +30,8 @@ pub enum Integrator {
 }
 
 impl Integrator {
-    pub const ALL: [Integrator; 5] = [
-        Integrator::Euler,
-        Integrator::SymplecticEuler,
-        Integrator::Verlet,
-        Integrator::ImplicitDrag,
-        Integrator::ImplicitDragSymplectic,
-    ];
+    pub const ALL: [Integrator; 5] =
+        [Integrator::Euler, Integrator::SymplecticEuler, Integrator::Verlet, Integrator::ImplicitDrag, Integrator::ImplicitDragSymplectic];
 
     /// The name used in scene files.
     pub fn name(self) -> &'static str {

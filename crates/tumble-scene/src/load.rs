@@ -11,8 +11,12 @@ pub fn parse_scene(text: &str) -> Result<Scene, SceneError> {
 
 /// Reads and parses a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| SceneError { file: Some(path.to_path_buf()), line_col: None, field: None, message: format!("cannot read the scene file: {e}") })?;
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: Some(path.to_path_buf()),
+        line_col: None,
+        field: None,
+        message: format!("cannot read the scene file: {e}"),
+    })?;
     parse_scene(&text).map_err(|e| e.in_file(path))
 }
 

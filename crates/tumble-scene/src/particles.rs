@@ -131,7 +131,11 @@ fn group_positions(
         }
         let d = diameter(rng);
         let half = DVec3::splat(0.5 * d);
-        let x = DVec3::new(rng.range(min.x + half.x, max.x - half.x), rng.range(min.y + half.y, max.y - half.y), rng.range(min.z + half.z, max.z - half.z));
+        let x = DVec3::new(
+            rng.range(min.x + half.x, max.x - half.x),
+            rng.range(min.y + half.y, max.y - half.y),
+            rng.range(min.z + half.z, max.z - half.z),
+        );
         if r.no_overlap {
             if cell == 0.0 {
                 cell = match group.shape {

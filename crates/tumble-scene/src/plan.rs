@@ -1,14 +1,13 @@
 //! The plan: the smallest model a scene needs, and why (architecture.md, "The plan").
 
+use crate::SceneError;
 use crate::particles::{InitialParticles, generate};
 use crate::schema::*;
-use crate::SceneError;
 use glam::DVec3;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use tumble_contact::{
-    FlowField, NormalLaw, TangentialLaw, ViscousParameter, collision_time, hertz_effective_moduli, rayleigh_time,
-    stokes_relaxation_time,
+    FlowField, NormalLaw, TangentialLaw, ViscousParameter, collision_time, hertz_effective_moduli, rayleigh_time, stokes_relaxation_time,
 };
 use tumble_geom::{Cylinder, PeriodicBox, Plane, Quad, SurfaceShape};
 use tumble_integrate::Integrator;
@@ -218,10 +217,10 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         if let Some(e) = m.youngs_modulus {
             positive(&f("youngs_modulus"), e)?;
         }
-        if let Some(nu) = m.poisson_ratio {
-            if !(nu > -1.0 && nu < 0.5) {
-                return Err(SceneError::field(f("poisson_ratio"), format!("must lie in (-1, 0.5), got {nu}")));
-            }
+        if let Some(nu) = m.poisson_ratio
+            && !(nu > -1.0 && nu < 0.5)
+        {
+            return Err(SceneError::field(f("poisson_ratio"), format!("must lie in (-1, 0.5), got {nu}")));
         }
         materials.push(Material { name: m.name.clone(), density: m.density, youngs_modulus: m.youngs_modulus, poisson_ratio: m.poisson_ratio });
     }
@@ -233,11 +232,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     };
 
     // Domain.
-    let domain = PeriodicBox {
-        min: finite3("domain.min", scene.domain.min)?,
-        max: finite3("domain.max", scene.domain.max)?,
-        periodic: scene.domain.periodic,
-    };
+    let domain =
+        PeriodicBox { min: finite3("domain.min", scene.domain.min)?, max: finite3("domain.max", scene.domain.max)?, periodic: scene.domain.periodic };
     if (0..3).any(|k| domain.max[k] <= domain.min[k]) {
         return Err(SceneError::field("domain", "max must exceed min on every axis (the domain is empty)"));
     }
@@ -291,10 +287,10 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
                 return Err(SceneError::field(f("effect_diameter"), format!("must be at least the body diameter {d_max}, got {de}")));
             }
         }
-        if let Some(ratio) = s.effect_ratio {
-            if !(ratio >= 1.0) {
-                return Err(SceneError::field(f("effect_ratio"), format!("must be at least 1, got {ratio}")));
-            }
+        if let Some(ratio) = s.effect_ratio
+            && !(ratio >= 1.0)
+        {
+            return Err(SceneError::field(f("effect_ratio"), format!("must be at least 1, got {ratio}")));
         }
         if let Some(VelocitySpec::Random(r)) = &group.velocity {
             non_negative(&format!("particles[{g}].velocity.random.mean_speed"), r.random.mean_speed)?;
@@ -329,7 +325,11 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             return Err(SceneError::field(format!("walls[{k}]"), "give exactly one shape: plane, quad, box or cylinder"));
         }
         if let Some(p) = &w.plane {
-            walls.push(Wall { name, material, shape: SurfaceShape::Plane(Plane::new(finite3(&f("plane.point"), p.point)?, unit(&f("plane.normal"), p.normal)?)) });
+            walls.push(Wall {
+                name,
+                material,
+                shape: SurfaceShape::Plane(Plane::new(finite3(&f("plane.point"), p.point)?, unit(&f("plane.normal"), p.normal)?)),
+            });
         } else if let Some(q) = &w.quad {
             let mut c = [DVec3::ZERO; 4];
             for (i, corner) in q.corners.iter().enumerate() {
@@ -365,10 +365,16 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         Some(fl) => {
             let drag = match fl.drag {
                 DragName::Stokes => Drag::Stokes {
-                    viscosity: positive("fluid.viscosity", fl.viscosity.ok_or_else(|| SceneError::field("fluid.viscosity", "Stokes drag needs the dynamic viscosity in Pa s"))?)?,
+                    viscosity: positive(
+                        "fluid.viscosity",
+                        fl.viscosity.ok_or_else(|| SceneError::field("fluid.viscosity", "Stokes drag needs the dynamic viscosity in Pa s"))?,
+                    )?,
                 },
                 DragName::Quadratic => Drag::Quadratic {
-                    coefficient: positive("fluid.coefficient", fl.coefficient.ok_or_else(|| SceneError::field("fluid.coefficient", "quadratic drag needs the coefficient α in kg/m"))?)?,
+                    coefficient: positive(
+                        "fluid.coefficient",
+                        fl.coefficient.ok_or_else(|| SceneError::field("fluid.coefficient", "quadratic drag needs the coefficient α in kg/m"))?,
+                    )?,
                 },
             };
             let flow = match &fl.flow {
@@ -409,7 +415,11 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         if domain.periodic[k] && domain.extent()[k] < 2.0 * (cell_size + skin) {
             return Err(SceneError::field(
                 "domain.periodic",
-                format!("axis {k} is periodic but only {} m long; it must be at least two interaction diameters plus skin ({} m)", domain.extent()[k], 2.0 * (cell_size + skin)),
+                format!(
+                    "axis {k} is periodic but only {} m long; it must be at least two interaction diameters plus skin ({} m)",
+                    domain.extent()[k],
+                    2.0 * (cell_size + skin)
+                ),
             ));
         }
     }
@@ -431,22 +441,23 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         Some(DtSpec::Seconds(dt)) => positive("run.dt", dt)?,
         Some(DtSpec::Fraction(f)) => {
             positive("run.dt.collision_fraction", f.collision_fraction)?;
-            let t = timescales.collision_time.ok_or_else(|| {
-                SceneError::field("run.dt.collision_fraction", "this scene has no contact time to divide; give dt in seconds")
-            })?;
+            let t = timescales
+                .collision_time
+                .ok_or_else(|| SceneError::field("run.dt.collision_fraction", "this scene has no contact time to divide; give dt in seconds"))?;
             t / f.collision_fraction
         }
     };
-    if let Some(limit) = timescales.stability_limit {
-        if dt > limit && !run.allow_unstable_dt {
-            return Err(SceneError::field(
-                "run.dt",
-                format!(
-                    "dt = {dt:.4e} s is above the stability limit {limit:.4e} s of this scene; use dt <= {limit:.4e} (the plan's default is {:.4e}) or set run.allow_unstable_dt = true",
-                    timescales.default_dt
-                ),
-            ));
-        }
+    if let Some(limit) = timescales.stability_limit
+        && dt > limit
+        && !run.allow_unstable_dt
+    {
+        return Err(SceneError::field(
+            "run.dt",
+            format!(
+                "dt = {dt:.4e} s is above the stability limit {limit:.4e} s of this scene; use dt <= {limit:.4e} (the plan's default is {:.4e}) or set run.allow_unstable_dt = true",
+                timescales.default_dt
+            ),
+        ));
     }
     let steps = (run.duration / dt - 1e-9).ceil().max(1.0) as u64;
     let output_interval = run.output_interval.unwrap_or(run.duration / 100.0);
@@ -456,10 +467,10 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         Some(s) => Some(((positive("run.snapshot_interval", s)? / dt).round() as u64).max(1)),
         None => None,
     };
-    if let Some(r) = run.resort_interval {
-        if r == 0 {
-            return Err(SceneError::field("run.resort_interval", "must be at least 1 step"));
-        }
+    if let Some(r) = run.resort_interval
+        && r == 0
+    {
+        return Err(SceneError::field("run.resort_interval", "must be at least 1 step"));
     }
     positive("run.monitor.max_overlap_ratio", run.monitor.max_overlap_ratio)?;
     positive("run.monitor.energy_growth", run.monitor.energy_growth)?;
@@ -492,39 +503,31 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             active: gravity != DVec3::ZERO,
             reason: if gravity != DVec3::ZERO { format!("{:?} m/s²", gravity.to_array()) } else { "no [gravity] section".into() },
         },
-        Feature {
-            name: "walls",
-            active: !walls.is_empty(),
-            reason: format!("{} static surfaces", walls.len()),
-        },
+        Feature { name: "walls", active: !walls.is_empty(), reason: format!("{} static surfaces", walls.len()) },
         Feature {
             name: "periodic",
             active: domain.periodic.iter().any(|&p| p),
             reason: format!("periodic axes {:?}; particles leaving other sides are removed", domain.periodic),
         },
-        Feature {
-            name: "normal",
-            active: true,
-            reason: describe_law(&pairs[0].normal),
-        },
+        Feature { name: "normal", active: true, reason: describe_law(&pairs[0].normal) },
         Feature { name: "tangential", active: any_friction, reason: describe_tangential(&pairs[0].tangential) },
     ];
     if !movable {
         features.push(Feature { name: "motion", active: false, reason: "every particle is fixed".into() });
     }
     let mut warnings = Vec::new();
-    if let Some(t) = timescales.collision_time {
-        if t / dt < 10.0 {
-            warnings.push(format!("only {:.1} steps per collision; results will be inaccurate (50 is the default)", t / dt));
-        }
+    if let Some(t) = timescales.collision_time
+        && t / dt < 10.0
+    {
+        warnings.push(format!("only {:.1} steps per collision; results will be inaccurate (50 is the default)", t / dt));
     }
-    if let Some(t) = timescales.tangential_time {
-        if dt > t / 6.0 {
-            warnings.push(format!(
+    if let Some(t) = timescales.tangential_time
+        && dt > t / 6.0
+    {
+        warnings.push(format!(
                 "dt is more than 1/6 of the viscous tangential relaxation time {t:.3e} s: dense packings may chatter (energy booked as dissipated while at rest); use dt <= {:.3e} or a smaller c_t",
                 t / 6.0
             ));
-        }
     }
     let bytes_per_particle = 8 * (3 * 3 + 6) // position, velocity, acceleration; radius, effect, inverse mass, mass, dissipation, elastic
         + 8 * 4 + 8 * 3 // sorted position and reach for the broad phase, reference position of the neighbour list
