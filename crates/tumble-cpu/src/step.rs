@@ -112,66 +112,36 @@ impl CpuSimulation {
         });
     }
 
-    /// Accelerations from contact sums plus gravity and explicit drag, at velocities `vel`;
-    /// books the step's dissipation, and applies Verlet's closing half kick when `kick`.
-    fn accelerations(&mut self, use_eval: bool, drag_explicit: bool, kick: bool) {
+    /// Accelerations from contact sums plus gravity and explicit drag, at velocities `vel`.
+    fn accelerations(&mut self, use_eval: bool, drag_explicit: bool) {
         let body = self.body();
         let dt = self.plan.dt;
         let s = &mut self.state;
+        let vel = if use_eval { &self.eval_vel } else { &s.vel };
         let sums = &self.sums;
-        let inv_mass = &s.inv_mass;
-        if body.drag.is_none() {
-            // The common case in one pass over the particles.
-            self.pool.install(|| {
-                s.acc.par_iter_mut().zip(s.vel.par_iter_mut()).zip(s.dissipated.par_iter_mut()).enumerate().for_each(|(i, ((a, v), d))| {
-                    *d += sums[i].dissipation * dt;
-                    if inv_mass[i] == 0.0 {
-                        *a = DVec3::ZERO;
-                        return;
-                    }
-                    *a = sums[i].force * inv_mass[i] + body.gravity;
-                    if kick {
-                        *v = verlet_kick(*v, *a, dt);
-                    }
-                });
+        let (pos, inv_mass, drag) = (&s.pos, &s.inv_mass, &s.drag);
+        let fluid_work = &mut s.fluid_work;
+        self.pool.install(|| {
+            s.acc.par_iter_mut().enumerate().for_each(|(i, a)| {
+                *a = if inv_mass[i] == 0.0 { DVec3::ZERO } else { sums[i].force * inv_mass[i] + body.gravity };
             });
-        } else {
-            let vel = if use_eval { &self.eval_vel } else { &s.vel };
-            let (pos, drag) = (&s.pos, &s.drag);
-            let fluid_work = &mut s.fluid_work;
-            self.pool.install(|| {
+            if drag_explicit && body.drag.is_some() {
                 s.acc.par_iter_mut().zip(fluid_work.par_iter_mut()).enumerate().for_each(|(i, (a, w))| {
-                    *a = DVec3::ZERO;
                     if inv_mass[i] != 0.0 {
-                        *a = sums[i].force * inv_mass[i] + body.gravity;
-                        if drag_explicit {
-                            let ad = body.drag_acc(pos[i], vel[i], drag[i]);
-                            *a += ad;
-                            *w += ad.dot(vel[i]) / inv_mass[i] * dt;
-                        }
+                        let ad = body.drag_acc(pos[i], vel[i], drag[i]);
+                        *a += ad;
+                        *w += ad.dot(vel[i]) / inv_mass[i] * dt;
                     }
                 });
-            });
-            let acc = &s.acc;
-            self.pool.install(|| {
-                s.vel.par_iter_mut().zip(s.dissipated.par_iter_mut()).enumerate().for_each(|(i, (v, d))| {
-                    *d += sums[i].dissipation * dt;
-                    if kick && inv_mass[i] != 0.0 {
-                        *v = verlet_kick(*v, acc[i], dt);
-                    }
-                });
-            });
-        }
-        if !s.alpha.is_empty() {
-            let inv_inertia = &s.inv_inertia;
-            self.pool.install(|| {
-                s.alpha.par_iter_mut().zip(s.omega.par_iter_mut()).enumerate().for_each(|(i, (al, w))| {
-                    *al = sums[i].torque * inv_inertia[i];
-                    if kick {
-                        *w += *al * (0.5 * dt);
-                    }
-                });
-            });
+            }
+            if !s.alpha.is_empty() {
+                let inv_inertia = &s.inv_inertia;
+                s.alpha.par_iter_mut().enumerate().for_each(|(i, al)| *al = sums[i].torque * inv_inertia[i]);
+            }
+        });
+        let dt = self.plan.dt;
+        for (d, sum) in s.dissipated.iter_mut().zip(sums) {
+            *d += sum.dissipation * dt;
         }
     }
 
@@ -181,7 +151,7 @@ impl CpuSimulation {
         let explicit = !self.plan.integrator.implicit_drag();
         // The t = 0 pass only seeds accelerations: it must not count dissipation or fluid work.
         let saved = (self.state.dissipated.clone(), self.state.fluid_work.clone());
-        self.accelerations(false, explicit, false);
+        self.accelerations(false, explicit);
         (self.state.dissipated, self.state.fluid_work) = saved;
     }
 
@@ -213,13 +183,23 @@ impl CpuSimulation {
                     s.omega.par_iter().zip(&s.alpha).map(|(&w, &a)| verlet_force_velocity(w, a, dt)).collect_into_vec(eval_omega);
                 });
                 self.contact_pass(true);
-                self.accelerations(true, true, true);
+                self.accelerations(true, true);
+                let s = &mut self.state;
+                let (acc, alpha, inv_mass) = (&s.acc, &s.alpha, &s.inv_mass);
+                self.pool.install(|| {
+                    s.vel.par_iter_mut().enumerate().for_each(|(i, v)| {
+                        if inv_mass[i] != 0.0 {
+                            *v = verlet_kick(*v, acc[i], dt);
+                        }
+                    });
+                    s.omega.par_iter_mut().enumerate().for_each(|(i, w)| *w += alpha[i] * (0.5 * dt));
+                });
             }
             integrator => {
                 self.broad_phase();
                 self.contact_pass(false);
                 let implicit = integrator.implicit_drag();
-                self.accelerations(false, !implicit, false);
+                self.accelerations(false, !implicit);
                 let body = self.body();
                 let s = &mut self.state;
                 let (acc, inv_mass, drag) = (&s.acc, &s.inv_mass, &s.drag);
