@@ -33,6 +33,26 @@ pub struct ErrorRow {
     pub wall_seconds: f64,
 }
 
+impl ErrorRow {
+    /// The CSV columns of [`ErrorRow::csv`].
+    pub const CSV_HEADER: &'static str = "case,measure,integrator,steps_per_scale,dt,error,particle_steps,wall_seconds";
+
+    /// This row as CSV fields (no line end), in the order of [`ErrorRow::CSV_HEADER`].
+    pub fn csv(&self) -> String {
+        format!(
+            "{},{},{},{},{},{},{},{}",
+            self.case,
+            self.measure,
+            self.integrator.name(),
+            self.steps_per_scale,
+            self.dt,
+            self.error,
+            self.particle_steps,
+            self.wall_seconds
+        )
+    }
+}
+
 /// The step counts per reference time every convergence study uses: t/8 … t/256.
 pub const DIVISORS: [f64; 6] = [8.0, 16.0, 32.0, 64.0, 128.0, 256.0];
 

@@ -146,7 +146,7 @@ fn speed_vs_accuracy(series: &[Series]) -> (String, String) {
             "Grey line and black rings: Pareto front (lowest error at no more cost). |error| against the closed form; zero errors not drawn.",
         ],
     );
-    let mut csv = String::from("case,measure,integrator,steps_per_scale,dt,error,particle_steps,wall_seconds,pareto\n");
+    let mut csv = format!("{},pareto\n", ErrorRow::CSV_HEADER);
     for (k, s) in series.iter().enumerate() {
         let (x0, y0) = panel_origin(k, cols, pw, ph, top);
         let (left, right, ptop, bottom) = (x0 + 68.0, x0 + pw - 14.0, y0 + 30.0, y0 + ph - 50.0);
@@ -174,19 +174,7 @@ fn speed_vs_accuracy(series: &[Series]) -> (String, String) {
             svg.marker(Shape::Circle, px, py, 14.0, "#000000", true);
         }
         for (k, r) in s.rows.iter().enumerate() {
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{},{},{},{},{}",
-                r.case,
-                r.measure,
-                r.integrator.name(),
-                r.steps_per_scale,
-                r.dt,
-                r.error,
-                r.particle_steps,
-                r.wall_seconds,
-                front.contains(&k)
-            );
+            let _ = writeln!(csv, "{},{}", r.csv(), front.contains(&k));
         }
     }
     // The free grid cell holds the legend.

@@ -8,7 +8,7 @@ pub fn all_rows() -> Vec<ErrorRow> {
 
 pub fn run(_args: &[String]) -> i32 {
     let rows = all_rows();
-    let mut csv = String::from("case,measure,integrator,steps_per_scale,dt,error,particle_steps,wall_seconds\n");
+    let mut csv = format!("{}\n", ErrorRow::CSV_HEADER);
     println!("{:<22} {:<20} {:<25} {:>8} {:>12} {:>12} {:>7}", "case", "measure", "integrator", "dt/T", "dt [s]", "error", "order");
     for group in groups(&rows) {
         let order = fitted_order(&group[group.len() - 4..]);
@@ -24,18 +24,7 @@ pub fn run(_args: &[String]) -> i32 {
                 r.error,
                 o
             );
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{},{},{},{}",
-                r.case,
-                r.measure,
-                r.integrator.name(),
-                r.steps_per_scale,
-                r.dt,
-                r.error,
-                r.particle_steps,
-                r.wall_seconds
-            );
+            let _ = writeln!(csv, "{}", r.csv());
         }
     }
     let _ = std::fs::create_dir_all("docs");
