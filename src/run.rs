@@ -144,22 +144,23 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
             break;
         }
         let step = sim.steps();
-        if step.is_multiple_of(every) || step == total {
+        let output = step.is_multiple_of(every) || step == total;
+        let snapshot = snapshot_every.is_some_and(|k| step.is_multiple_of(k));
+        if output || snapshot {
+            // One pass over the particles serves the monitor, the rows and the NaN guard of snapshots.
             let o = sim.observables();
-            if let Err(e) = monitor.check(step, &o) {
-                stopped = Some(Stop::Unstable(e));
-                break;
+            if output {
+                if let Err(e) = monitor.check(step, &o) {
+                    stopped = Some(Stop::Unstable(e));
+                    break;
+                }
+                io(&out_dir, obs_csv.row(&o, fluid))?;
+                io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
             }
-            io(&out_dir, obs_csv.row(&o, fluid))?;
-            io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
-        }
-        if let (Some(w), Some(k)) = (snapshots.as_mut(), snapshot_every)
-            && step.is_multiple_of(k)
-        {
-            if !sim.observables().finite {
-                continue; // the monitor stops the run at the next output; never write NaN
+            // Never write NaN: a non-finite state is stopped by the monitor at the next output.
+            if let (true, true, Some(w), Some(k)) = (snapshot, o.finite, snapshots.as_mut(), snapshot_every) {
+                io(&out_dir, w.write((step / k) as usize, &sim))?;
             }
-            io(&out_dir, w.write((step / k) as usize, &sim))?;
         }
         if let Some(p) = progress.as_mut() {
             p.update(step, sim.time(), particle_steps);

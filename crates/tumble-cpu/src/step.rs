@@ -139,7 +139,6 @@ impl CpuSimulation {
                 s.alpha.par_iter_mut().enumerate().for_each(|(i, al)| *al = sums[i].torque * inv_inertia[i]);
             }
         });
-        let dt = self.plan.dt;
         for (d, sum) in s.dissipated.iter_mut().zip(sums) {
             *d += sum.dissipation * dt;
         }
@@ -264,14 +263,11 @@ impl CpuSimulation {
             return;
         }
         let keep: Vec<bool> = s.pos.iter().map(|&x| domain.contains(x)).collect();
-        let gone = keep.iter().filter(|&&k| !k).count();
-        {
-            s.retain(&keep);
-            self.removed += gone;
-            self.neighbours.invalidate();
-            self.sums.clear();
-            self.eval_vel.clear();
-            self.eval_omega.clear();
-        }
+        s.retain(&keep);
+        self.removed += keep.iter().filter(|&&k| !k).count();
+        // Everything indexed by the old arrays is stale until the next list build and force pass.
+        self.neighbours.invalidate();
+        self.sums.clear();
+        self.pair_out.clear();
     }
 }
