@@ -115,7 +115,7 @@ pub fn main_with(cli: Cli) -> i32 {
                     );
                     0
                 }
-                Err(e @ RunError::Unstable(_)) => {
+                Err(e @ (RunError::Unstable(_) | RunError::Capacity(_))) => {
                     eprintln!("error: {e}");
                     3
                 }

@@ -60,6 +60,8 @@ pub enum RunError {
     Io(PathBuf, std::io::Error),
     /// The run went unstable; partial outputs were written.
     Unstable(Instability),
+    /// A fixed capacity ran out (contact history slots); outputs so far were written.
+    Capacity(String),
     /// Stopped by the user; everything computed so far was written.
     Interrupted {
         step: u64,
@@ -73,6 +75,7 @@ impl fmt::Display for RunError {
             RunError::Scene(e) => write!(f, "{e}"),
             RunError::Io(p, e) => write!(f, "{}: {e}", p.display()),
             RunError::Unstable(e) => write!(f, "{e}"),
+            RunError::Capacity(e) => write!(f, "{e}"),
             RunError::Interrupted { step, out_dir } => write!(f, "interrupted at step {step}; outputs so far are in {}", out_dir.display()),
         }
     }
@@ -139,6 +142,10 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         let n = sim.particles() as u128;
         sim.advance(chunk);
         particle_steps += n * chunk as u128;
+        if let Some(fault) = sim.fault() {
+            stopped = Some(Stop::Capacity(fault));
+            break;
+        }
         if options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed)) {
             stopped = Some(Stop::Interrupted);
             break;
@@ -181,6 +188,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     };
     let stop_text = match &stopped {
         Some(Stop::Unstable(e)) => Some(e.to_string()),
+        Some(Stop::Capacity(e)) => Some(e.clone()),
         Some(Stop::Interrupted) => Some(format!("interrupted by the user at step {} (t = {:.6e} s)", sim.steps(), sim.time())),
         None => None,
     };
@@ -188,6 +196,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     io(&out_dir, std::fs::write(out_dir.join("summary.json"), json))?;
     match stopped {
         Some(Stop::Unstable(e)) => Err(RunError::Unstable(e)),
+        Some(Stop::Capacity(e)) => Err(RunError::Capacity(e)),
         Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir }),
         None => Ok(summary),
     }
@@ -198,6 +207,7 @@ const MAX_CHUNK: u64 = 200;
 
 enum Stop {
     Unstable(Instability),
+    Capacity(String),
     Interrupted,
 }
 

@@ -34,6 +34,11 @@ impl Simulation {
         self.cpu.advance(steps)
     }
 
+    /// Why the backend stopped short of the requested steps (a fixed capacity ran out), if it did.
+    pub fn fault(&self) -> Option<String> {
+        self.cpu.history_overflow().map(|o| o.to_string())
+    }
+
     pub fn steps(&self) -> u64 {
         self.cpu.steps()
     }

@@ -338,11 +338,23 @@ pub struct RollResult {
     pub sliding_error: f64,
 }
 
-/// Case 8: slide to roll with rotation on.
+/// Case 8: slide to roll with rotation on (viscous-Coulomb friction, as in the scene file).
 pub fn slide_to_roll(integrator: Integrator, divisor: f64) -> RollResult {
+    slide_to_roll_with(integrator, divisor, None)
+}
+
+/// Case 8 with the scene's tangential law replaced by `tangential` (a TOML inline table).
+pub fn slide_to_roll_with(integrator: Integrator, divisor: f64, tangential: Option<&str>) -> RollResult {
     let t_col = tumble_contact::collision_time(1.0e5, light_mass(), 0.8);
     let dt = t_col / divisor;
-    let t = trajectory(scene_with(SLIDE_TO_ROLL, integrator, Some(dt)));
+    let text = match tangential {
+        Some(t) => {
+            SLIDE_TO_ROLL.replace("tangential = { model = \"viscous-coulomb\", friction = 0.5, stiffness = 1.0e5 }", &format!("tangential = {t}"))
+        }
+        None => SLIDE_TO_ROLL.to_string(),
+    };
+    assert!(tangential.is_none() || text != SLIDE_TO_ROLL, "case 8's scene no longer has the tangential line to replace");
+    let t = trajectory(scene_with(&text, integrator, Some(dt)));
     let (v0, mu, r) = (1.0, 0.5, 0.5 * D);
     let t_roll = 2.0 * v0 / (7.0 * mu * G);
     let slip = |p: &crate::TrackRow| p.velocity.x - r * p.angular_velocity.y;

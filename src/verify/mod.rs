@@ -6,10 +6,12 @@
 
 mod cases;
 mod expect;
+mod friction;
 mod report;
 
 pub use cases::*;
 pub use expect::{Expectation, ORDER_TOLERANCE, Verdict, expectations, verdicts};
+pub use friction::*;
 pub use report::report;
 
 use crate::{Simulation, TrackRow};

@@ -15,12 +15,14 @@ pub use glam::DVec3;
 
 mod cohesion;
 mod drag;
+mod history;
 mod normal;
 mod params;
 mod tangential;
 
 pub use cohesion::{cohesion_energy, cohesion_force, stickiness_number};
 pub use drag::{FlowField, quadratic_drag, stokes_drag, stokes_relaxation_time};
+pub use history::{SpringForce, SpringLaw, history_force, rolling_torque};
 pub use normal::{NormalForce, NormalLaw, normal_force};
 pub use params::{
     collision_time, damping_ratio, hertz_beta, hertz_contact_time, hertz_effective_moduli, hertz_max_force, hertz_max_overlap, linear_damping,

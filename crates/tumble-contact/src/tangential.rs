@@ -1,5 +1,7 @@
-//! History-free tangential laws (physics.md, "Tangential force").
+//! Tangential laws (physics.md, "Tangential force"): the history-free ones here,
+//! the spring with history in `history.rs`.
 
+use crate::SpringLaw;
 use glam::DVec3;
 
 /// How the viscous coefficient of the viscous-Coulomb law is given.
@@ -28,23 +30,35 @@ pub enum TangentialLaw {
     DynamicOnly {
         friction: f64,
     },
+    /// Tangential spring with history, capped at μ|F_n| (see [`crate::history_force`]).
+    History {
+        friction: f64,
+        spring: SpringLaw,
+    },
 }
 
 impl TangentialLaw {
     pub fn friction(&self) -> f64 {
         match *self {
             TangentialLaw::None => 0.0,
-            TangentialLaw::ViscousCoulomb { friction, .. } | TangentialLaw::StickLimited { friction } | TangentialLaw::DynamicOnly { friction } => {
-                friction
-            }
+            TangentialLaw::ViscousCoulomb { friction, .. }
+            | TangentialLaw::StickLimited { friction }
+            | TangentialLaw::DynamicOnly { friction }
+            | TangentialLaw::History { friction, .. } => friction,
         }
+    }
+
+    /// True for the law that keeps a spring per contact.
+    pub fn has_history(&self) -> bool {
+        matches!(self, TangentialLaw::History { .. })
     }
 }
 
 /// Tangential force on i for the tangential relative velocity `vt`.
 ///
 /// `normal` is |F_n|; `collision_time` is the contact's t_col, used only when
-/// the viscous coefficient is given as a stiffness.
+/// the viscous coefficient is given as a stiffness. The history law needs its
+/// spring and is computed by [`crate::history_force`]; here it gives zero.
 #[inline]
 pub fn tangential_force(law: &TangentialLaw, normal: f64, vt: DVec3, m_star: f64, dt: f64, collision_time: f64) -> DVec3 {
     let speed = vt.length();
@@ -52,7 +66,7 @@ pub fn tangential_force(law: &TangentialLaw, normal: f64, vt: DVec3, m_star: f64
         return DVec3::ZERO;
     }
     let coulomb = match *law {
-        TangentialLaw::None => return DVec3::ZERO,
+        TangentialLaw::None | TangentialLaw::History { .. } => return DVec3::ZERO,
         TangentialLaw::ViscousCoulomb { friction, .. } | TangentialLaw::StickLimited { friction } | TangentialLaw::DynamicOnly { friction } => {
             friction * normal
         }

@@ -2,10 +2,13 @@
 //! torque. A pair is computed in canonical order (lower id first) and negated
 //! for the other side, so pair forces are exactly equal and opposite.
 
+use crate::history::WALL_KEY;
 use crate::neighbours::NeighbourList;
 use crate::state::State;
 use glam::DVec3;
-use tumble_contact::{cohesion_energy, cohesion_force, collision_time, normal_force, tangential_force};
+use tumble_contact::{
+    TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, history_force, normal_force, rolling_torque, tangential_force,
+};
 use tumble_geom::sphere_sphere;
 use tumble_scene::{PairParams, Plan};
 
@@ -22,6 +25,8 @@ pub struct ContactSum {
     pub contacts: u32,
     /// Largest δ / min(r_i, r_j) over all of its contacts.
     pub max_overlap_ratio: f64,
+    /// Contacts holding a tangential spring (may exceed the slots: then the run stops).
+    pub springs: u32,
 }
 
 /// A particle's copy in cell order, for the candidate scan.
@@ -58,12 +63,17 @@ pub struct PairOut {
 struct ContactForce {
     force: DVec3,
     tangential: DVec3,
+    /// |F_n| applied, for the rolling torque.
+    normal: f64,
     elastic: f64,
     dissipation: f64,
 }
 
+/// `spring` holds the contact's tangential spring on entry (zero for a new contact)
+/// and the spring to keep on return (zero when the contact has ended).
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn contact_force<const COH: bool>(
+fn contact_force<const COH: bool, const HIST: bool>(
     p: &PairParams,
     n: DVec3,
     overlap: f64,
@@ -72,8 +82,10 @@ fn contact_force<const COH: bool>(
     m_star: f64,
     r_star: f64,
     dt: f64,
+    spring: &mut DVec3,
 ) -> ContactForce {
-    let mut out = ContactForce { force: DVec3::ZERO, tangential: DVec3::ZERO, elastic: 0.0, dissipation: 0.0 };
+    let mut out = ContactForce { force: DVec3::ZERO, tangential: DVec3::ZERO, normal: 0.0, elastic: 0.0, dissipation: 0.0 };
+    let old_spring = if HIST { std::mem::take(spring) } else { DVec3::ZERO };
     if COH && p.cohesion > 0.0 && effect_overlap > 0.0 {
         out.force = n * cohesion_force(p.cohesion, effect_overlap);
         out.elastic = cohesion_energy(p.cohesion, effect_overlap);
@@ -83,24 +95,42 @@ fn contact_force<const COH: bool>(
         let nf = normal_force(&p.normal, overlap, vn, m_star, r_star);
         let applied = if p.no_attraction { nf.total().max(0.0) } else { nf.total() };
         let vt = v_rel - n * vn;
-        let t_col = match p.tangential {
-            tumble_contact::TangentialLaw::ViscousCoulomb { viscous: tumble_contact::ViscousParameter::Stiffness(_), .. } => {
-                collision_time(nf.stiffness, m_star, p.normal.restitution())
+        out.normal = applied.abs();
+        let (ft, slip_loss) = match p.tangential {
+            TangentialLaw::History { friction, spring: law } if HIST => {
+                let h = history_force(&law, friction, out.normal, overlap, r_star, m_star, old_spring, n, vt, dt);
+                *spring = h.spring;
+                out.elastic += h.energy;
+                (h.force, h.dissipation)
             }
-            _ => 0.0,
+            law => {
+                let t_col = match law {
+                    TangentialLaw::ViscousCoulomb { viscous: ViscousParameter::Stiffness(_), .. } => {
+                        collision_time(nf.stiffness, m_star, p.normal.restitution())
+                    }
+                    _ => 0.0,
+                };
+                let ft = tangential_force(&law, out.normal, vt, m_star, dt, t_col);
+                (ft, -ft.dot(vt))
+            }
         };
-        let ft = tangential_force(&p.tangential, applied.abs(), vt, m_star, dt, t_col);
         out.force += n * applied + ft;
         out.tangential = ft;
         out.elastic += nf.energy;
-        out.dissipation = -((applied - nf.elastic) * vn + ft.dot(vt));
+        out.dissipation = -(applied - nf.elastic) * vn + slip_loss;
     }
     out
 }
 
 /// The contact of pair (a, b), a with the lower id; zero when out of range.
+/// With history, `spring` receives the pair's new spring as a holds it.
 #[inline(always)]
-pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool>(c: &ContactInputs, a: usize, b: usize) -> PairOut {
+pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, const HIST: bool>(
+    c: &ContactInputs,
+    a: usize,
+    b: usize,
+    spring: &mut DVec3,
+) -> PairOut {
     let s = c.state;
     let plan = c.plan;
     let mut out = PairOut { overlap_ratio: -1.0, ..Default::default() };
@@ -122,11 +152,19 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool>(c: &
     }
     let m_star = 1.0 / (s.inv_mass[a] + s.inv_mass[b]);
     let r_star = s.radius[a] * s.radius[b] / (s.radius[a] + s.radius[b]);
-    let f = contact_force::<COH>(params, g.normal, g.overlap, effect_overlap, v_rel, m_star, r_star, plan.dt);
+    if HIST {
+        *spring = s.history.find(a, s.id[b]);
+    }
+    let f = contact_force::<COH, HIST>(params, g.normal, g.overlap, effect_overlap, v_rel, m_star, r_star, plan.dt, spring);
     out.force = f.force;
     if ROT {
         out.torque_a = g.arm_i.cross(f.tangential);
         out.torque_b = g.arm_j.cross(-f.tangential);
+        if params.rolling > 0.0 {
+            let roll = rolling_torque(params.rolling, r_star, f.normal, c.omega[a] - c.omega[b], s.inv_inertia[a] + s.inv_inertia[b], plan.dt);
+            out.torque_a += roll;
+            out.torque_b -= roll;
+        }
     }
     out.elastic = f.elastic;
     out.dissipation = f.dissipation;
@@ -136,12 +174,44 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool>(c: &
     out
 }
 
+/// Where a particle writes the springs it keeps this step (empty without history).
+pub struct SpringSlots<'a> {
+    pub key: &'a mut [u32],
+    pub spring: &'a mut [DVec3],
+}
+
+impl SpringSlots<'_> {
+    /// Stores one spring in slot `*used`, if there is room; counts it either way.
+    #[inline(always)]
+    fn keep(&mut self, used: &mut u32, key: u32, spring: DVec3) {
+        if let Some(k) = self.key.get_mut(*used as usize) {
+            *k = key;
+            self.spring[*used as usize] = spring;
+        }
+        *used += 1;
+    }
+}
+
 /// Particle `i`'s sum: its pairs, gathered in list order, then the walls.
+/// With history it also writes the springs it keeps into `slots` (a sees +ξ, b sees −ξ).
 #[inline(always)]
-pub fn gather<const ROT: bool, const COH: bool>(c: &ContactInputs, list: &NeighbourList, pairs: &[PairOut], i: usize) -> ContactSum {
+pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
+    c: &ContactInputs,
+    list: &NeighbourList,
+    pairs: &[PairOut],
+    springs: &[DVec3],
+    i: usize,
+    mut slots: SpringSlots,
+) -> ContactSum {
     let mut sum = ContactSum::default();
     for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
-        let p = &pairs[(e >> 1) as usize];
+        let k = (e >> 1) as usize;
+        let p = &pairs[k];
+        if HIST && springs[k] != DVec3::ZERO {
+            let [a, b] = list.pairs[k];
+            let (other, xi) = if e & 1 == 0 { (b, springs[k]) } else { (a, -springs[k]) };
+            slots.keep(&mut sum.springs, c.state.id[other as usize], xi);
+        }
         if e & 1 == 0 {
             sum.force += p.force;
             if ROT {
@@ -169,8 +239,9 @@ pub fn gather<const ROT: bool, const COH: bool>(c: &ContactInputs, list: &Neighb
     let xi = s.pos[i];
     let r = s.radius[i];
     let extra = s.reach[i] - r;
-    for &w in near {
-        let w = &plan.walls[w as usize];
+    for &wall in near {
+        let wall = wall as u32;
+        let w = &plan.walls[wall as usize];
         let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
         let effect_overlap = k.overlap + extra;
         if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
@@ -182,10 +253,18 @@ pub fn gather<const ROT: bool, const COH: bool>(c: &ContactInputs, list: &Neighb
         if ROT {
             v_rel += c.omega[i].cross(arm);
         }
-        let f = contact_force::<COH>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, plan.dt);
+        let key = WALL_KEY | wall;
+        let mut spring = if HIST { s.history.find(i, key) } else { DVec3::ZERO };
+        let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, plan.dt, &mut spring);
+        if HIST && spring != DVec3::ZERO {
+            slots.keep(&mut sum.springs, key, spring);
+        }
         sum.force += f.force;
         if ROT {
             sum.torque += arm.cross(f.tangential);
+            if params.rolling > 0.0 {
+                sum.torque += rolling_torque(params.rolling, r, f.normal, c.omega[i], s.inv_inertia[i], plan.dt);
+            }
         }
         sum.elastic += f.elastic;
         sum.dissipation += f.dissipation;

@@ -34,12 +34,14 @@
 //! ```
 
 mod forces;
+mod history;
 mod neighbours;
 mod observables;
 mod state;
 mod step;
 
 pub use forces::ContactSum;
+pub use history::{HistoryOverflow, HistorySlots, WALL_KEY};
 pub use observables::{Observables, TrackRow};
 pub use state::State;
 
@@ -59,6 +61,11 @@ pub struct CpuSimulation {
     sums: Vec<ContactSum>,
     neighbours: NeighbourList,
     pair_out: Vec<PairOut>,
+    /// Each listed pair's new spring as its lower id holds it (history only).
+    pair_spring: Vec<DVec3>,
+    /// The next generation of spring slots, written by the gather and then swapped in.
+    history_next: HistorySlots,
+    history_overflow: Option<HistoryOverflow>,
     last_resort: Option<u64>,
     eval_vel: Vec<DVec3>,
     eval_omega: Vec<DVec3>,
@@ -73,6 +80,7 @@ impl CpuSimulation {
         let threads = threads.max(1);
         let pool = std::sync::Arc::new(rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool"));
         let state = State::from_scene(&scene);
+        let slots = state.history.slots;
         // A one-cell placeholder: the first broad phase sizes the real grid to the particles.
         let grid = CellGrid::new(&scene.plan.domain, scene.plan.domain.extent().max_element());
         let neighbours = NeighbourList::new(scene.plan.skin);
@@ -85,6 +93,9 @@ impl CpuSimulation {
             sums: Vec::new(),
             neighbours,
             pair_out: Vec::new(),
+            pair_spring: Vec::new(),
+            history_next: HistorySlots::new(0, slots),
+            history_overflow: None,
             last_resort: None,
             eval_vel: Vec::new(),
             eval_omega: Vec::new(),
@@ -124,15 +135,24 @@ impl CpuSimulation {
         self.removed
     }
 
-    /// Advances `steps` steps.
+    /// Advances `steps` steps, or fewer when a particle runs out of history slots
+    /// (see [`CpuSimulation::history_overflow`]): the run cannot go on without losing a spring.
     pub fn advance(&mut self, steps: u64) {
         // One hand-over to the pool for all the steps; the passes' own installs then run inline.
         let pool = self.pool.clone();
         pool.install(|| {
             for _ in 0..steps {
+                if self.history_overflow.is_some() {
+                    break;
+                }
                 self.step_once();
             }
         });
+    }
+
+    /// The first particle that had more contacts with history than slots, if any.
+    pub fn history_overflow(&self) -> Option<HistoryOverflow> {
+        self.history_overflow
     }
 
     /// Index of the particle with id `id`, if it is still in the domain.

@@ -1,5 +1,6 @@
 //! Particle arrays (structure of arrays), re-sorted by cell for locality.
 
+use crate::history::HistorySlots;
 use glam::DVec3;
 use tumble_broad::permute;
 use tumble_scene::{CompiledScene, Drag};
@@ -30,6 +31,8 @@ pub struct State {
     pub dissipated: Vec<f64>,
     /// Work done on this particle by the fluid so far.
     pub fluid_work: Vec<f64>,
+    /// Tangential springs of this particle's contacts (empty without history).
+    pub history: HistorySlots,
 }
 
 impl State {
@@ -67,6 +70,7 @@ impl State {
                 });
             }
         }
+        s.history = HistorySlots::new(n, if plan.history { plan.history_slots } else { 0 });
         s
     }
 
@@ -115,6 +119,7 @@ impl State {
     /// Reorders every array by `order` (new slot k holds old particle order[k]).
     pub fn permute(&mut self, order: &[u32]) {
         self.for_each_array(|v| permute(v, order), |v| permute(v, order), |v| permute(v, order), |v| permute(v, order), |v| permute(v, order));
+        self.history.permute(order);
     }
 
     /// Keeps only the particles for which `keep` is true, preserving order.
@@ -127,5 +132,6 @@ impl State {
             });
         }
         self.for_each_array(|v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep));
+        self.history.retain(keep);
     }
 }

@@ -1,7 +1,8 @@
 //! The step: broad phase, contacts, body forces, integration (architecture.md, "The step").
 
 use crate::CpuSimulation;
-use crate::forces::{ContactInputs, SortedEntry, gather, pair_contact};
+use crate::forces::{ContactInputs, SortedEntry, SpringSlots, gather, pair_contact};
+use crate::history::HistoryOverflow;
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
@@ -82,34 +83,76 @@ impl CpuSimulation {
     }
 
     /// The contact pass: every listed pair once, then each particle gathers its own sum.
-    fn contact_pass(&mut self, use_eval: bool) {
+    /// `commit` swaps in the springs it computed (the t = 0 pass only seeds forces).
+    fn contact_pass(&mut self, use_eval: bool, commit: bool) {
         let periodic = self.plan.domain.periodic.iter().any(|&p| p);
         // Monomorphised on the plan's features: a scene without them runs none of their code.
-        match (self.plan.rotation, self.plan.cohesion, periodic) {
-            (false, false, false) => self.contact_pass_with::<false, false, false>(use_eval),
-            (true, false, false) => self.contact_pass_with::<true, false, false>(use_eval),
-            (false, true, false) => self.contact_pass_with::<false, true, false>(use_eval),
-            (true, true, false) => self.contact_pass_with::<true, true, false>(use_eval),
-            (false, false, true) => self.contact_pass_with::<false, false, true>(use_eval),
-            (true, false, true) => self.contact_pass_with::<true, false, true>(use_eval),
-            (false, true, true) => self.contact_pass_with::<false, true, true>(use_eval),
-            (true, true, true) => self.contact_pass_with::<true, true, true>(use_eval),
+        macro_rules! dispatch {
+            ($($rot:literal, $coh:literal, $per:literal);*) => {
+                match (self.plan.rotation, self.plan.cohesion, periodic, self.plan.history) {
+                    $(
+                        ($rot, $coh, $per, false) => self.contact_pass_with::<$rot, $coh, $per, false>(use_eval),
+                        ($rot, $coh, $per, true) => self.contact_pass_with::<$rot, $coh, $per, true>(use_eval),
+                    )*
+                }
+            };
+        }
+        dispatch!(false, false, false; true, false, false; false, true, false; true, true, false;
+                  false, false, true; true, false, true; false, true, true; true, true, true);
+        if self.plan.history && commit {
+            std::mem::swap(&mut self.state.history, &mut self.history_next);
+            self.check_history_capacity();
         }
     }
 
-    fn contact_pass_with<const ROT: bool, const COH: bool, const PERIODIC: bool>(&mut self, use_eval: bool) {
+    fn contact_pass_with<const ROT: bool, const COH: bool, const PERIODIC: bool, const HIST: bool>(&mut self, use_eval: bool) {
         let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
         let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega };
         let n = self.state.len();
-        let (list, pair_out, sums) = (&self.neighbours, &mut self.pair_out, &mut self.sums);
+        let (list, pair_out, pair_spring, sums) = (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.sums);
+        let next = &mut self.history_next;
         self.pool.install(|| {
-            list.pairs
-                .par_iter()
-                .with_min_len(1024)
-                .map(|p| pair_contact::<ROT, COH, PERIODIC>(&inputs, p[0] as usize, p[1] as usize))
-                .collect_into_vec(pair_out);
-            (0..n).into_par_iter().with_min_len(512).map(|i| gather::<ROT, COH>(&inputs, list, pair_out, i)).collect_into_vec(sums);
+            let pairs = list.pairs.par_iter().with_min_len(1024);
+            if HIST {
+                pairs
+                    .map(|p| {
+                        let mut spring = DVec3::ZERO;
+                        (pair_contact::<ROT, COH, PERIODIC, HIST>(&inputs, p[0] as usize, p[1] as usize, &mut spring), spring)
+                    })
+                    .unzip_into_vecs(pair_out, pair_spring);
+                next.resize(n);
+                let slots = next.slots;
+                (0..n)
+                    .into_par_iter()
+                    .zip(next.key.par_chunks_mut(slots))
+                    .zip(next.spring.par_chunks_mut(slots))
+                    .zip(next.count.par_iter_mut())
+                    .with_min_len(512)
+                    .map(|(((i, key), spring), count)| {
+                        let sum = gather::<ROT, COH, HIST>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring });
+                        *count = sum.springs.min(slots as u32) as u16;
+                        sum
+                    })
+                    .collect_into_vec(sums);
+            } else {
+                pairs
+                    .map(|p| pair_contact::<ROT, COH, PERIODIC, HIST>(&inputs, p[0] as usize, p[1] as usize, &mut DVec3::default()))
+                    .collect_into_vec(pair_out);
+                (0..n)
+                    .into_par_iter()
+                    .with_min_len(512)
+                    .map(|i| gather::<ROT, COH, HIST>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }))
+                    .collect_into_vec(sums);
+            }
         });
+    }
+
+    /// Stops the run (see `advance`) when a particle kept more springs than it has slots.
+    fn check_history_capacity(&mut self) {
+        let slots = self.history_next.slots;
+        if let Some(i) = self.sums.iter().position(|s| s.springs as usize > slots) {
+            self.history_overflow = Some(HistoryOverflow { id: self.state.id[i], contacts: self.sums[i].springs as usize, slots, step: self.step });
+        }
     }
 
     /// Accelerations from contact sums plus gravity and explicit drag, at velocities `vel`.
@@ -146,7 +189,7 @@ impl CpuSimulation {
 
     /// Forces at t = 0, so Verlet's first half kick has an acceleration.
     pub(crate) fn initial_forces(&mut self) {
-        self.contact_pass(false);
+        self.contact_pass(false, false);
         let explicit = !self.plan.integrator.implicit_drag();
         // The t = 0 pass only seeds accelerations: it must not count dissipation or fluid work.
         let saved = (self.state.dissipated.clone(), self.state.fluid_work.clone());
@@ -181,7 +224,7 @@ impl CpuSimulation {
                     s.vel.par_iter().zip(&s.acc).map(|(&v, &a)| verlet_force_velocity(v, a, dt)).collect_into_vec(eval_vel);
                     s.omega.par_iter().zip(&s.alpha).map(|(&w, &a)| verlet_force_velocity(w, a, dt)).collect_into_vec(eval_omega);
                 });
-                self.contact_pass(true);
+                self.contact_pass(true, true);
                 self.accelerations(true, true);
                 let s = &mut self.state;
                 let (acc, alpha, inv_mass) = (&s.acc, &s.alpha, &s.inv_mass);
@@ -196,7 +239,7 @@ impl CpuSimulation {
             }
             integrator => {
                 self.broad_phase();
-                self.contact_pass(false);
+                self.contact_pass(false, true);
                 let implicit = integrator.implicit_drag();
                 self.accelerations(false, !implicit);
                 let body = self.body();

@@ -7,7 +7,7 @@ use glam::DVec3;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use tumble_contact::{
-    FlowField, NormalLaw, TangentialLaw, ViscousParameter, collision_time, hertz_effective_moduli, rayleigh_time, stokes_relaxation_time,
+    FlowField, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, collision_time, hertz_effective_moduli, rayleigh_time, stokes_relaxation_time,
 };
 use tumble_geom::{Cylinder, PeriodicBox, Plane, Quad, SurfaceShape};
 use tumble_integrate::Integrator;
@@ -20,6 +20,8 @@ pub struct PairParams {
     /// Cohesion stiffness k_c (0: no cohesion).
     pub cohesion: f64,
     pub no_attraction: bool,
+    /// Rolling resistance μ_r (0: none).
+    pub rolling: f64,
 }
 
 /// Drag law of the fluid.
@@ -91,6 +93,12 @@ pub struct Plan {
     pub backend: BackendName,
     pub rotation: bool,
     pub cohesion: bool,
+    /// Some pair keeps a tangential spring per contact.
+    pub history: bool,
+    /// Contacts with history each particle can hold.
+    pub history_slots: usize,
+    /// Some pair has rolling resistance.
+    pub rolling: bool,
     pub fluid: Option<Fluid>,
     pub gravity: DVec3,
     pub domain: PeriodicBox,
@@ -253,7 +261,13 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             let e = p.and_then(|p| p.restitution).unwrap_or(scene.contact.restitution);
             let tangential = p.and_then(|p| p.tangential.as_ref()).unwrap_or(&scene.contact.tangential);
             let cohesion = p.and_then(|p| p.cohesion.as_ref()).or(scene.contact.cohesion.as_ref());
-            pairs.push(pair_params(&field_root, normal, e, tangential, cohesion, scene.contact.no_attraction, &materials[a], &materials[b])?);
+            let mut params = pair_params(&field_root, normal, e, tangential, cohesion, scene.contact.no_attraction, &materials[a], &materials[b])?;
+            let rolling_root = if p.and_then(|p| p.rolling_friction).is_some() { field_root.as_str() } else { "contact" };
+            params.rolling = non_negative(
+                &format!("{rolling_root}.rolling_friction"),
+                p.and_then(|p| p.rolling_friction).or(scene.contact.rolling_friction).unwrap_or(0.0),
+            )?;
+            pairs.push(params);
         }
     }
     for (k, p) in scene.contact.pairs.iter().enumerate() {
@@ -395,9 +409,23 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     // Features.
     let movable = particles.fixed.iter().any(|f| !f);
     let any_friction = pairs.iter().any(|p| p.tangential != TangentialLaw::None);
+    let history = pairs.iter().any(|p| p.tangential.has_history());
+    let rolling = pairs.iter().any(|p| p.rolling > 0.0);
+    let history_slots = match scene.contact.history_slots {
+        Some(0) => return Err(SceneError::field("contact.history_slots", "must be at least 1 (contacts with history per particle)")),
+        Some(k) => k as usize,
+        None => DEFAULT_HISTORY_SLOTS,
+    };
     let (rotation, rotation_reason) = match scene.run.rotation {
         RotationMode::On => (true, "run.rotation = \"on\"".to_string()),
+        RotationMode::Off if rolling => {
+            return Err(SceneError::field(
+                "run.rotation",
+                "rolling_friction is a torque and needs rotation; remove run.rotation = \"off\" or the rolling friction",
+            ));
+        }
         RotationMode::Off => (false, "run.rotation = \"off\" (tangential forces act on the centre only)".to_string()),
+        RotationMode::Auto if rolling && movable => (true, "rolling resistance exerts torques".to_string()),
         RotationMode::Auto if any_friction && movable => (true, "tangential friction exerts torques".to_string()),
         RotationMode::Auto => (false, "no tangential force, so no torque: no rotation state is carried".to_string()),
     };
@@ -511,6 +539,24 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         },
         Feature { name: "normal", active: true, reason: describe_law(&pairs[0].normal) },
         Feature { name: "tangential", active: any_friction, reason: describe_tangential(&pairs[0].tangential) },
+        Feature {
+            name: "history",
+            active: history,
+            reason: if history {
+                format!("tangential model \"history\": {history_slots} spring slots per particle, keyed by neighbour id")
+            } else {
+                "no tangential spring: no per-contact state is carried".into()
+            },
+        },
+        Feature {
+            name: "rolling",
+            active: rolling,
+            reason: if rolling {
+                format!("rolling resistance μ_r = {} (constant directional torque)", pairs.iter().map(|p| p.rolling).fold(0.0, f64::max))
+            } else {
+                "no rolling_friction: no rolling torque".into()
+            },
+        },
     ];
     if !movable {
         features.push(Feature { name: "motion", active: false, reason: "every particle is fixed".into() });
@@ -529,13 +575,21 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
                 t / 6.0
             ));
     }
+    if looks_quasi_static(&particles, &pairs, gravity, &walls, fluid.as_ref()) {
+        warnings.push(
+            "this scene looks quasi-static (gravity, walls, particles starting at rest, no fluid) but its friction is history-free: \
+             piles and slopes creep at the speed where the viscous force balances gravity; use tangential model = \"history\" to hold static loads"
+                .into(),
+        );
+    }
     let bytes_per_particle = 8 * (3 * 3 + 6) // position, velocity, acceleration; radius, effect, inverse mass, mass, dissipation, elastic
         + 8 * 4 + 8 * 3 // sorted position and reach for the broad phase, reference position of the neighbour list
         + 6 * (4 * 2 + 4 * 2) + 6 * if rotation { 72 } else { 48 } // ~6 listed pairs: indices, incidence, pair results
         + 2 + 2 + 4 + 4 + 4 + 4 + 8 // material, group, id, flags, order, cell, overlap
         + if rotation { 8 * 7 } else { 0 } // angular velocity and acceleration, inverse inertia
         + if integrator == Integrator::Verlet { 24 * if rotation { 2 } else { 1 } } else { 0 }
-        + if fluid.is_some() { 8 } else { 0 };
+        + if fluid.is_some() { 8 } else { 0 }
+        + if history { 2 * (2 + history_slots * (4 + 24)) } else { 0 }; // two generations of spring slots: count, neighbour id, ξ
 
     Ok(CompiledScene {
         plan: Plan {
@@ -549,6 +603,9 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             backend: run.backend,
             rotation,
             cohesion,
+            history,
+            history_slots,
+            rolling,
             fluid,
             gravity,
             domain,
@@ -569,6 +626,13 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     })
 }
 
+/// Gravity pressing particles that start at rest onto walls, with history-free friction.
+fn looks_quasi_static(p: &InitialParticles, pairs: &[PairParams], gravity: DVec3, walls: &[Wall], fluid: Option<&Fluid>) -> bool {
+    let history_free = pairs.iter().any(|p| p.tangential.friction() > 0.0 && !p.tangential.has_history());
+    let at_rest = p.velocity.iter().all(|v| *v == DVec3::ZERO);
+    history_free && gravity != DVec3::ZERO && !walls.is_empty() && fluid.is_none() && at_rest
+}
+
 fn describe_law(law: &NormalLaw) -> String {
     match law {
         NormalLaw::Linear { stiffness, restitution, .. } => format!("linear spring-dashpot, k_n = {stiffness:e} N/m, e = {restitution}"),
@@ -587,6 +651,13 @@ fn describe_tangential(law: &TangentialLaw) -> String {
         }
         TangentialLaw::StickLimited { friction } => format!("stick-limited, μ = {friction} (history-free)"),
         TangentialLaw::DynamicOnly { friction } => format!("dynamic-only, μ = {friction}: oscillates around rest (a documented failure case)"),
+        TangentialLaw::History { friction, spring: SpringLaw::Linear { stiffness, damping, damping_ratio } } => {
+            let eta = if *damping_ratio > 0.0 { format!("damping ratio {damping_ratio:.4}") } else { format!("η_t = {damping:e} N s/m") };
+            format!("history (Cundall–Strack), μ = {friction}, k_t = {stiffness:e} N/m, {eta}: a spring per contact holds static loads")
+        }
+        TangentialLaw::History { friction, spring: SpringLaw::Mindlin { g_star, .. } } => {
+            format!("history (Hertz–Mindlin), μ = {friction}, k_t = 8 G* √(R* δ) with G* = {g_star:e} Pa: a spring per contact holds static loads")
+        }
     }
 }
 
@@ -639,13 +710,44 @@ fn pair_params(
         }
         TangentialSection::StickLimited { friction } => TangentialLaw::StickLimited { friction: mu(*friction)? },
         TangentialSection::DynamicOnly { friction } => TangentialLaw::DynamicOnly { friction: mu(*friction)? },
+        TangentialSection::History { friction, stiffness, damping } => {
+            let stiffness = stiffness.map(|k| positive(&format!("{root}.tangential.stiffness"), k)).transpose()?;
+            let damping = damping.map(|c| non_negative(&format!("{root}.tangential.damping"), c)).transpose()?;
+            let spring = match (normal, stiffness) {
+                (NormalLaw::Hertz { g_star, beta, .. }, None) => {
+                    if damping.is_some() {
+                        return Err(SceneError::field(
+                            format!("{root}.tangential.damping"),
+                            "Hertz–Mindlin derives η_t from G* and e; give damping only with an explicit stiffness (Cundall–Strack)",
+                        ));
+                    }
+                    SpringLaw::Mindlin { g_star, beta }
+                }
+                (NormalLaw::Linear { stiffness: k_n, damping_ratio, .. }, k_t) => {
+                    linear_spring(k_t.unwrap_or(2.0 / 7.0 * k_n), damping, damping_ratio)
+                }
+                (NormalLaw::Hertz { beta, .. }, Some(k_t)) => linear_spring(k_t, damping, -beta),
+            };
+            TangentialLaw::History { friction: mu(*friction)?, spring }
+        }
     };
     let cohesion = match cohesion {
         Some(c) => positive(&format!("{root}.cohesion.stiffness"), c.stiffness)?,
         None => 0.0,
     };
-    Ok(PairParams { normal, tangential, cohesion, no_attraction })
+    Ok(PairParams { normal, tangential, cohesion, no_attraction, rolling: 0.0 })
 }
+
+/// Cundall–Strack spring: the given η_t, or the normal law's damping ratio applied to k_t.
+fn linear_spring(stiffness: f64, damping: Option<f64>, damping_ratio: f64) -> SpringLaw {
+    match damping {
+        Some(damping) => SpringLaw::Linear { stiffness, damping, damping_ratio: 0.0 },
+        None => SpringLaw::Linear { stiffness, damping: 0.0, damping_ratio },
+    }
+}
+
+/// Default contacts with history per particle: a sphere among equal ones touches at most 12.
+const DEFAULT_HISTORY_SLOTS: usize = 16;
 
 /// Default neighbour-list skin, as a fraction of the largest interaction diameter.
 const DEFAULT_SKIN: f64 = 0.1;
@@ -716,6 +818,7 @@ fn timescales(
     let mut t_col_linear = f64::INFINITY;
     let mut rayleigh = f64::INFINITY;
     let mut tangential = f64::INFINITY;
+    let mut spring_period = f64::INFINITY;
     let speed = characteristic_speed(p, gravity, domain);
     for a in 0..n_mat {
         if !lightest[a].is_finite() {
@@ -748,6 +851,13 @@ fn timescales(
                     let m_t = if rotation { 2.0 / 7.0 * m_star } else { m_star };
                     tangential = tangential.min(m_t / c_t);
                 }
+                // A tangential spring oscillates at ω_t = √(k_t / m*_t): the same limit 2/ω as a normal spring.
+                if let TangentialLaw::History { spring: SpringLaw::Linear { stiffness: k_t, .. }, .. } = pairs[a * n_mat + b].tangential {
+                    let m_t = if rotation { 2.0 / 7.0 * m_star } else { m_star };
+                    let omega_t = (k_t / m_t).sqrt();
+                    limit = limit.min(2.0 / omega_t);
+                    spring_period = spring_period.min(std::f64::consts::PI / omega_t);
+                }
                 match pairs[a * n_mat + b].normal {
                     NormalLaw::Linear { stiffness, restitution, .. } => {
                         t_col_linear = t_col_linear.min(collision_time(stiffness, m_star, restitution));
@@ -772,6 +882,9 @@ fn timescales(
     // Linear contacts: t_col / 50; Hertz: 0.2 Δt_R (physics.md, "Time step").
     if t_col_linear.is_finite() {
         default_dt = t_col_linear / 50.0;
+    }
+    if spring_period.is_finite() {
+        default_dt = default_dt.min(spring_period / 50.0);
     }
     if tangential.is_finite() {
         ts.tangential_time = Some(tangential);

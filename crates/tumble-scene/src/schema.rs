@@ -184,6 +184,10 @@ pub struct ContactSection {
     /// Clamp the normal force so it never pulls (F_n·n ≥ 0).
     #[serde(default)]
     pub no_attraction: bool,
+    /// Rolling resistance μ_r (constant directional torque μ_r R* |F_n|).
+    pub rolling_friction: Option<f64>,
+    /// Contacts with history each particle can hold (tangential model "history").
+    pub history_slots: Option<u32>,
     #[serde(default)]
     pub pairs: Vec<PairSection>,
 }
@@ -197,6 +201,7 @@ pub struct PairSection {
     pub restitution: Option<f64>,
     pub tangential: Option<TangentialSection>,
     pub cohesion: Option<CohesionSection>,
+    pub rolling_friction: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -223,6 +228,15 @@ pub enum TangentialSection {
     },
     DynamicOnly {
         friction: f64,
+    },
+    /// Tangential spring with history: Cundall–Strack with a linear normal law,
+    /// Mindlin (k_t from G*) with Hertz unless a stiffness is given.
+    History {
+        friction: f64,
+        /// k_t in N/m (linear default: 2/7 k_n).
+        stiffness: Option<f64>,
+        /// η_t in N s/m (linear default: the normal damping η_n of the pair).
+        damping: Option<f64>,
     },
 }
 

@@ -1,0 +1,115 @@
+//! Contact history: fixed-capacity spring slots per particle, keyed by the
+//! neighbour's id (or a wall's index with [`WALL_KEY`] set), so they survive
+//! the re-sort by cell. Both sides of a pair hold the same spring with
+//! opposite sign; the pair pass reads the lower id's copy.
+
+use glam::DVec3;
+
+/// Marks a key as a wall index rather than a particle id.
+pub const WALL_KEY: u32 = 1 << 31;
+
+/// One generation of spring slots: `slots` per particle, the first `count[i]` in use.
+#[derive(Clone, Debug, Default)]
+pub struct HistorySlots {
+    pub slots: usize,
+    pub count: Vec<u16>,
+    pub key: Vec<u32>,
+    pub spring: Vec<DVec3>,
+}
+
+impl HistorySlots {
+    /// Empty slots for `n` particles (`slots` = 0 when the plan has no history).
+    pub fn new(n: usize, slots: usize) -> Self {
+        HistorySlots { slots, count: vec![0; if slots > 0 { n } else { 0 }], key: vec![0; n * slots], spring: vec![DVec3::ZERO; n * slots] }
+    }
+
+    /// The spring particle `i` holds for `key`, zero when the contact is new.
+    #[inline]
+    pub fn find(&self, i: usize, key: u32) -> DVec3 {
+        let base = i * self.slots;
+        let used = self.count[i] as usize;
+        match self.key[base..base + used].iter().position(|&k| k == key) {
+            Some(s) => self.spring[base + s],
+            None => DVec3::ZERO,
+        }
+    }
+
+    /// Springs held in all, each pair counted from both sides.
+    pub fn total(&self) -> usize {
+        self.count.iter().map(|&c| c as usize).sum()
+    }
+
+    /// Reorders whole particles' slot blocks by `order` (new slot k holds old particle order[k]);
+    /// particles missing from `order` are dropped.
+    pub fn permute(&mut self, order: &[u32]) {
+        if self.slots == 0 {
+            return;
+        }
+        self.count = order.iter().map(|&o| self.count[o as usize]).collect();
+        fn blocks<T: Copy>(v: &[T], order: &[u32], slots: usize) -> Vec<T> {
+            order.iter().flat_map(|&o| v[o as usize * slots..(o as usize + 1) * slots].iter().copied()).collect()
+        }
+        self.key = blocks(&self.key, order, self.slots);
+        self.spring = blocks(&self.spring, order, self.slots);
+    }
+
+    /// Keeps the blocks of the particles for which `keep` is true.
+    pub fn retain(&mut self, keep: &[bool]) {
+        if self.slots == 0 {
+            return;
+        }
+        let order: Vec<u32> = (0..keep.len() as u32).filter(|&i| keep[i as usize]).collect();
+        self.permute(&order);
+    }
+
+    /// Makes room for `n` particles (contents are overwritten by the next gather).
+    pub fn resize(&mut self, n: usize) {
+        if self.slots > 0 {
+            self.count.resize(n, 0);
+            self.key.resize(n * self.slots, 0);
+            self.spring.resize(n * self.slots, DVec3::ZERO);
+        }
+    }
+}
+
+/// A particle had more contacts with history than it has slots.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HistoryOverflow {
+    pub id: u32,
+    pub contacts: usize,
+    pub slots: usize,
+    pub step: u64,
+}
+
+impl std::fmt::Display for HistoryOverflow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "contact history overflow at step {}: particle {} has {} contacts with a tangential spring but contact.history_slots = {}; \
+             set contact.history_slots to at least {} (no history was dropped: the run stopped)",
+            self.step, self.id, self.contacts, self.slots, self.contacts
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_follow_their_particle_through_a_permutation_and_removal() {
+        let mut h = HistorySlots::new(3, 2);
+        for i in 0..3 {
+            h.count[i] = 1;
+            h.key[2 * i] = 10 + i as u32;
+            h.spring[2 * i] = DVec3::splat(i as f64);
+        }
+        h.permute(&[2, 0, 1]);
+        assert_eq!(h.find(0, 12), DVec3::splat(2.0));
+        assert_eq!(h.find(1, 10), DVec3::splat(0.0));
+        assert_eq!(h.find(1, 12), DVec3::ZERO);
+        h.retain(&[false, true, true]);
+        assert_eq!(h.count.len(), 2);
+        assert_eq!(h.find(1, 11), DVec3::splat(1.0));
+    }
+}
