@@ -91,11 +91,14 @@ proptest! {
     #[test]
     fn angular_momentum_is_conserved_in_frictional_collisions(
         offset in vec3(0.015), va in vec3(1.0), vb in vec3(1.0), wa in vec3(40.0), wb in vec3(40.0), da in 0.02f64..0.035, db in 0.02f64..0.035,
+        history in proptest::bool::ANY,
     ) {
-        // Two spheres aimed at each other with an offset: oblique, frictional, spinning.
+        // Two spheres aimed at each other with an offset: oblique, frictional, spinning;
+        // history-free, or with a tangential spring and rolling resistance.
         let a = P { x: DVec3::new(-0.03, 0.0, 0.0), v: DVec3::new(1.5, 0.0, 0.0) + va * 0.3, w: wa, d: da, de: da };
         let b = P { x: DVec3::new(0.03, 0.0, 0.0) + DVec3::new(0.0, offset.y, offset.z), v: DVec3::new(-1.5, 0.0, 0.0) + vb * 0.3, w: wb, d: db, de: db };
-        let mut sim = Simulation::new(scene(&[a, b], false, false, 1.0, ""), 1);
+        let tangential = if history { common::HISTORY_ROLLING } else { common::VISCOUS };
+        let mut sim = Simulation::new(common::scene_with_tangential(&[a, b], false, false, 1.0, "", tangential), 1);
         let l = |sim: &Simulation| {
             let s = sim.cpu().state();
             (0..s.len()).map(|i| s.pos[i].cross(s.vel[i]) * s.mass[i] + s.omega[i] / s.inv_inertia[i]).sum::<DVec3>()
@@ -111,23 +114,30 @@ proptest! {
 #[test]
 fn results_are_bit_identical_for_1_2_and_4_threads() {
     let particles = cloud(216, 3, 0.1);
-    let run = |threads: usize| {
-        let mut sim = Simulation::new(scene(&particles, true, true, 0.1, "resort_interval = 7"), threads);
-        sim.advance(1500);
-        let s = sim.cpu().state();
-        let mut bytes = Vec::new();
-        for i in 0..s.len() {
-            for v in [s.pos[i], s.vel[i], s.omega[i]] {
-                bytes.extend(v.to_array().map(f64::to_bits));
+    // History-free and with tangential springs (their slots are re-sorted with the particles).
+    for history in [false, true] {
+        let run = |threads: usize| {
+            let tangential = if history { common::HISTORY_ROLLING } else { common::VISCOUS };
+            let mut sim = Simulation::new(common::scene_with_tangential(&particles, true, true, 0.1, "resort_interval = 7", tangential), threads);
+            assert_eq!(sim.plan().history, history);
+            sim.advance(1500);
+            let s = sim.cpu().state();
+            let mut bytes = Vec::new();
+            for i in 0..s.len() {
+                for v in [s.pos[i], s.vel[i], s.omega[i]] {
+                    bytes.extend(v.to_array().map(f64::to_bits));
+                }
+                bytes.push(s.dissipated[i].to_bits());
             }
-            bytes.push(s.dissipated[i].to_bits());
-        }
-        (bytes, sim.observables().contacts)
-    };
-    let (one, contacts) = run(1);
-    assert!(contacts > 0);
-    assert_eq!(one, run(2).0);
-    assert_eq!(one, run(4).0);
+            bytes.extend(s.history.spring.iter().flat_map(|v| v.to_array().map(f64::to_bits)));
+            (bytes, sim.observables().contacts, s.history.total())
+        };
+        let (one, contacts, springs) = run(1);
+        assert!(contacts > 0);
+        assert_eq!(springs > 0, history);
+        assert_eq!(one, run(2).0, "history = {history}");
+        assert_eq!(one, run(4).0, "history = {history}");
+    }
 }
 
 #[test]

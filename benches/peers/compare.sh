@@ -5,14 +5,22 @@
 # 200-step run). Prints particle-steps/s, the ratio, and a physics cross-check
 # (kinetic energy at step 2200 in both codes).
 #
-# usage: benches/peers/compare.sh [results.md]
+# TANGENTIAL=history compares the bed with tangential springs (scenes/bench/packed_bed_history.toml
+# against LIGGGHTS `tangential history`) instead of the history-free one.
+#
+# usage: [TANGENTIAL=history] benches/peers/compare.sh [results.md]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 cd "$ROOT"
 OUT="${1:-}"
 REPEATS="${REPEATS:-2}"
 cargo build --release --quiet
-SCENE=scenes/bench/packed_bed.toml
+TANGENTIAL="${TANGENTIAL:-no_history}"
+case "$TANGENTIAL" in
+    history) SCENE=scenes/bench/packed_bed_history.toml ;;
+    no_history) SCENE=scenes/bench/packed_bed.toml ;;
+    *) echo "TANGENTIAL must be history or no_history, got $TANGENTIAL" >&2; exit 2 ;;
+esac
 DT=3.5e-5
 TMP="$(mktemp -d)"
 
@@ -34,10 +42,12 @@ for t in 1 2; do
 done
 KE_TUMBLE=$(ke)
 
-REPEATS="$REPEATS" benches/peers/run_liggghts.sh "$TMP/liggghts.csv" | tee "$TMP/liggghts.txt"
+REPEATS="$REPEATS" TANGENTIAL="$TANGENTIAL" benches/peers/run_liggghts.sh "$TMP/liggghts.csv" | tee "$TMP/liggghts.txt"
 KE_LIGGGHTS=$(python3 -c "import csv; print(list(csv.DictReader(open('$TMP/liggghts.csv')))[-1]['ke_end_J'])")
 
 {
+    echo "Tangential model: $TANGENTIAL ($SCENE)"
+    echo
     echo "| threads / ranks | tumble [particle-steps/s] | LIGGGHTS [particle-steps/s] | tumble / LIGGGHTS |"
     echo "|---|---|---|---|"
     for t in 1 2; do

@@ -2,7 +2,7 @@
 # LIGGGHTS peer run of the dense packed bed benchmark (see README.md, liggghts_bed.in).
 #
 # usage: benches/peers/run_liggghts.sh [results.csv]
-# env:   RANKS="1 2"  NWARM=200  NSTEPS=2000  REPEATS=3
+# env:   RANKS="1 2"  NWARM=200  NSTEPS=2000  REPEATS=3  TANGENTIAL=no_history|history
 #        IDLE_WAIT_S=300  (max seconds to wait, before each repeat, for the CPUs to be idle)
 #        Each rank count is run REPEATS times; wall_s is the MINIMUM (best-of-REPEATS)
 #        Loop time, median/max go to the "#" line and the CSV. Other processes on a
@@ -24,6 +24,7 @@ RANKS="${RANKS:-1 2}"
 NWARM="${NWARM:-200}"
 NSTEPS="${NSTEPS:-2000}"
 REPEATS="${REPEATS:-3}"
+TANGENTIAL="${TANGENTIAL:-no_history}"
 MAX_ATTEMPTS="${MAX_ATTEMPTS:-$((3 * REPEATS))}"
 
 # ---- install if missing (Debian/Ubuntu package liggghts 3.8.0 + Open MPI) ----
@@ -90,7 +91,7 @@ for P in $RANKS; do
         wait_idle
         read -r B0 T0 <<<"$(cpu_jiffies)"; children_cpu_s; C0="$CHCPU"; E0="$(date +%s.%N)"
         ( cd "$WORK" && mpirun $OVERSUB -np "$P" liggghts -in "$INPUT" \
-            -var nwarm "$NWARM" -var nsteps "$NSTEPS" -log none -echo none -nocite ) > "$OUTF" 2>&1 || {
+            -var nwarm "$NWARM" -var nsteps "$NSTEPS" -var tmodel "$TANGENTIAL" -log none -echo none -nocite ) > "$OUTF" 2>&1 || {
             echo "liggghts run with $P ranks failed; output:" >&2; tail -40 "$OUTF" >&2; exit 1; }
         read -r B1 T1 <<<"$(cpu_jiffies)"; children_cpu_s; C1="$CHCPU"; E1="$(date +%s.%N)"
         # "Loop time of X on P procs for S steps with N atoms" -- the 2nd one is the timed run

@@ -53,6 +53,11 @@ pub fn viscous_coefficient(restitution: f64) -> f64 {
     K_N * tumble_contact::collision_time(K_N, sphere_mass(), restitution)
 }
 
+/// The step these studies run at: t_col / 50 against the floor.
+pub fn floor_dt(restitution: f64) -> f64 {
+    tumble_contact::collision_time(K_N, sphere_mass(), restitution) / 50.0
+}
+
 /// One sphere on the floor z = 0, with the given friction, gravity and start.
 pub struct FloorScene {
     pub model: FrictionModel,
@@ -60,6 +65,8 @@ pub struct FloorScene {
     pub restitution: f64,
     pub rolling_friction: f64,
     pub rotation: bool,
+    /// Hertz normal law (E = 1e7 Pa, ν = 0.3; history becomes Hertz–Mindlin) instead of linear.
+    pub hertz: bool,
     pub gravity: DVec3,
     pub position: DVec3,
     pub velocity: DVec3,
@@ -78,6 +85,7 @@ impl FloorScene {
             restitution: 0.8,
             rolling_friction: 0.0,
             rotation: true,
+            hertz: false,
             gravity,
             position: DVec3::new(0.0, 0.0, 0.5 * DIAMETER - overlap),
             velocity: DVec3::ZERO,
@@ -90,11 +98,13 @@ impl FloorScene {
         let mut text = format!(
             "name = \"friction-study\"\n[run]\nduration = {}\ndt = {{ collision_fraction = 50 }}\nintegrator = \"verlet\"\nrotation = \"{}\"\n\
              [domain]\nmin = [-10.0, -1.0, -1.0]\nmax = [10.0, 1.0, 1.0]\n[gravity]\nacceleration = {}\n\
-             [[materials]]\nname = \"light\"\ndensity = {DENSITY}\n\
-             [contact]\nnormal = {{ model = \"linear\", stiffness = {K_N:e} }}\nrestitution = {}\ntangential = {}\n",
+             [[materials]]\nname = \"light\"\ndensity = {DENSITY}\n{}\
+             [contact]\nnormal = {}\nrestitution = {}\ntangential = {}\n",
             self.duration,
             if self.rotation { "on" } else { "off" },
             v(self.gravity),
+            if self.hertz { "youngs_modulus = 1.0e7\npoisson_ratio = 0.3\n" } else { "" },
+            if self.hertz { "{ model = \"hertz\" }".to_string() } else { format!("{{ model = \"linear\", stiffness = {K_N:e} }}") },
             self.restitution,
             self.model.toml(self.friction),
         );
@@ -137,8 +147,9 @@ pub fn coulomb_impact(angle_deg: f64, friction: f64, restitution: f64) -> (f64, 
     }
 }
 
-/// A sphere hits the floor at 1 m/s and `angle_deg` from the normal, without gravity.
-pub fn oblique_impact(model: FrictionModel, friction: f64, restitution: f64, angle_deg: f64) -> Impact {
+/// A sphere hits the floor at 1 m/s and `angle_deg` from the normal, without gravity
+/// (linear normal law, or Hertz with `hertz`).
+pub fn oblique_impact(model: FrictionModel, hertz: bool, friction: f64, restitution: f64, angle_deg: f64) -> Impact {
     let t = angle_deg.to_radians();
     let speed = 1.0;
     let (vt, vn) = (speed * t.sin(), speed * t.cos());
@@ -150,9 +161,11 @@ pub fn oblique_impact(model: FrictionModel, friction: f64, restitution: f64, ang
         restitution,
         rolling_friction: 0.0,
         rotation: true,
+        hertz,
         gravity: DVec3::ZERO,
         position: DVec3::new(0.0, 0.0, 0.5 * DIAMETER + gap),
         velocity: DVec3::new(vt, 0.0, -vn),
+        // Hertz contacts at 1 m/s are shorter than the linear ones here.
         duration: gap / vn + 2.0 * t_col,
     };
     let compiled = scene.compile();

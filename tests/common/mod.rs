@@ -25,7 +25,7 @@ pub fn scene_text(particles: &[P], cohesion: bool, periodic: bool, half_box: f64
          [domain]\nmin = [{m}, {m}, {m}]\nmax = [{h}, {h}, {h}]\nperiodic = [{p}, {p}, {p}]\n\
          [[materials]]\nname = \"glass\"\ndensity = 2500.0\n\
          [contact]\nnormal = {{ model = \"linear\", stiffness = 1.0e4 }}\nrestitution = 0.7\n\
-         tangential = {{ model = \"viscous-coulomb\", friction = 0.5, viscous = 2.0 }}\n",
+         tangential = {VISCOUS}\n",
         m = -half_box,
         h = half_box,
         p = periodic
@@ -46,8 +46,18 @@ pub fn scene_text(particles: &[P], cohesion: bool, periodic: bool, half_box: f64
     s
 }
 
+/// The tangential law [`scene_text`] writes, as a TOML inline table.
+pub const VISCOUS: &str = "{ model = \"viscous-coulomb\", friction = 0.5, viscous = 2.0 }";
+/// A tangential spring with history and rolling resistance, to swap in for [`VISCOUS`].
+pub const HISTORY_ROLLING: &str = "{ model = \"history\", friction = 0.5 }\nrolling_friction = 0.05";
+
 pub fn scene(particles: &[P], cohesion: bool, periodic: bool, half_box: f64, extra_run: &str) -> CompiledScene {
-    let text = scene_text(particles, cohesion, periodic, half_box, extra_run);
+    scene_with_tangential(particles, cohesion, periodic, half_box, extra_run, VISCOUS)
+}
+
+/// [`scene`] with the tangential law (and what follows it in [contact]) replaced.
+pub fn scene_with_tangential(particles: &[P], cohesion: bool, periodic: bool, half_box: f64, extra_run: &str, tangential: &str) -> CompiledScene {
+    let text = scene_text(particles, cohesion, periodic, half_box, extra_run).replace(VISCOUS, tangential);
     let mut scene = parse_scene(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
     // Generated pairs may overlap on purpose.
     scene.run.allow_unstable_dt = true;

@@ -5,7 +5,8 @@
 //!   with the Pareto front;
 //! - `stability_map`: stable/unstable by Δt/t_col for integrator × contact model on a
 //!   resting contact, with the theoretical limits;
-//! - `convergence`: error against Δt per integrator with the fitted order.
+//! - `convergence`: error against Δt per integrator with the fitted order;
+//! - the friction charts of `friction_charts.rs` (`cargo xtask charts friction` writes only those).
 
 use crate::svg::{self, Anchor, LogAxis, Shape, Style, Svg};
 use std::fmt::Write as _;
@@ -17,12 +18,20 @@ use tumble_integrate::Integrator;
 
 const WIDTH: f64 = 1200.0;
 
-pub fn run(_args: &[String]) -> i32 {
+pub fn run(args: &[String]) -> i32 {
     let start = Instant::now();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("docs").join("charts");
     if let Err(e) = std::fs::create_dir_all(&dir) {
         eprintln!("cannot create {}: {e}", dir.display());
         return 1;
+    }
+    let friction = crate::friction_charts::charts();
+    eprintln!("friction studies: {:.1} s", start.elapsed().as_secs_f64());
+    if let Err(code) = write_charts(&dir, friction) {
+        return code;
+    }
+    if args.first().map(String::as_str) == Some("friction") {
+        return 0;
     }
     let rows = crate::verify::all_rows();
     let series = series(&rows);
@@ -30,21 +39,29 @@ pub fn run(_args: &[String]) -> i32 {
     let t = Instant::now();
     let stability = stability_runs();
     eprintln!("stability runs: {:.1} s", t.elapsed().as_secs_f64());
-    let outputs =
-        [("speed_vs_accuracy", speed_vs_accuracy(&series)), ("convergence", convergence(&series)), ("stability_map", stability_map(&stability))];
-    for (name, (svg, csv)) in outputs {
+    let outputs = [("speed_vs_accuracy", speed_vs_accuracy(&series)), ("convergence", convergence(&series)), ("stability_map", stability_map(&stability))]
+        .map(|(name, (svg, csv))| (name, svg, csv));
+    if let Err(code) = write_charts(&dir, outputs.into()) {
+        return code;
+    }
+    eprintln!("total: {:.1} s", start.elapsed().as_secs_f64());
+    0
+}
+
+/// Writes each chart's SVG and CSV (and a PNG when it can) into `dir`.
+fn write_charts(dir: &Path, charts: Vec<(&str, String, String)>) -> Result<(), i32> {
+    for (name, svg, csv) in charts {
         for (ext, text) in [("svg", svg), ("csv", csv)] {
             let path: PathBuf = dir.join(format!("{name}.{ext}"));
             if let Err(e) = std::fs::write(&path, text) {
                 eprintln!("cannot write {}: {e}", path.display());
-                return 1;
+                return Err(1);
             }
             println!("wrote docs/charts/{name}.{ext}");
         }
-        png(&dir, name);
+        png(dir, name);
     }
-    eprintln!("total: {:.1} s", start.elapsed().as_secs_f64());
-    0
+    Ok(())
 }
 
 /// A PNG beside the SVG, for readers who would rather look than read, when

@@ -3,6 +3,7 @@
 
 mod charts;
 mod conformance;
+mod friction_charts;
 mod svg;
 mod verify;
 

@@ -306,3 +306,79 @@ pub fn log_x_axis(svg: &mut Svg, x: LogAxis, top: f64, bottom: f64, xlabel: &str
     svg.line((x.p0, bottom), (x.p1, bottom), "#555555", 1.0, None);
     svg.text(0.5 * (x.p0 + x.p1), bottom + 38.0, 13.0, Anchor::Middle, "#222222", xlabel);
 }
+
+/// A linear axis from `lo` to `hi` mapped onto pixels p0 → p1, ticked every `step`.
+#[derive(Clone, Copy, Debug)]
+pub struct LinearAxis {
+    pub lo: f64,
+    pub hi: f64,
+    pub step: f64,
+    pub p0: f64,
+    pub p1: f64,
+}
+
+impl LinearAxis {
+    pub fn px(&self, v: f64) -> f64 {
+        self.p0 + (v - self.lo) / (self.hi - self.lo) * (self.p1 - self.p0)
+    }
+
+    fn ticks(&self) -> Vec<f64> {
+        let first = (self.lo / self.step - 1e-9).ceil() as i64;
+        let last = (self.hi / self.step + 1e-9).floor() as i64;
+        (first..=last).map(|k| k as f64 * self.step).collect()
+    }
+}
+
+/// The y axis of a frame with a linear x axis.
+#[derive(Clone, Copy, Debug)]
+pub enum YAxis {
+    Linear(LinearAxis),
+    Log(LogAxis),
+}
+
+impl YAxis {
+    fn pixels(&self) -> (f64, f64) {
+        match self {
+            YAxis::Linear(a) => (a.p0, a.p1),
+            YAxis::Log(a) => (a.p0, a.p1),
+        }
+    }
+}
+
+/// A plot frame with a linear x axis and a linear or log y axis.
+pub fn linear_frame(svg: &mut Svg, x: LinearAxis, y: YAxis, xlabel: &str, ylabel: &str) {
+    let (bottom, top) = y.pixels();
+    let (left, right) = (x.p0, x.p1);
+    svg.rect(left, top, right - left, bottom - top, "#fbfbfb", "none");
+    for v in x.ticks() {
+        let px = x.px(v);
+        svg.line((px, top), (px, bottom), "#dddddd", 1.0, None);
+        svg.line((px, bottom), (px, bottom + 6.0), "#555555", 1.0, None);
+        svg.text(px, bottom + 19.0, 11.0, Anchor::Middle, "#333333", &plain(v));
+    }
+    match y {
+        YAxis::Linear(a) => {
+            for v in a.ticks() {
+                let py = a.px(v);
+                svg.line((left, py), (right, py), if v == 0.0 { "#999999" } else { "#dddddd" }, 1.0, None);
+                svg.line((left - 6.0, py), (left, py), "#555555", 1.0, None);
+                svg.text(left - 8.0, py + 4.0, 11.0, Anchor::End, "#333333", &plain(v));
+            }
+        }
+        YAxis::Log(a) => {
+            for (v, decade, labelled) in a.ticks() {
+                let py = a.px(v);
+                if decade {
+                    svg.line((left, py), (right, py), "#dddddd", 1.0, None);
+                }
+                svg.line((left - if decade { 6.0 } else { 3.0 }, py), (left, py), "#555555", 1.0, None);
+                if labelled {
+                    tick_label(svg, (left - 8.0, py + 4.0), 11.0, Anchor::End, v, decade, a.hi - a.lo);
+                }
+            }
+        }
+    }
+    svg.rect(left, top, right - left, bottom - top, "none", "#555555");
+    svg.text(0.5 * (left + right), bottom + 36.0, 12.0, Anchor::Middle, "#222222", xlabel);
+    svg.vertical_text(left - 48.0, 0.5 * (top + bottom), 12.0, ylabel);
+}
