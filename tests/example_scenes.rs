@@ -9,6 +9,7 @@ fn every_example_scene_runs() {
     let mut scenes: Vec<_> =
         std::fs::read_dir(&root).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
     scenes.push(root.join("bench/packed_bed.toml"));
+    scenes.push(root.join("bench/packed_bed_history.toml"));
     scenes.sort();
     assert!(scenes.len() >= 5);
     for path in scenes {
