@@ -38,42 +38,76 @@ fn v3(a: [f32; 4]) -> DVec3 {
 impl GpuSimulation {
     /// Copies `count` elements of `buffer` back to the host.
     pub(crate) fn read<T: Pod>(&self, buffer: &wgpu::Buffer, count: usize) -> Vec<T> {
-        let bytes = (count * std::mem::size_of::<T>()) as u64;
-        if bytes == 0 {
-            return Vec::new();
+        let bytes = self.read_bytes(&[(buffer, (count * std::mem::size_of::<T>()) as u64)]);
+        bytemuck::pod_collect_to_vec::<u8, T>(&bytes[0])
+    }
+
+    /// Copies the first bytes of several buffers back in one submission and one mapping.
+    pub(crate) fn read_bytes(&self, parts: &[(&wgpu::Buffer, u64)]) -> Vec<Vec<u8>> {
+        let total: u64 = parts.iter().map(|p| p.1).sum();
+        if total == 0 {
+            return parts.iter().map(|_| Vec::new()).collect();
         }
         let device = &self.gpu.device;
         let staging = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
-            size: bytes,
+            size: total,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
-        encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, bytes);
+        let mut offset = 0;
+        for (buffer, bytes) in parts {
+            if *bytes > 0 {
+                encoder.copy_buffer_to_buffer(buffer, 0, &staging, offset, *bytes);
+            }
+            offset += bytes;
+        }
         self.gpu.queue.submit([encoder.finish()]);
         staging.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("mapping a readback buffer"));
         device.poll(wgpu::PollType::Wait { submission_index: None, timeout: None }).expect("waiting for the device");
-        let data = bytemuck::cast_slice::<u8, T>(&staging.slice(..).get_mapped_range().expect("mapped readback")).to_vec();
+        let view = staging.slice(..).get_mapped_range().expect("mapped readback");
+        let mut out = Vec::new();
+        let mut offset = 0;
+        for (_, bytes) in parts {
+            out.push(view[offset as usize..(offset + bytes) as usize].to_vec());
+            offset += bytes;
+        }
+        drop(view);
         staging.unmap();
-        data
+        out
     }
 
     /// Every per-particle array as the device holds it (slot order).
     pub fn device_arrays(&self) -> DeviceArrays {
         let b = &self.buffers;
-        let n = self.slots as usize;
+        let n = self.slots as u64;
+        let v = self.read_bytes(&[
+            (&b.pos, 16 * n),
+            (&b.vel, 16 * n),
+            (&b.omega, 16 * n),
+            (&b.acc, 16 * n),
+            (&b.alpha, 16 * n),
+            (&b.props, 16 * n),
+            (&b.energy, 16 * n),
+            (&b.force, 16 * n),
+            (&b.torque, 16 * n),
+            (&b.stats, 8 * n),
+        ]);
+        fn cast<T: Pod>(bytes: &[u8]) -> Vec<T> {
+            bytemuck::pod_collect_to_vec(bytes)
+        }
         DeviceArrays {
-            pos: self.read(&b.pos, n),
-            vel: self.read(&b.vel, n),
-            omega: self.read(&b.omega, n),
-            acc: self.read(&b.acc, n),
-            alpha: self.read(&b.alpha, n),
-            props: self.read(&b.props, n),
-            energy: self.read(&b.energy, n),
-            force: self.read(&b.force, n),
-            torque: self.read(&b.torque, n),
-            stats: self.read(&b.stats, n),
+            pos: cast(&v[0]),
+            vel: cast(&v[1]),
+            omega: cast(&v[2]),
+            acc: cast(&v[3]),
+            alpha: cast(&v[4]),
+            props: cast(&v[5]),
+            energy: cast(&v[6]),
+            force: cast(&v[7]),
+            torque: cast(&v[8]),
+            stats: cast(&v[9]),
         }
     }
 
