@@ -207,9 +207,17 @@ struct Sum {
 }
 
 fn add_pair(s: ptr<function, Sum>, i: u32, j: u32) {
+    // One call site: on SIMD hardware both orders then run the same instructions.
     let mine = props[i].z < props[j].z;
+    var a = j;
+    var b = i;
     if mine {
-        let p = pair_contact(i, j);
+        a = i;
+        b = j;
+    }
+    let p = pair_contact(a, b);
+    (*s).ratio = max((*s).ratio, p.ratio);
+    if mine {
         (*s).force += p.force;
         (*s).torque += p.torque_a;
         // Energies and contacts are booked on the canonical side only.
@@ -218,12 +226,9 @@ fn add_pair(s: ptr<function, Sum>, i: u32, j: u32) {
         if p.ratio > 0.0 {
             (*s).contacts += 1u;
         }
-        (*s).ratio = max((*s).ratio, p.ratio);
     } else {
-        let p = pair_contact(j, i);
         (*s).force -= p.force;
         (*s).torque += p.torque_b;
-        (*s).ratio = max((*s).ratio, p.ratio);
     }
 }
 
@@ -274,6 +279,8 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let flags = props[i].w;
     if (flags & FLAG_DEAD) == 0u {
         let fixed_i = (flags & FLAG_FIXED) != 0u;
+        let xi = pos[i].xyz;
+        let reach_i = bitcast<f32>(props[i].x);
         let c = cell[i];
         let dims = params.dims.xyz;
         let home = vec3<i32>(i32(c % dims.x), i32((c / dims.x) % dims.y), i32(c / (dims.x * dims.y)));
@@ -301,6 +308,15 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
                     for (var k = cell_start[nc]; k < end; k++) {
                         let j = cell_list[k];
                         if j == i || (fixed_i && (props[j].w & FLAG_FIXED) != 0u) {
+                            continue;
+                        }
+                        // Cheap range test first; the pair itself is computed in canonical order.
+                        var d = xi - pos[j].xyz;
+                        if PERIODIC {
+                            d = minimum_image(d);
+                        }
+                        let cutoff = reach_i + bitcast<f32>(props[j].x);
+                        if dot(d, d) > cutoff * cutoff {
                             continue;
                         }
                         add_pair(&s, i, j);
