@@ -61,6 +61,15 @@ pub fn main_with(cli: Cli) -> i32 {
         Command::Plan { scene } => match load_scene(&scene, None, None) {
             Ok(c) => {
                 print!("{}", c.plan.describe(c.particles.len()));
+                let n = c.particles.len();
+                let grid = tumble_gpu::Grid::new(&c.plan, n);
+                println!(
+                    "gpu memory   {:.1} MiB ({} bytes per particle, {} per cell, grid {:?})",
+                    tumble_gpu::memory_bytes(n as u64, &grid) as f64 / (1 << 20) as f64,
+                    tumble_gpu::BYTES_PER_PARTICLE,
+                    tumble_gpu::BYTES_PER_CELL,
+                    grid.dims
+                );
                 0
             }
             Err(e) => {

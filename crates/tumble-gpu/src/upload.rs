@@ -206,3 +206,26 @@ pub fn tables(plan: &Plan) -> Vec<[f32; 4]> {
     }
     t
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn large_dispatches_go_two_dimensional() {
+        assert_eq!(dispatch(100, WORKGROUP), (2, 1));
+        assert_eq!(dispatch(MAX_GROUPS_X * WORKGROUP, WORKGROUP), (MAX_GROUPS_X, 1));
+        // 10 million particles: more than 65,535 workgroups of 64.
+        let (x, y) = dispatch(10_000_000, WORKGROUP);
+        assert_eq!((x, y), (MAX_GROUPS_X, 3));
+        assert!(x as u64 * y as u64 * WORKGROUP as u64 >= 10_000_000);
+        assert_eq!(dispatch(0, WORKGROUP), (1, 1));
+    }
+
+    #[test]
+    fn the_error_for_a_scene_too_large_states_needed_and_available_memory() {
+        let e = crate::GpuError::TooLarge { needed: 3 << 30, largest_array: 1 << 30, available: 128 << 20, adapter: "test adapter".into() };
+        let text = e.to_string();
+        assert!(text.contains("3072.0 MiB") && text.contains("1024.0 MiB") && text.contains("128.0 MiB") && text.contains("test adapter"), "{text}");
+    }
+}

@@ -50,6 +50,8 @@ fn compare_observables(scene: CompiledScene, steps: u64, tolerance: f64) -> (tum
     println!("{} after {steps} steps\n  cpu {c:?}\n  gpu {g:?}", cpu.plan().name);
     assert!(g.finite);
     assert_eq!(c.particles, g.particles, "particles left");
+    // A missed neighbour would show here first.
+    assert!((c.contacts as i64 - g.contacts as i64).abs() <= c.contacts as i64 / 50 + 1, "contacts: cpu {} gpu {}", c.contacts, g.contacts);
     let scale = c.kinetic_energy.abs() + c.potential_energy.abs() + c.elastic_energy.abs() + c.rotational_energy.abs() + 1e-300;
     for (name, a, b) in [
         ("kinetic", c.kinetic_energy, g.kinetic_energy),
