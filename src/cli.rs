@@ -6,6 +6,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use tumble_scene::schema::BackendName;
 
 #[derive(Parser, Debug)]
 #[command(name = "tumble", version, about = "Discrete element method engine for granular flow")]
@@ -23,7 +24,7 @@ pub enum Command {
         /// Output folder [default: out/<scene name>/].
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Backend: cpu (gpu arrives with the GPU backend) [default: the scene's run.backend].
+        /// Backend: cpu (f64, rayon) or gpu (f32, wgpu) [default: the scene's run.backend].
         #[arg(long)]
         backend: Option<String>,
         /// Worker threads [default: all cores].
@@ -60,6 +61,15 @@ pub fn main_with(cli: Cli) -> i32 {
         Command::Plan { scene } => match load_scene(&scene, None, None) {
             Ok(c) => {
                 print!("{}", c.plan.describe(c.particles.len()));
+                let n = c.particles.len();
+                let grid = tumble_gpu::Grid::new(&c.plan, n);
+                println!(
+                    "gpu memory   {:.1} MiB ({} bytes per particle, {} per cell, grid {:?})",
+                    tumble_gpu::memory_bytes(n as u64, &grid) as f64 / (1 << 20) as f64,
+                    tumble_gpu::BYTES_PER_PARTICLE,
+                    tumble_gpu::BYTES_PER_CELL,
+                    grid.dims
+                );
                 0
             }
             Err(e) => {
@@ -68,10 +78,15 @@ pub fn main_with(cli: Cli) -> i32 {
             }
         },
         Command::Run { scene, out, backend, threads, duration, dt, quiet } => {
-            if let Some(b) = backend.as_deref().filter(|&b| b != "cpu") {
-                eprintln!("error: --backend {b}: only the cpu backend exists in this build (valid: cpu)");
-                return 2;
-            }
+            let backend = match backend.as_deref() {
+                None => None,
+                Some("cpu") => Some(BackendName::Cpu),
+                Some("gpu") => Some(BackendName::Gpu),
+                Some(b) => {
+                    eprintln!("error: --backend {b}: unknown backend (valid: cpu, gpu)");
+                    return 2;
+                }
+            };
             if threads == Some(0) {
                 eprintln!("error: --threads must be at least 1");
                 return 2;
@@ -83,10 +98,6 @@ pub fn main_with(cli: Cli) -> i32 {
                     return 2;
                 }
             };
-            if backend.is_none() && scene_asks_for_gpu(&compiled) {
-                eprintln!("error: {}: run.backend: \"gpu\" is not in this build yet; use backend = \"cpu\" or --backend cpu", scene.display());
-                return 2;
-            }
             // Ctrl-C stops the run after the current chunk; every output is flushed first.
             let interrupt = Arc::new(AtomicBool::new(false));
             let flag = interrupt.clone();
@@ -98,6 +109,7 @@ pub fn main_with(cli: Cli) -> i32 {
                 progress: !quiet,
                 terminal: std::io::stderr().is_terminal(),
                 interrupt: Some(interrupt),
+                backend,
                 ..Default::default()
             };
             if let Some(t) = threads {
@@ -130,8 +142,4 @@ pub fn main_with(cli: Cli) -> i32 {
             }
         }
     }
-}
-
-fn scene_asks_for_gpu(c: &tumble_scene::CompiledScene) -> bool {
-    c.plan.backend == tumble_scene::schema::BackendName::Gpu
 }

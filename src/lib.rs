@@ -1,7 +1,8 @@
 //! tumble: a discrete element method engine for granular flow.
 //!
 //! This facade ties the layers together: a scene file compiles into a plan
-//! ([`tumble_scene`]), a backend runs it ([`tumble_cpu`]), and [`run`] writes
+//! ([`tumble_scene`]), a backend runs it ([`tumble_cpu`] in f64 or
+//! [`tumble_gpu`] in f32, behind [`Simulation`]), and [`run`] writes
 //! the outputs (`summary.json`, `observables.csv`, `tracks.csv`) while the
 //! instability monitor watches every output interval.
 //!

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-use tumble_scene::schema::DtSpec;
+use tumble_scene::schema::{BackendName, DtSpec};
 use tumble_scene::{CompiledScene, SceneError, compile, read_scene};
 
 /// Options of `tumble run`.
@@ -27,6 +27,8 @@ pub struct RunOptions {
     pub terminal: bool,
     /// Set from another thread (Ctrl-C) to stop after the current chunk, with every output flushed.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// Backend; `None` means the scene's `run.backend`.
+    pub backend: Option<BackendName>,
 }
 
 impl Default for RunOptions {
@@ -39,6 +41,7 @@ impl Default for RunOptions {
             progress: false,
             terminal: false,
             interrupt: None,
+            backend: None,
         }
     }
 }
@@ -67,6 +70,8 @@ pub enum RunError {
         step: u64,
         out_dir: PathBuf,
     },
+    /// The backend could not be set up (no GPU adapter, scene too large for it).
+    Backend(tumble_gpu::GpuError),
 }
 
 impl fmt::Display for RunError {
@@ -77,6 +82,7 @@ impl fmt::Display for RunError {
             RunError::Unstable(e) => write!(f, "{e}"),
             RunError::Capacity(e) => write!(f, "{e}"),
             RunError::Interrupted { step, out_dir } => write!(f, "interrupted at step {step}; outputs so far are in {}", out_dir.display()),
+            RunError::Backend(e) => write!(f, "backend gpu: {e}"),
         }
     }
 }
@@ -108,9 +114,11 @@ fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T, RunError> {
 /// Runs a compiled scene, writing outputs into the chosen folder.
 pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<RunSummary, RunError> {
     let out_dir = options.out_dir.clone().unwrap_or_else(|| Path::new("out").join(&compiled.plan.name));
-    io(&out_dir, std::fs::create_dir_all(&out_dir))?;
     let plan_text = compiled.plan.describe(compiled.particles.len());
-    let mut sim = Simulation::new(compiled, options.threads);
+    let backend = options.backend.unwrap_or(compiled.plan.backend);
+    // The backend is set up before any file is written: a missing adapter changes nothing.
+    let mut sim = Simulation::on(backend, compiled, options.threads).map_err(RunError::Backend)?;
+    io(&out_dir, std::fs::create_dir_all(&out_dir))?;
     let fluid = sim.plan().fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, fluid))?;
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir))?;
@@ -219,7 +227,7 @@ fn potential_range(sim: &Simulation) -> f64 {
         return 0.0;
     }
     let height = (plan.domain.extent() * g.abs()).element_sum();
-    let s = sim.cpu().state();
+    let s = sim.state();
     (0..s.len()).filter(|&i| s.inv_mass[i] != 0.0).map(|i| s.mass[i] * height).sum()
 }
 
@@ -244,7 +252,10 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
         "wall_seconds": s.wall_seconds,
         "particle_steps_per_second": finite_or_null(s.particle_steps_per_second),
         "removed_particles": sim.removed(),
-        "neighbour_list_builds": sim.cpu().neighbour_builds(),
+        "neighbour_list_builds": sim.neighbour_builds(),
+        "adapter": sim.adapter().map(|a| serde_json::json!({ "name": a.name, "backend": a.backend, "driver": a.driver, "device_type": a.device_type })),
+        "memory_bytes": sim.memory_bytes(),
+        "bytes_per_particle": sim.bytes_per_particle(),
         "plan": {
             "integrator": plan.integrator.name(),
             "collision_time": plan.timescales.collision_time,

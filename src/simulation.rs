@@ -1,70 +1,190 @@
 //! The backend-independent handle on a running simulation.
 
-use tumble_cpu::{CpuSimulation, Observables, TrackRow};
+use glam::DVec3;
+use std::borrow::Cow;
+use tumble_cpu::{CpuSimulation, Observables, State, TrackRow};
+use tumble_gpu::{AdapterDescription, GpuError, GpuSimulation};
+use tumble_scene::schema::BackendName;
 use tumble_scene::{CompiledScene, Plan};
 
-/// A simulation on one backend (the CPU reference for now).
+/// A simulation on one backend: the CPU reference (f64) or the GPU (f32).
 pub struct Simulation {
-    cpu: CpuSimulation,
+    backend: Backend,
+}
+
+enum Backend {
+    Cpu(CpuSimulation),
+    Gpu(Box<GpuSimulation>),
 }
 
 impl Simulation {
     /// Sets up a compiled scene on the CPU backend with `threads` threads.
     pub fn new(scene: CompiledScene, threads: usize) -> Self {
-        Simulation { cpu: CpuSimulation::new(scene, threads) }
+        Simulation { backend: Backend::Cpu(CpuSimulation::new(scene, threads)) }
+    }
+
+    /// Sets up a compiled scene on the GPU backend (the process's adapter).
+    pub fn gpu(scene: CompiledScene) -> Result<Self, GpuError> {
+        Ok(Simulation { backend: Backend::Gpu(Box::new(GpuSimulation::new(scene)?)) })
+    }
+
+    /// Sets up a compiled scene on the named backend (`threads` is for the CPU).
+    pub fn on(backend: BackendName, scene: CompiledScene, threads: usize) -> Result<Self, GpuError> {
+        match backend {
+            BackendName::Cpu => Ok(Self::new(scene, threads)),
+            BackendName::Gpu => Self::gpu(scene),
+        }
     }
 
     pub fn plan(&self) -> &Plan {
-        self.cpu.plan()
+        match &self.backend {
+            Backend::Cpu(s) => s.plan(),
+            Backend::Gpu(s) => s.plan(),
+        }
     }
 
     pub fn backend_name(&self) -> &'static str {
-        "cpu"
+        match &self.backend {
+            Backend::Cpu(_) => "cpu",
+            Backend::Gpu(_) => "gpu",
+        }
     }
 
     pub fn device_name(&self) -> String {
-        format!("CPU, {} threads", self.cpu.threads())
+        match &self.backend {
+            Backend::Cpu(s) => format!("CPU, {} threads", s.threads()),
+            Backend::Gpu(s) => s.adapter().to_string(),
+        }
+    }
+
+    /// The GPU adapter, on the GPU backend.
+    pub fn adapter(&self) -> Option<&AdapterDescription> {
+        match &self.backend {
+            Backend::Cpu(_) => None,
+            Backend::Gpu(s) => Some(s.adapter()),
+        }
     }
 
     pub fn precision(&self) -> &'static str {
-        "f64"
+        match &self.backend {
+            Backend::Cpu(_) => "f64",
+            Backend::Gpu(_) => "f32",
+        }
     }
 
     pub fn advance(&mut self, steps: u64) {
-        self.cpu.advance(steps)
+        match &mut self.backend {
+            Backend::Cpu(s) => s.advance(steps),
+            Backend::Gpu(s) => s.advance(steps),
+        }
     }
 
     /// Why the backend stopped short of the requested steps (a fixed capacity ran out), if it did.
     pub fn fault(&self) -> Option<String> {
-        self.cpu.history_overflow().map(|o| o.to_string())
+        match &self.backend {
+            Backend::Cpu(s) => s.history_overflow().map(|o| o.to_string()),
+            Backend::Gpu(_) => None,
+        }
     }
 
     pub fn steps(&self) -> u64 {
-        self.cpu.steps()
+        match &self.backend {
+            Backend::Cpu(s) => s.steps(),
+            Backend::Gpu(s) => s.steps(),
+        }
     }
 
     pub fn time(&self) -> f64 {
-        self.cpu.time()
+        match &self.backend {
+            Backend::Cpu(s) => s.time(),
+            Backend::Gpu(s) => s.time(),
+        }
     }
 
     pub fn particles(&self) -> usize {
-        self.cpu.state().len()
+        match &self.backend {
+            Backend::Cpu(s) => s.state().len(),
+            Backend::Gpu(s) => s.particles(),
+        }
     }
 
     pub fn removed(&self) -> usize {
-        self.cpu.removed()
+        match &self.backend {
+            Backend::Cpu(s) => s.removed(),
+            Backend::Gpu(s) => s.removed(),
+        }
     }
 
     pub fn observables(&self) -> Observables {
-        self.cpu.observables()
+        match &self.backend {
+            Backend::Cpu(s) => s.observables(),
+            Backend::Gpu(s) => s.observables(),
+        }
     }
 
     pub fn tracks(&self) -> Vec<TrackRow> {
-        self.cpu.tracks()
+        match &self.backend {
+            Backend::Cpu(s) => s.tracks(),
+            Backend::Gpu(s) => s.tracks(),
+        }
     }
 
-    /// The CPU state, for tests and tools that need every particle.
+    /// Every particle still in the domain (the GPU's are read back and widened to f64, in id order).
+    pub fn state(&self) -> Cow<'_, State> {
+        match &self.backend {
+            Backend::Cpu(s) => Cow::Borrowed(s.state()),
+            Backend::Gpu(s) => Cow::Owned(s.state()),
+        }
+    }
+
+    /// Contact force on the particle with id `id` in the last force pass.
+    pub fn contact_force(&self, id: u32) -> Option<DVec3> {
+        match &self.backend {
+            Backend::Cpu(s) => s.index_of(id).map(|i| s.contact_sums()[i].force),
+            Backend::Gpu(s) => s.contact_force(id),
+        }
+    }
+
+    /// Neighbour-list rebuilds (the CPU's Verlet list; the GPU bins every step).
+    pub fn neighbour_builds(&self) -> Option<u64> {
+        match &self.backend {
+            Backend::Cpu(s) => Some(s.neighbour_builds()),
+            Backend::Gpu(_) => None,
+        }
+    }
+
+    /// Memory this simulation's particle and grid arrays take, bytes (GPU: device memory).
+    pub fn memory_bytes(&self) -> u64 {
+        match &self.backend {
+            Backend::Cpu(s) => s.plan().memory_bytes(s.state().len()) as u64,
+            Backend::Gpu(s) => s.memory_bytes(),
+        }
+    }
+
+    /// Bytes per particle of this backend's state.
+    pub fn bytes_per_particle(&self) -> u64 {
+        match &self.backend {
+            Backend::Cpu(s) => s.plan().bytes_per_particle as u64,
+            Backend::Gpu(_) => tumble_gpu::BYTES_PER_PARTICLE,
+        }
+    }
+
+    /// The CPU simulation, for tests and tools that need its internals.
+    ///
+    /// # Panics
+    /// On the GPU backend; use the backend-independent methods there.
     pub fn cpu(&self) -> &CpuSimulation {
-        &self.cpu
+        match &self.backend {
+            Backend::Cpu(s) => s,
+            Backend::Gpu(_) => panic!("Simulation::cpu() on a GPU simulation"),
+        }
+    }
+
+    /// The GPU simulation, on the GPU backend.
+    pub fn gpu_simulation(&mut self) -> Option<&mut GpuSimulation> {
+        match &mut self.backend {
+            Backend::Cpu(_) => None,
+            Backend::Gpu(s) => Some(s),
+        }
     }
 }

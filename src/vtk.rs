@@ -38,7 +38,7 @@ impl SnapshotWriter {
 
 /// The particles as VTK XML PolyData (one vertex per particle, sorted by id).
 pub fn particles_vtp(sim: &Simulation) -> String {
-    let s = sim.cpu().state();
+    let s = sim.state();
     let mut order: Vec<usize> = (0..s.len()).collect();
     order.sort_by_key(|&i| s.id[i]);
     let n = order.len();

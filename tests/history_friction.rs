@@ -12,7 +12,7 @@ const HISTORY: &str = "{ model = \"history\", friction = 0.5 }";
 
 #[test]
 fn case8_slide_to_roll_with_history_friction() {
-    let r = slide_to_roll_with(Integrator::Verlet, 50.0, Some(HISTORY));
+    let r = slide_to_roll_with(tumble_scene::schema::BackendName::Cpu, Integrator::Verlet, 50.0, Some(HISTORY));
     assert!((r.final_speed_ratio - 5.0 / 7.0).abs() < 2e-3, "final v/v0 = {} (theory 5/7)", r.final_speed_ratio);
     assert!(r.sliding_error < 2e-3, "sliding deceleration off μg by {}", r.sliding_error);
     let (measured, theory) = r.roll_time;

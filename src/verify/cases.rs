@@ -1,9 +1,10 @@
 //! The closed-form cases (verification.md 1–5, 7–9).
 
-use super::{DIVISORS, ErrorRow, scene_with, trajectory};
+use super::{DIVISORS, ErrorRow, scene_with, simulation_on, trajectory, trajectory_on};
 use crate::Simulation;
 use glam::DVec3;
 use tumble_integrate::Integrator;
+use tumble_scene::schema::BackendName;
 
 pub const STOKES_DRAG: &str = include_str!("../../scenes/verify/01_stokes_drag.toml");
 pub const NORMAL_COLLISION: &str = include_str!("../../scenes/verify/02_normal_collision.toml");
@@ -281,20 +282,24 @@ pub struct HertzResult {
 
 /// Case 7: elastic Hertz impact at the plan's default Δt (or `dt`).
 pub fn hertz_impact(integrator: Integrator, dt: Option<f64>) -> HertzResult {
+    hertz_impact_on(BackendName::Cpu, integrator, dt)
+}
+
+/// Case 7 on a backend.
+pub fn hertz_impact_on(backend: BackendName, integrator: Integrator, dt: Option<f64>) -> HertzResult {
     let scene = scene_with(HERTZ_IMPACT, integrator, dt);
     let dt = scene.plan.dt;
     let (rho, e, nu, r, v) = (2500.0, 1.0e7, 0.3, 0.01, 1.0);
     let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
     let (m_star, r_star) = (0.5 * m, 0.5 * r);
     let (e_star, _) = tumble_contact::hertz_effective_moduli(e, nu, e, nu);
-    let mut sim = Simulation::new(scene, 1);
+    let mut sim = simulation_on(backend, scene);
     let mut series = Vec::new(); // (t, overlap, force)
     while sim.steps() < sim.plan().steps {
         sim.advance(1);
         let tr = sim.tracks();
         let overlap = 2.0 * r - (tr[1].position - tr[0].position).length();
-        let i = sim.cpu().index_of(0).unwrap();
-        series.push((sim.time(), overlap, sim.cpu().contact_sums()[i].force.length()));
+        series.push((sim.time(), overlap, sim.contact_force(0).unwrap().length()));
     }
     let peak = |k: usize| {
         let idx = (0..series.len()).max_by(|&a, &b| value(&series[a], k).total_cmp(&value(&series[b], k))).unwrap();
@@ -340,11 +345,16 @@ pub struct RollResult {
 
 /// Case 8: slide to roll with rotation on (viscous-Coulomb friction, as in the scene file).
 pub fn slide_to_roll(integrator: Integrator, divisor: f64) -> RollResult {
-    slide_to_roll_with(integrator, divisor, None)
+    slide_to_roll_on(BackendName::Cpu, integrator, divisor)
 }
 
-/// Case 8 with the scene's tangential law replaced by `tangential` (a TOML inline table).
-pub fn slide_to_roll_with(integrator: Integrator, divisor: f64, tangential: Option<&str>) -> RollResult {
+/// Case 8 on a backend.
+pub fn slide_to_roll_on(backend: BackendName, integrator: Integrator, divisor: f64) -> RollResult {
+    slide_to_roll_with(backend, integrator, divisor, None)
+}
+
+/// Case 8 on a backend with the scene's tangential law replaced by `tangential` (a TOML inline table).
+pub fn slide_to_roll_with(backend: BackendName, integrator: Integrator, divisor: f64, tangential: Option<&str>) -> RollResult {
     let t_col = tumble_contact::collision_time(1.0e5, light_mass(), 0.8);
     let dt = t_col / divisor;
     let text = match tangential {
@@ -354,7 +364,7 @@ pub fn slide_to_roll_with(integrator: Integrator, divisor: f64, tangential: Opti
         None => SLIDE_TO_ROLL.to_string(),
     };
     assert!(tangential.is_none() || text != SLIDE_TO_ROLL, "case 8's scene no longer has the tangential line to replace");
-    let t = trajectory(scene_with(&text, integrator, Some(dt)));
+    let t = trajectory_on(backend, scene_with(&text, integrator, Some(dt)));
     let (v0, mu, r) = (1.0, 0.5, 0.5 * D);
     let t_roll = 2.0 * v0 / (7.0 * mu * G);
     let slip = |p: &crate::TrackRow| p.velocity.x - r * p.angular_velocity.y;
@@ -372,8 +382,16 @@ pub fn slide_to_roll_with(integrator: Integrator, divisor: f64, tangential: Opti
 /// Case 9: energy balance error |E − E0| / E0 at the end, with the fraction of E0 dissipated.
 pub fn energy_balance(threads: usize) -> (f64, f64) {
     let scene = scene_with(ENERGY_BALANCE, Integrator::Verlet, None);
-    let steps = scene.plan.steps;
-    let mut sim = Simulation::new(scene, threads);
+    energy_balance_of(Simulation::new(scene, threads))
+}
+
+/// Case 9 on a backend.
+pub fn energy_balance_on(backend: BackendName) -> (f64, f64) {
+    energy_balance_of(simulation_on(backend, scene_with(ENERGY_BALANCE, Integrator::Verlet, None)))
+}
+
+fn energy_balance_of(mut sim: Simulation) -> (f64, f64) {
+    let steps = sim.plan().steps;
     let o0 = sim.observables();
     let e0 = o0.mechanical_energy();
     sim.advance(steps);

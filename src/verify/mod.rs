@@ -16,7 +16,7 @@ pub use report::report;
 
 use crate::{Simulation, TrackRow};
 use tumble_integrate::Integrator;
-use tumble_scene::schema::{DtSpec, IntegratorName};
+use tumble_scene::schema::{BackendName, DtSpec, IntegratorName};
 use tumble_scene::{CompiledScene, Scene, compile, parse_scene};
 
 /// One measured error of one case, integrator and time step.
@@ -99,10 +99,23 @@ pub struct Trajectory {
     pub last: Simulation,
 }
 
-/// Runs a compiled scene to its duration, sampling the tracked particles every step.
+/// Runs a compiled scene to its duration on the CPU, sampling the tracked particles every step.
 pub fn trajectory(scene: CompiledScene) -> Trajectory {
+    trajectory_on(BackendName::Cpu, scene)
+}
+
+/// Sets up a scene on a backend (the CPU with one thread).
+///
+/// # Panics
+/// When the GPU backend has no adapter; callers check [`tumble_gpu::available`] first.
+pub fn simulation_on(backend: BackendName, scene: CompiledScene) -> Simulation {
+    Simulation::on(backend, scene, 1).unwrap_or_else(|e| panic!("backend {backend:?}: {e}"))
+}
+
+/// Like [`trajectory`] on the given backend.
+pub fn trajectory_on(backend: BackendName, scene: CompiledScene) -> Trajectory {
     let steps = scene.plan.steps;
-    let mut sim = Simulation::new(scene, 1);
+    let mut sim = simulation_on(backend, scene);
     let mut samples = Vec::with_capacity(steps as usize + 1);
     samples.push((0.0, sim.tracks()));
     let start = std::time::Instant::now();

@@ -1,97 +1,272 @@
 //! The conformance suite: one list of measurements, run on every backend this build has.
 //!
 //! Each measurement runs a scene once on a backend and yields one or more
-//! observables, each checked against a reference (closed form where one exists)
-//! with a tolerance stated per observable and precision. The CPU backend (f64) is
-//! the reference implementation; the GPU backend joins this table when it lands.
+//! observables. Closed-form cases are checked against their solution; the
+//! multi-particle scenes (settling bed, Taylor–Green suspension, cohesive
+//! cluster) against the CPU backend in f64, the reference implementation.
+//! Tolerances are stated per observable and per precision (f64, f32).
+//! The table is printed and written to docs/conformance.md.
 
-use tumble::verify;
+use std::collections::HashMap;
+use tumble::{Observables, Simulation, verify};
 use tumble_integrate::Integrator;
+use tumble_scene::CompiledScene;
+use tumble_scene::schema::BackendName;
 
 /// A backend the suite can run on.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Backend {
     CpuF64,
+    GpuF32,
 }
 
 impl Backend {
     fn name(self) -> &'static str {
         match self {
             Backend::CpuF64 => "cpu-f64",
+            Backend::GpuF32 => "gpu-f32",
+        }
+    }
+
+    fn scene_backend(self) -> BackendName {
+        match self {
+            Backend::CpuF64 => BackendName::Cpu,
+            Backend::GpuF32 => BackendName::Gpu,
         }
     }
 }
 
-/// One observable: name, measured value, reference, and the allowed relative error
-/// (absolute when the reference is 0).
-struct Row {
-    name: &'static str,
-    value: f64,
-    reference: f64,
-    tolerance: f64,
+/// What one observable is compared with.
+#[derive(Clone, Copy, Debug)]
+enum Reference {
+    /// A closed form.
+    Exact(f64),
+    /// The cpu-f64 value of the same observable.
+    Cpu,
 }
 
-fn row(name: &'static str, value: f64, reference: f64, tolerance: f64) -> Row {
-    Row { name, value, reference, tolerance }
+/// How the error is measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Error {
+    /// |value − reference| / |reference| (absolute when the reference is 0).
+    Relative,
+    /// |value − reference|.
+    Absolute,
+}
+
+/// One measured observable with its tolerances for f64 and f32.
+struct Measured {
+    name: &'static str,
+    value: f64,
+    reference: Reference,
+    error: Error,
+    tolerance_f64: f64,
+    tolerance_f32: f64,
+}
+
+fn exact(name: &'static str, value: f64, reference: f64, tolerance_f64: f64, tolerance_f32: f64) -> Measured {
+    Measured { name, value, reference: Reference::Exact(reference), error: Error::Relative, tolerance_f64, tolerance_f32 }
+}
+
+fn against_cpu(name: &'static str, value: f64, error: Error, tolerance_f32: f64) -> Measured {
+    Measured { name, value, reference: Reference::Cpu, error, tolerance_f64: 0.0, tolerance_f32 }
 }
 
 /// Last tracked sample of a verification scene run with Verlet at `dt` (the plan's when `None`).
-fn last(text: &str, dt: Option<f64>) -> tumble::TrackRow {
-    verify::trajectory(verify::scene_with(text, Integrator::Verlet, dt)).samples.last().unwrap().1[0]
+fn last(backend: Backend, text: &str, dt: Option<f64>) -> tumble::TrackRow {
+    verify::trajectory_on(backend.scene_backend(), verify::scene_with(text, Integrator::Verlet, dt)).samples.last().unwrap().1[0]
+}
+
+const SETTLING_BED: &str = include_str!("../../scenes/conformance/settling_bed.toml");
+const TAYLOR_GREEN: &str = include_str!("../../scenes/conformance/taylor_green_suspension.toml");
+const COHESIVE_CLUSTER: &str = include_str!("../../scenes/conformance/cohesive_cluster.toml");
+
+fn compiled(text: &str) -> CompiledScene {
+    tumble::compile(&tumble::parse_scene(text).expect("conformance scene parses")).expect("conformance scene compiles")
+}
+
+/// Runs a scene to its end on a backend, with the observables at every output time.
+fn run_with_outputs(backend: Backend, scene: CompiledScene) -> (Simulation, Vec<Observables>) {
+    let (steps, every) = (scene.plan.steps, scene.plan.output_every);
+    let mut sim = verify::simulation_on(backend.scene_backend(), scene);
+    let mut outputs = vec![sim.observables()];
+    while sim.steps() < steps {
+        sim.advance(every.min(steps - sim.steps()));
+        outputs.push(sim.observables());
+    }
+    (sim, outputs)
+}
+
+/// Settling bed: bed height (95th percentile of particle tops), packing fraction below it,
+/// and the kinetic energy at four times as a fraction of its largest sampled value.
+fn settling_bed(backend: Backend) -> Vec<Measured> {
+    let scene = compiled(SETTLING_BED);
+    let extent = scene.plan.domain.extent();
+    let (sim, outputs) = run_with_outputs(backend, scene);
+    let s = sim.state();
+    let mut tops: Vec<f64> = (0..s.len()).map(|i| s.pos[i].z + s.radius[i]).collect();
+    tops.sort_by(f64::total_cmp);
+    let height = tops[(0.95 * (tops.len() - 1) as f64) as usize];
+    let volume: f64 = s.radius.iter().map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3)).sum();
+    let packing = volume / (extent.x * extent.y * height);
+    let peak = outputs.iter().map(|o| o.kinetic_energy).fold(0.0, f64::max);
+    let ke_at = |t: f64| outputs.iter().min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs())).unwrap().kinetic_energy / peak;
+    vec![
+        against_cpu("settling bed: height [m]", height, Error::Relative, 2e-2),
+        against_cpu("settling bed: packing fraction", packing, Error::Relative, 2e-2),
+        against_cpu("settling bed: KE(0.05 s) / KE peak", ke_at(0.05), Error::Absolute, 2e-2),
+        against_cpu("settling bed: KE(0.10 s) / KE peak", ke_at(0.10), Error::Absolute, 5e-2),
+        against_cpu("settling bed: KE(0.15 s) / KE peak", ke_at(0.15), Error::Absolute, 5e-2),
+        against_cpu("settling bed: KE(0.20 s) / KE peak", ke_at(0.20), Error::Absolute, 5e-2),
+    ]
+}
+
+/// Taylor–Green suspension: final mean speed and contacts summed over the output times.
+fn taylor_green(backend: Backend) -> Vec<Measured> {
+    let (sim, outputs) = run_with_outputs(backend, compiled(TAYLOR_GREEN));
+    let s = sim.state();
+    let mean_speed = s.vel.iter().map(|v| v.length()).sum::<f64>() / s.len() as f64;
+    let contacts: u64 = outputs.iter().map(|o| o.contacts).sum();
+    vec![
+        against_cpu("taylor-green: mean speed [m/s]", mean_speed, Error::Relative, 1e-3),
+        against_cpu("taylor-green: contacts over outputs", contacts as f64, Error::Relative, 0.25),
+    ]
+}
+
+/// Cohesive cluster: the number of agglomerates at the end.
+fn cohesive_cluster(backend: Backend) -> Vec<Measured> {
+    let scene = compiled(COHESIVE_CLUSTER);
+    let domain = scene.plan.domain;
+    let (sim, _) = run_with_outputs(backend, scene);
+    let s = sim.state();
+    vec![against_cpu("cohesive cluster: agglomerates", agglomerates(&s, &domain) as f64, Error::Relative, 0.15)]
+}
+
+/// Agglomerates: groups of particles linked through overlapping effect surfaces.
+// replaced by tumble::agglomerates at merge
+fn agglomerates(s: &tumble_cpu::State, domain: &tumble_geom::PeriodicBox) -> usize {
+    let n = s.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in 0..n {
+        for j in i + 1..n {
+            if domain.minimum_image(s.pos[i] - s.pos[j]).length() < s.reach[i] + s.reach[j] {
+                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+                parent[a] = b;
+            }
+        }
+    }
+    (0..n).filter(|&i| root(&mut parent, i) == i).count()
 }
 
 /// Every measurement of the suite on one backend.
-fn measurements(_backend: Backend) -> Vec<Row> {
+fn measurements(b: Backend) -> Vec<Measured> {
     let tau = 10.0 * 0.01 / (18.0 * 0.00193);
     let mut rows = vec![
-        row("stokes drag x(5τ) [m]", last(verify::STOKES_DRAG, Some(tau / 64.0)).position.x, 5.0 * tau + tau * ((-5.0f64).exp() - 1.0), 1e-4),
+        exact(
+            "stokes drag x(5τ) [m]",
+            last(b, verify::STOKES_DRAG, Some(tau / 64.0)).position.x,
+            5.0 * tau + tau * ((-5.0f64).exp() - 1.0),
+            1e-4,
+            1e-4,
+        ),
         // First order: the damping force jumps to zero between two steps at separation.
-        row("damped collision rebound speed [m/s]", last(verify::NORMAL_COLLISION, None).velocity.x, 1.6, 1e-2),
-        row("elastic collision rebound speed [m/s]", last(verify::ELASTIC_COLLISION, None).velocity.x, 2.0, 1e-4),
-        row("sliding stop distance [m]", last(verify::SLIDING, None).position.x, 1.0 / (2.0 * 0.6 * 9.81), 1e-3),
-        row(
+        exact("damped collision rebound speed [m/s]", last(b, verify::NORMAL_COLLISION, None).velocity.x, 1.6, 1e-2, 1e-2),
+        exact("elastic collision rebound speed [m/s]", last(b, verify::ELASTIC_COLLISION, None).velocity.x, 2.0, 1e-4, 5e-4),
+        exact("sliding stop distance [m]", last(b, verify::SLIDING, None).position.x, 1.0 / (2.0 * 0.6 * 9.81), 1e-3, 2e-3),
+        exact(
             "quadratic drag v(2 s) [m/s]",
-            last(verify::QUADRATIC_DRAG, Some(1e-3)).velocity.z,
+            last(b, verify::QUADRATIC_DRAG, Some(1e-3)).velocity.z,
             -(9.81f64 / 0.5).sqrt() * (2.0 * (9.81f64 * 0.5).sqrt()).tanh(),
+            1e-4,
             1e-4,
         ),
     ];
     let sol = verify::CohesiveSolution::new();
-    let t = verify::trajectory(verify::scene_with(verify::COHESIVE_COLLISION, Integrator::Verlet, None));
+    let t = verify::trajectory_on(b.scene_backend(), verify::scene_with(verify::COHESIVE_COLLISION, Integrator::Verlet, None));
     let stuck = t.samples.iter().filter(|(time, _)| *time > sol.t_contact).all(|(_, r)| r[0].position.x < 0.15);
-    rows.push(row("cohesive collision sticks (1 = stuck)", if stuck { 1.0 } else { 0.0 }, 1.0, 0.0));
-    let h = verify::hertz_impact(Integrator::Verlet, None);
-    rows.push(row("hertz impact max overlap [m]", h.max_overlap.0, h.max_overlap.1, 1e-2));
-    rows.push(row("hertz impact max force [N]", h.max_force.0, h.max_force.1, 1e-2));
-    rows.push(row("hertz impact contact time [s]", h.contact_time.0, h.contact_time.1, 1e-2));
-    rows.push(row("slide to roll final speed / v0", verify::slide_to_roll(Integrator::Verlet, 50.0).final_speed_ratio, 5.0 / 7.0, 1e-4));
-    rows.push(row("energy balance |ΔE| / E0 (2,016 spheres)", verify::energy_balance(2).0, 0.0, 1e-2));
+    rows.push(exact("cohesive collision sticks (1 = stuck)", if stuck { 1.0 } else { 0.0 }, 1.0, 0.0, 0.0));
+    let h = verify::hertz_impact_on(b.scene_backend(), Integrator::Verlet, None);
+    rows.push(exact("hertz impact max overlap [m]", h.max_overlap.0, h.max_overlap.1, 1e-2, 1e-2));
+    rows.push(exact("hertz impact max force [N]", h.max_force.0, h.max_force.1, 1e-2, 1e-2));
+    rows.push(exact("hertz impact contact time [s]", h.contact_time.0, h.contact_time.1, 1e-2, 1e-2));
+    let roll = verify::slide_to_roll_on(b.scene_backend(), Integrator::Verlet, 50.0);
+    rows.push(exact("slide to roll final speed / v0", roll.final_speed_ratio, 5.0 / 7.0, 1e-4, 2e-4));
+    let energy = match b {
+        Backend::CpuF64 => verify::energy_balance(2).0,
+        Backend::GpuF32 => verify::energy_balance_on(BackendName::Gpu).0,
+    };
+    rows.push(exact("energy balance |ΔE| / E0 (2,016 spheres)", energy, 0.0, 1e-2, 2e-2));
+    rows.extend(settling_bed(b));
+    rows.extend(taylor_green(b));
+    rows.extend(cohesive_cluster(b));
     rows
 }
 
-pub fn run(_args: &[String]) -> i32 {
-    let backends = [Backend::CpuF64];
+pub fn run(args: &[String]) -> i32 {
+    let cpu_only = args.iter().any(|a| a == "--cpu-only");
+    let mut backends = vec![Backend::CpuF64];
+    let mut adapter = None;
+    if cpu_only {
+        println!("skipping gpu-f32: --cpu-only");
+    } else {
+        match tumble_gpu::gpu() {
+            Ok(gpu) => {
+                adapter = Some(gpu.adapter.to_string());
+                backends.push(Backend::GpuF32);
+            }
+            Err(e) => println!("skipping gpu-f32: {e}"),
+        }
+    }
     println!("{:<42} {:<8} {:>14} {:>14} {:>10} {:>10}  pass", "observable", "backend", "value", "reference", "error", "tolerance");
     let mut failures = 0;
     let mut markdown = String::from("| observable | backend | value | reference | error | tolerance | pass |\n|---|---|---|---|---|---|---|\n");
+    let mut cpu_values: HashMap<&'static str, f64> = HashMap::new();
+    let mut seconds = Vec::new();
     for &b in &backends {
-        for r in measurements(b) {
-            let error = if r.reference == 0.0 { r.value.abs() } else { ((r.value - r.reference) / r.reference).abs() };
-            let pass = error <= r.tolerance && r.value.is_finite();
+        let start = std::time::Instant::now();
+        for m in measurements(b) {
+            if b == Backend::CpuF64 {
+                cpu_values.insert(m.name, m.value);
+            }
+            let reference = match m.reference {
+                Reference::Exact(r) => r,
+                Reference::Cpu => cpu_values[m.name],
+            };
+            let tolerance = if b == Backend::GpuF32 { m.tolerance_f32 } else { m.tolerance_f64 };
+            let error =
+                if m.error == Error::Absolute || reference == 0.0 { (m.value - reference).abs() } else { ((m.value - reference) / reference).abs() };
+            let pass = error <= tolerance && m.value.is_finite();
             failures += usize::from(!pass);
             let verdict = if pass { "pass" } else { "FAIL" };
-            println!("{:<42} {:<8} {:>14.6e} {:>14.6e} {:>10.2e} {:>10.0e}  {verdict}", r.name, b.name(), r.value, r.reference, error, r.tolerance);
+            println!("{:<42} {:<8} {:>14.6e} {:>14.6e} {:>10.2e} {:>10.0e}  {verdict}", m.name, b.name(), m.value, reference, error, tolerance);
             markdown +=
-                &format!("| {} | {} | {:.6e} | {:.6e} | {:.2e} | {:.0e} | {verdict} |\n", r.name, b.name(), r.value, r.reference, error, r.tolerance);
+                &format!("| {} | {} | {:.6e} | {:.6e} | {:.2e} | {:.0e} | {verdict} |\n", m.name, b.name(), m.value, reference, error, tolerance);
         }
+        seconds.push((b.name(), start.elapsed().as_secs_f64()));
     }
-    let _ = std::fs::create_dir_all("target");
-    let _ = std::fs::write("target/conformance.md", markdown);
+    let mut doc = String::from(
+        "# Conformance\n\nGenerated by `cargo xtask conformance`: every observable on every backend present, against its\nclosed form (verification cases) or against the cpu-f64 reference (multi-particle scenes in\n`scenes/conformance/`). Relative error unless the reference is 0 or the observable is a\nfraction of a peak (absolute). Tolerances are per observable and precision.\n\n",
+    );
+    doc += &format!("GPU adapter: {}.\n\n", adapter.as_deref().unwrap_or("none found (gpu-f32 skipped)"));
+    doc += &markdown;
+    doc += "\nWall time: ";
+    doc += &seconds.iter().map(|(b, s)| format!("{b} {s:.0} s")).collect::<Vec<_>>().join(", ");
+    doc += ".\n";
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let _ = std::fs::create_dir_all(root.join("docs"));
+    let _ = std::fs::write(root.join("docs/conformance.md"), doc);
     if failures > 0 {
         eprintln!("{failures} conformance check(s) failed");
         1
     } else {
-        println!("all conformance checks passed on: {}", backends.map(|b| b.name()).join(", "));
+        println!("all conformance checks passed on: {}", backends.iter().map(|b| b.name()).collect::<Vec<_>>().join(", "));
         0
     }
 }

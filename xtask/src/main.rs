@@ -13,12 +13,53 @@ fn main() {
         Some("verify") => verify::run(&args[1..]),
         Some("conformance") => conformance::run(&args[1..]),
         Some("charts") => charts::run(&args[1..]),
+        Some("gpu-profile") => gpu_profile(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask <verify|conformance|charts>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map and convergence charts (SVG + CSV) in docs/charts/"
+                "usage: cargo xtask <verify|conformance|charts|gpu-profile>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map and convergence charts (SVG + CSV) in docs/charts/\n  gpu-profile  SCENE [STEPS]: GPU particle-steps/s and per-kernel device times (timestamp queries)"
             );
             2
         }
     };
     std::process::exit(code);
+}
+
+/// `cargo xtask gpu-profile SCENE [STEPS]`: throughput and the per-kernel split of a scene on the GPU.
+fn gpu_profile(args: &[String]) -> i32 {
+    let Some(path) = args.first() else {
+        eprintln!("usage: cargo xtask gpu-profile SCENE [STEPS]");
+        return 2;
+    };
+    let steps: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(50);
+    let compiled = match tumble::load_scene(path.as_ref(), None, None) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    let n = compiled.particles.len();
+    let mut sim = match tumble_gpu::GpuSimulation::new(compiled) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    println!("{n} particles on {}, grid {:?}", sim.adapter(), sim.grid().dims);
+    sim.advance(5);
+    let start = std::time::Instant::now();
+    sim.advance(steps);
+    let wall = start.elapsed().as_secs_f64();
+    println!("{steps} steps in {wall:.3} s: {:.3e} particle-steps/s", n as f64 * steps as f64 / wall);
+    match sim.profile(steps) {
+        Some(times) => {
+            let total: f64 = times.iter().map(|t| t.seconds).sum();
+            for t in times {
+                println!("{:<12} {:>10.3} ms per step {:>6.1} %", t.kernel, 1e3 * t.seconds / steps as f64, 100.0 * t.seconds / total);
+            }
+        }
+        None => println!("the adapter has no TIMESTAMP_QUERY: no per-kernel split"),
+    }
+    0
 }

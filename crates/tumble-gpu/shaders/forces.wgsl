@@ -1,0 +1,334 @@
+// The contact pass, gather style: one invocation per particle visits the
+// particles of its own and the neighbouring cells (and the walls) and sums only
+// its own force and torque. Each pair is computed in canonical order (lower id
+// first) from identical inputs on both sides and negated for the higher id, so
+// pair forces are exactly equal and opposite. No float atomics, no shared
+// writes: the result is the same on every run.
+//
+// Pair table entry k = a * materials + b (3 vec4):
+//   t0 = (normal: 0 linear, 1 Hertz; k_n or E*; damping ratio or β; √(π² + ln² e))
+//   t1 = (tangential: 0 none, 1 viscous-Coulomb, 2 stick-limited, 3 dynamic-only; μ; c_t or k_f; 1 when k_f)
+//   t2 = (k_c, 1 when attraction is clamped, unused, unused)
+// Walls follow the pair table (geometry.wgsl).
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> pos: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read> vel: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> omega: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read> acc: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> alpha: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read> props: array<vec4<u32>>;
+@group(0) @binding(7) var<storage, read> cell: array<u32>;
+@group(0) @binding(8) var<storage, read> cell_start: array<u32>;
+@group(0) @binding(9) var<storage, read> cell_list: array<u32>;
+@group(0) @binding(10) var<storage, read> tables: array<vec4<f32>>;
+// Force (xyz) and elastic energy owned (w).
+@group(0) @binding(11) var<storage, read_write> force_out: array<vec4<f32>>;
+// Torque (xyz) and dissipated power owned (w).
+@group(0) @binding(12) var<storage, read_write> torque_out: array<vec4<f32>>;
+// Contacts owned, largest overlap ratio (f32 bits).
+@group(0) @binding(13) var<storage, read_write> stats_out: array<vec2<u32>>;
+
+const VERLET: u32 = 2u;
+
+// The velocity the forces see: Verlet's second-order estimate v_half + a_old Δt/2 of v_{n+1}.
+fn seen_velocity(j: u32) -> vec3<f32> {
+    if INTEGRATOR == VERLET {
+        return vel[j].xyz + acc[j].xyz * (0.5 * params.inv_cell.w);
+    }
+    return vel[j].xyz;
+}
+
+fn seen_spin(j: u32) -> vec3<f32> {
+    if INTEGRATOR == VERLET {
+        return omega[j].xyz + alpha[j].xyz * (0.5 * params.inv_cell.w);
+    }
+    return omega[j].xyz;
+}
+
+struct ContactForce {
+    force: vec3<f32>,
+    tangential: vec3<f32>,
+    elastic: f32,
+    dissipation: f32,
+}
+
+fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_rel: vec3<f32>, m_star: f32, r_star: f32) -> ContactForce {
+    var out = ContactForce(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
+    let t0 = tables[3u * pair];
+    let t1 = tables[3u * pair + 1u];
+    let t2 = tables[3u * pair + 2u];
+    if COHESION && t2.x > 0.0 && effect_overlap > 0.0 {
+        out.force = n * (-t2.x * effect_overlap);
+        out.elastic = -0.5 * t2.x * effect_overlap * effect_overlap;
+    }
+    if overlap >= 0.0 {
+        let vn = dot(v_rel, n);
+        var spring = 0.0;
+        var damping = 0.0;
+        var energy = 0.0;
+        var stiffness = 0.0;
+        if LINEAR && t0.x == 0.0 {
+            stiffness = t0.y;
+            spring = stiffness * overlap;
+            damping = -2.0 * t0.z * sqrt(m_star * stiffness) * vn;
+            energy = 0.5 * stiffness * overlap * overlap;
+        }
+        if HERTZ && t0.x == 1.0 {
+            let root = sqrt(r_star * overlap);
+            let k = 4.0 / 3.0 * t0.y * root;
+            stiffness = 2.0 * t0.y * root;
+            spring = k * overlap;
+            damping = 2.0 * sqrt(5.0 / 6.0) * t0.z * sqrt(stiffness * m_star) * vn;
+            energy = 0.4 * k * overlap * overlap;
+        }
+        var applied = spring + damping;
+        if t2.y != 0.0 {
+            applied = max(applied, 0.0);
+        }
+        let vt = v_rel - n * vn;
+        var ft = vec3<f32>(0.0);
+        if TANGENTIAL && t1.x != 0.0 {
+            let speed = length(vt);
+            if speed > 0.0 {
+                var magnitude = t1.y * abs(applied);
+                if t1.x == 1.0 {
+                    var c_t = t1.z;
+                    if t1.w != 0.0 {
+                        // c_t = k_f t_col of this contact.
+                        c_t = t1.z * sqrt(m_star / stiffness) * t0.w;
+                    }
+                    magnitude = min(magnitude, c_t * speed);
+                } else if t1.x == 2.0 {
+                    magnitude = min(magnitude, m_star * speed / params.inv_cell.w);
+                }
+                ft = vt * (-magnitude / speed);
+            }
+        }
+        out.force += n * applied + ft;
+        out.tangential = ft;
+        out.elastic += energy;
+        out.dissipation = -((applied - spring) * vn + dot(ft, vt));
+    }
+    return out;
+}
+
+struct PairOut {
+    // Force on a; b receives the negation.
+    force: vec3<f32>,
+    torque_a: vec3<f32>,
+    torque_b: vec3<f32>,
+    elastic: f32,
+    dissipation: f32,
+    // δ / min(r_a, r_b), or negative when the bodies do not touch.
+    ratio: f32,
+}
+
+// The contact of slots a and b, a holding the lower id.
+fn pair_contact(a: u32, b: u32) -> PairOut {
+    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0);
+    var d = pos[a].xyz - pos[b].xyz;
+    if PERIODIC {
+        d = minimum_image(d);
+    }
+    let cutoff = bitcast<f32>(props[a].x) + bitcast<f32>(props[b].x);
+    let d2 = dot(d, d);
+    if d2 > cutoff * cutoff {
+        return out;
+    }
+    let distance = sqrt(d2);
+    if distance <= 0.0 {
+        return out;
+    }
+    let ra = pos[a].w;
+    let rb = pos[b].w;
+    let n = d / distance;
+    let overlap = ra + rb - distance;
+    var effect_overlap = 0.0;
+    if COHESION {
+        effect_overlap = cutoff - distance;
+    }
+    if overlap < 0.0 && (!COHESION || effect_overlap <= 0.0) {
+        return out;
+    }
+    let arm_a = -n * (ra - 0.5 * overlap);
+    let arm_b = arm_a + d;
+    var v_rel = seen_velocity(a) - seen_velocity(b);
+    if ROTATION {
+        v_rel += cross(seen_spin(a), arm_a) - cross(seen_spin(b), arm_b);
+    }
+    let m_star = 1.0 / (vel[a].w + vel[b].w);
+    let r_star = ra * rb / (ra + rb);
+    let f = contact_force(props[a].y * params.counts.w + props[b].y, n, overlap, effect_overlap, v_rel, m_star, r_star);
+    out.force = f.force;
+    if ROTATION {
+        out.torque_a = cross(arm_a, f.tangential);
+        out.torque_b = cross(arm_b, -f.tangential);
+    }
+    out.elastic = f.elastic;
+    out.dissipation = f.dissipation;
+    if overlap >= 0.0 {
+        out.ratio = overlap / min(ra, rb);
+    }
+    return out;
+}
+
+// Neighbour cell offsets along one axis: periodic axes with fewer than three
+// cells visit each distinct cell once.
+fn offset_range(periodic: bool, cells: u32) -> vec2<i32> {
+    if periodic && cells == 1u {
+        return vec2<i32>(0, 0);
+    }
+    if periodic && cells == 2u {
+        return vec2<i32>(0, 1);
+    }
+    return vec2<i32>(-1, 1);
+}
+
+// The neighbour cell coordinate, or -1 outside a non-periodic axis.
+fn neighbour_coordinate(c: i32, offset: i32, periodic: bool, cells: u32) -> i32 {
+    let m = c + offset;
+    if periodic {
+        return (m + i32(cells)) % i32(cells);
+    }
+    if m < 0 || m >= i32(cells) {
+        return -1;
+    }
+    return m;
+}
+
+struct Sum {
+    force: vec3<f32>,
+    torque: vec3<f32>,
+    elastic: f32,
+    dissipation: f32,
+    contacts: u32,
+    ratio: f32,
+}
+
+fn add_pair(s: ptr<function, Sum>, i: u32, j: u32) {
+    // One call site: on SIMD hardware both orders then run the same instructions.
+    let mine = props[i].z < props[j].z;
+    var a = j;
+    var b = i;
+    if mine {
+        a = i;
+        b = j;
+    }
+    let p = pair_contact(a, b);
+    (*s).ratio = max((*s).ratio, p.ratio);
+    if mine {
+        (*s).force += p.force;
+        (*s).torque += p.torque_a;
+        // Energies and contacts are booked on the canonical side only.
+        (*s).elastic += p.elastic;
+        (*s).dissipation += p.dissipation;
+        if p.ratio > 0.0 {
+            (*s).contacts += 1u;
+        }
+    } else {
+        (*s).force -= p.force;
+        (*s).torque += p.torque_b;
+    }
+}
+
+fn add_walls(s: ptr<function, Sum>, i: u32) {
+    let xi = pos[i].xyz;
+    let r = pos[i].w;
+    let extra = bitcast<f32>(props[i].x) - r;
+    let v = seen_velocity(i);
+    let w = seen_spin(i);
+    let mass = alpha[i].w;
+    let walls_base = 3u * params.counts.w * params.counts.w;
+    for (var k = 0u; k < params.counts.z; k++) {
+        let base = walls_base + 6u * k;
+        let p = wall_proximity(base, xi, r, extra);
+        if !p.hit {
+            continue;
+        }
+        let effect_overlap = p.overlap + extra;
+        if p.overlap <= 0.0 && (!COHESION || effect_overlap <= 0.0) {
+            continue;
+        }
+        let arm = p.point - xi;
+        var v_rel = v;
+        if ROTATION {
+            v_rel += cross(w, arm);
+        }
+        let f = contact_force(props[i].y * params.counts.w + u32(tables[base].y), p.normal, p.overlap, effect_overlap, v_rel, mass, r);
+        (*s).force += f.force;
+        if ROTATION {
+            (*s).torque += cross(arm, f.tangential);
+        }
+        (*s).elastic += f.elastic;
+        (*s).dissipation += f.dissipation;
+        if p.overlap > 0.0 {
+            (*s).contacts += 1u;
+            (*s).ratio = max((*s).ratio, p.overlap / r);
+        }
+    }
+}
+
+@compute @workgroup_size(WORKGROUP)
+fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = flat_index(gid);
+    if i >= params.counts.x {
+        return;
+    }
+    var s = Sum(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0u, 0.0);
+    let flags = props[i].w;
+    if (flags & FLAG_DEAD) == 0u {
+        let fixed_i = (flags & FLAG_FIXED) != 0u;
+        let xi = pos[i].xyz;
+        let reach_i = bitcast<f32>(props[i].x);
+        let c = cell[i];
+        let dims = params.dims.xyz;
+        let home = vec3<i32>(i32(c % dims.x), i32((c / dims.x) % dims.y), i32(c / (dims.x * dims.y)));
+        let periodic = vec3<bool>(params.periodic.x != 0u, params.periodic.y != 0u, params.periodic.z != 0u);
+        let rx = offset_range(periodic.x, dims.x);
+        let ry = offset_range(periodic.y, dims.y);
+        let rz = offset_range(periodic.z, dims.z);
+        for (var oz = rz.x; oz <= rz.y; oz++) {
+            let cz = neighbour_coordinate(home.z, oz, periodic.z, dims.z);
+            if cz < 0 {
+                continue;
+            }
+            for (var oy = ry.x; oy <= ry.y; oy++) {
+                let cy = neighbour_coordinate(home.y, oy, periodic.y, dims.y);
+                if cy < 0 {
+                    continue;
+                }
+                for (var ox = rx.x; ox <= rx.y; ox++) {
+                    let cx = neighbour_coordinate(home.x, ox, periodic.x, dims.x);
+                    if cx < 0 {
+                        continue;
+                    }
+                    let nc = u32(cx) + dims.x * (u32(cy) + dims.y * u32(cz));
+                    let end = cell_start[nc + 1u];
+                    for (var k = cell_start[nc]; k < end; k++) {
+                        let j = cell_list[k];
+                        if j == i || (fixed_i && (props[j].w & FLAG_FIXED) != 0u) {
+                            continue;
+                        }
+                        // Cheap range test first; the pair itself is computed in canonical order.
+                        var d = xi - pos[j].xyz;
+                        if PERIODIC {
+                            d = minimum_image(d);
+                        }
+                        let cutoff = reach_i + bitcast<f32>(props[j].x);
+                        if dot(d, d) > cutoff * cutoff {
+                            continue;
+                        }
+                        add_pair(&s, i, j);
+                    }
+                }
+            }
+        }
+        if WALLS && !fixed_i {
+            add_walls(&s, i);
+        }
+    }
+    force_out[i] = vec4<f32>(s.force, s.elastic);
+    torque_out[i] = vec4<f32>(s.torque, s.dissipation);
+    stats_out[i] = vec2<u32>(s.contacts, bitcast<u32>(s.ratio));
+}

@@ -1,0 +1,225 @@
+// Body forces and the update rules of the five integrators (physics.md,
+// "Integrators"), one invocation per particle:
+//
+// kick_drift  Verlet's first half: half kick with the stored acceleration, drift
+// finish      accelerations from the contact sums plus gravity and drag, then
+//             the plan's update (Verlet: the second half kick)
+// initial     accelerations only, at t = 0 (no dissipation or fluid work booked)
+//
+// Then periodic axes are wrapped and particles that left through another side
+// are flagged as removed (they sort into the removed bucket from then on).
+
+@group(0) @binding(0) var<uniform> params: Params;
+// Position (xyz, relative to the domain's centre) and radius.
+@group(0) @binding(1) var<storage, read_write> pos: array<vec4<f32>>;
+// Velocity and inverse mass (0: fixed).
+@group(0) @binding(2) var<storage, read_write> vel: array<vec4<f32>>;
+// Angular velocity and inverse moment of inertia.
+@group(0) @binding(3) var<storage, read_write> omega: array<vec4<f32>>;
+// Acceleration of the last force pass and the drag parameter (τ_p, or α/m).
+@group(0) @binding(4) var<storage, read_write> acc: array<vec4<f32>>;
+// Angular acceleration and mass.
+@group(0) @binding(5) var<storage, read_write> alpha: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> props: array<vec4<u32>>;
+@group(0) @binding(7) var<storage, read> force_in: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read> torque_in: array<vec4<f32>>;
+// Dissipated energy, fluid work, and their compensation terms (Kahan sums).
+@group(0) @binding(9) var<storage, read_write> energy: array<vec4<f32>>;
+
+const EULER: u32 = 0u;
+const SYMPLECTIC_EULER: u32 = 1u;
+const VERLET: u32 = 2u;
+const IMPLICIT_DRAG_SYMPLECTIC: u32 = 4u;
+
+fn dt() -> f32 {
+    return params.inv_cell.w;
+}
+
+fn implicit() -> bool {
+    return INTEGRATOR >= 3u;
+}
+
+// Kahan summation: (sum, compensation) plus x.
+fn kahan(acc_in: vec2<f32>, x: f32) -> vec2<f32> {
+    let y = x - acc_in.y;
+    let t = acc_in.x + y;
+    return vec2<f32>(t, (t - acc_in.x) - y);
+}
+
+// The fluid velocity at a position relative to the domain's centre.
+fn flow_velocity(x_rel: vec3<f32>) -> vec3<f32> {
+    if TAYLOR_GREEN {
+        let x = x_rel + params.origin.xyz;
+        let a = params.flow.x;
+        let k = params.flow.y;
+        let h = 1.5707963267948966;
+        let p = k * x + vec3<f32>(h);
+        let s = sin(p);
+        let c = cos(p);
+        return vec3<f32>(a * c.x * s.y * s.z, a * s.x * c.y * s.z, -2.0 * a * s.x * s.y * c.z);
+    }
+    return params.flow.xyz;
+}
+
+// Explicit drag acceleration at (x, v) for drag parameter k.
+fn drag_acceleration(x: vec3<f32>, v: vec3<f32>, k: f32) -> vec3<f32> {
+    if DRAG == 1u {
+        return (flow_velocity(x) - v) / k;
+    }
+    if DRAG == 2u {
+        return -v * (k * length(v));
+    }
+    return vec3<f32>(0.0);
+}
+
+// Wraps periodic axes; flags the particle removed when it left through another side.
+fn boundaries(i: u32) {
+    var x = pos[i].xyz;
+    for (var k = 0; k < 3; k++) {
+        let l = params.extent[k];
+        let h = 0.5 * l;
+        if params.periodic[k] != 0u {
+            if x[k] >= h {
+                x[k] -= l;
+            } else if x[k] < -h {
+                x[k] += l;
+            }
+            if x[k] >= h || x[k] < -h {
+                let from_min = x[k] + h;
+                x[k] = from_min - floor(from_min / l) * l - h;
+                if x[k] >= h {
+                    x[k] = -h;
+                }
+            }
+        } else if x[k] < -h || x[k] > h {
+            props[i].w |= FLAG_DEAD;
+        }
+    }
+    pos[i] = vec4<f32>(x, pos[i].w);
+}
+
+fn alive(i: u32) -> bool {
+    return i < params.counts.x && (props[i].w & FLAG_DEAD) == 0u;
+}
+
+// Accelerations from the contact sums, gravity and explicit drag at velocity v;
+// books dissipation and fluid work when `book` is true.
+fn accelerations(i: u32, v: vec3<f32>, explicit_drag: bool, book: bool) -> vec3<f32> {
+    let inv_mass = vel[i].w;
+    var a = vec3<f32>(0.0);
+    var e = energy[i];
+    if inv_mass != 0.0 {
+        a = force_in[i].xyz * inv_mass + params.gravity.xyz;
+        if DRAG != 0u && explicit_drag {
+            let ad = drag_acceleration(pos[i].xyz, v, acc[i].w);
+            a += ad;
+            if book {
+                let w = kahan(vec2<f32>(e.y, e.w), dot(ad, v) / inv_mass * dt());
+                e = vec4<f32>(e.x, w.x, e.z, w.y);
+            }
+        }
+    }
+    if ROTATION {
+        alpha[i] = vec4<f32>(torque_in[i].xyz * omega[i].w, alpha[i].w);
+    }
+    if book {
+        let d = kahan(vec2<f32>(e.x, e.z), torque_in[i].w * dt());
+        e = vec4<f32>(d.x, e.y, d.y, e.w);
+        energy[i] = e;
+    }
+    acc[i] = vec4<f32>(a, acc[i].w);
+    return a;
+}
+
+@compute @workgroup_size(WORKGROUP)
+fn initial(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = flat_index(gid);
+    if !alive(i) {
+        return;
+    }
+    accelerations(i, vel[i].xyz, !implicit(), false);
+}
+
+@compute @workgroup_size(WORKGROUP)
+fn kick_drift(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = flat_index(gid);
+    if !alive(i) {
+        return;
+    }
+    let h = 0.5 * dt();
+    if vel[i].w != 0.0 {
+        let v_half = vel[i].xyz + acc[i].xyz * h;
+        vel[i] = vec4<f32>(v_half, vel[i].w);
+        pos[i] = vec4<f32>(pos[i].xyz + v_half * dt(), pos[i].w);
+    }
+    if ROTATION {
+        omega[i] = vec4<f32>(omega[i].xyz + alpha[i].xyz * h, omega[i].w);
+    }
+    boundaries(i);
+}
+
+@compute @workgroup_size(WORKGROUP)
+fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = flat_index(gid);
+    if !alive(i) {
+        return;
+    }
+    let step = dt();
+    let inv_mass = vel[i].w;
+    if INTEGRATOR == VERLET {
+        // Velocity-dependent forces saw v_half + a_old Δt/2.
+        let seen = vel[i].xyz + acc[i].xyz * (0.5 * step);
+        let a = accelerations(i, seen, true, true);
+        if inv_mass != 0.0 {
+            vel[i] = vec4<f32>(vel[i].xyz + a * (0.5 * step), inv_mass);
+        }
+        if ROTATION {
+            omega[i] = vec4<f32>(omega[i].xyz + alpha[i].xyz * (0.5 * step), omega[i].w);
+        }
+        return;
+    }
+    let a = accelerations(i, vel[i].xyz, !implicit(), true);
+    if inv_mass != 0.0 {
+        let x = pos[i].xyz;
+        let v = vel[i].xyz;
+        var x_new = x;
+        var v_new = v;
+        if INTEGRATOR == EULER {
+            x_new = x + v * step;
+            v_new = v + a * step;
+        } else if INTEGRATOR == SYMPLECTIC_EULER {
+            v_new = v + a * step;
+            x_new = x + v_new * step;
+        } else {
+            // Implicit drag with rate λ = 1/τ: v_new = (v + a Δt + λ u Δt) / (1 + λ Δt).
+            var rate = 0.0;
+            var u = vec3<f32>(0.0);
+            if DRAG == 1u {
+                rate = 1.0 / acc[i].w;
+                u = flow_velocity(x);
+            } else if DRAG == 2u {
+                // Quadratic drag linearised at the current speed: λ = α|v|/m.
+                rate = acc[i].w * length(v);
+            }
+            v_new = (v + a * step + u * (rate * step)) / (1.0 + rate * step);
+            if INTEGRATOR == IMPLICIT_DRAG_SYMPLECTIC {
+                x_new = x + v_new * step;
+            } else {
+                x_new = x + (v + v_new) * (0.5 * step);
+            }
+            if rate > 0.0 {
+                // Work of the implicit drag m λ (u − v_new) over the step.
+                let w = dot(u - v_new, v + v_new) * (0.5 * step * rate / inv_mass);
+                let e = energy[i];
+                let f = kahan(vec2<f32>(e.y, e.w), w);
+                energy[i] = vec4<f32>(e.x, f.x, e.z, f.y);
+            }
+        }
+        vel[i] = vec4<f32>(v_new, inv_mass);
+        pos[i] = vec4<f32>(x_new, pos[i].w);
+    }
+    if ROTATION {
+        omega[i] = vec4<f32>(omega[i].xyz + alpha[i].xyz * step, omega[i].w);
+    }
+    boundaries(i);
+}

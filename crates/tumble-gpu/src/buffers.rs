@@ -1,0 +1,117 @@
+//! Device buffers and the memory they take.
+
+use crate::context::{Gpu, GpuError};
+use crate::upload::{Grid, ParticleArrays, SCAN_BLOCK};
+use wgpu::util::DeviceExt;
+
+/// Device bytes per particle: ten 16-byte arrays (position, velocity, angular
+/// velocity, acceleration, angular acceleration, properties, energy books,
+/// force, torque, and the re-sort scratch), 8 bytes of contact statistics, and
+/// 4 bytes each of cell index and cell list.
+pub const BYTES_PER_PARTICLE: u64 = 10 * 16 + 8 + 4 + 4;
+
+/// Device bytes per grid cell: counts, cursors and starts (u32 each).
+pub const BYTES_PER_CELL: u64 = 3 * 4;
+
+/// Device memory of a scene with `particles` particles on `grid`, bytes.
+pub fn memory_bytes(particles: u64, grid: &Grid) -> u64 {
+    let cells = grid.cells() as u64 + 2;
+    particles * BYTES_PER_PARTICLE + cells * BYTES_PER_CELL + cells.div_ceil(SCAN_BLOCK as u64) * 4 * 2
+}
+
+/// Every buffer of one simulation.
+pub struct Buffers {
+    pub params: wgpu::Buffer,
+    pub pos: wgpu::Buffer,
+    pub vel: wgpu::Buffer,
+    pub omega: wgpu::Buffer,
+    pub acc: wgpu::Buffer,
+    pub alpha: wgpu::Buffer,
+    pub props: wgpu::Buffer,
+    pub energy: wgpu::Buffer,
+    pub force: wgpu::Buffer,
+    pub torque: wgpu::Buffer,
+    pub stats: wgpu::Buffer,
+    pub scratch: wgpu::Buffer,
+    pub cell: wgpu::Buffer,
+    pub cell_list: wgpu::Buffer,
+    pub count: wgpu::Buffer,
+    pub cursor: wgpu::Buffer,
+    pub cell_start: wgpu::Buffer,
+    pub tables: wgpu::Buffer,
+    /// Block sums of the scan, one buffer per level above the cell starts.
+    pub scan_levels: Vec<wgpu::Buffer>,
+    /// Values at each scan level (level 0: the cell starts).
+    pub scan_sizes: Vec<u32>,
+}
+
+const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_SRC).union(wgpu::BufferUsages::COPY_DST);
+
+fn init(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    // Bindings must not be empty.
+    let mut data = bytes.to_vec();
+    if data.len() < 16 {
+        data.resize(16, 0);
+    }
+    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: &data, usage: STORAGE })
+}
+
+fn zeroed(gpu: &Gpu, label: &str, bytes: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16).next_multiple_of(4),
+        usage: STORAGE,
+        mapped_at_creation: false,
+    })
+}
+
+impl Buffers {
+    /// Checks that the scene fits, then uploads it.
+    pub fn new(gpu: &Gpu, arrays: &ParticleArrays, tables: &[[f32; 4]], params: &crate::upload::Params, grid: &Grid) -> Result<Buffers, GpuError> {
+        let n = arrays.pos.len() as u64;
+        let cells = grid.cells() as u64 + 2;
+        let largest = (16 * n).max(4 * cells).max(16 * tables.len() as u64);
+        let available = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
+        if largest > available || cells > u32::MAX as u64 / 2 || n > u32::MAX as u64 / 2 {
+            return Err(GpuError::TooLarge { needed: memory_bytes(n, grid), largest_array: largest, available, adapter: gpu.adapter.name.clone() });
+        }
+        let b = |x: &[[f32; 4]]| bytemuck::cast_slice::<[f32; 4], u8>(x).to_vec();
+        let mut scan_sizes = vec![cells as u32];
+        while *scan_sizes.last().unwrap() > SCAN_BLOCK {
+            scan_sizes.push(scan_sizes.last().unwrap().div_ceil(SCAN_BLOCK));
+        }
+        let cell_start = zeroed(gpu, "cell_start", 4 * cells);
+        let scan_levels = scan_sizes[1..].iter().map(|&s| zeroed(gpu, "scan level", 4 * s as u64)).collect();
+        Ok(Buffers {
+            params: gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("params"),
+                contents: bytemuck::bytes_of(params),
+                usage: wgpu::BufferUsages::UNIFORM,
+            }),
+            pos: init(gpu, "pos", &b(&arrays.pos)),
+            vel: init(gpu, "vel", &b(&arrays.vel)),
+            omega: init(gpu, "omega", &b(&arrays.omega)),
+            acc: init(gpu, "acc", &b(&arrays.acc)),
+            alpha: init(gpu, "alpha", &b(&arrays.alpha)),
+            props: init(gpu, "props", bytemuck::cast_slice(&arrays.props)),
+            energy: init(gpu, "energy", &b(&arrays.energy)),
+            force: zeroed(gpu, "force", 16 * n),
+            torque: zeroed(gpu, "torque", 16 * n),
+            stats: zeroed(gpu, "stats", 8 * n),
+            scratch: zeroed(gpu, "scratch", 16 * n),
+            cell: zeroed(gpu, "cell", 4 * n),
+            cell_list: zeroed(gpu, "cell_list", 4 * n),
+            count: zeroed(gpu, "count", 4 * cells),
+            cursor: zeroed(gpu, "cursor", 4 * cells),
+            cell_start,
+            tables: init(gpu, "tables", &b(tables)),
+            scan_levels,
+            scan_sizes,
+        })
+    }
+
+    /// The per-particle arrays the re-sort moves, in a fixed order.
+    pub fn particle_arrays(&self) -> [&wgpu::Buffer; 7] {
+        [&self.pos, &self.vel, &self.omega, &self.acc, &self.alpha, &self.props, &self.energy]
+    }
+}

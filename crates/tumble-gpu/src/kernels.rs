@@ -1,0 +1,160 @@
+//! Compute pipelines (one per entry point, specialised by the plan's switches)
+//! and the bind groups that tie them to one simulation's buffers.
+
+use crate::buffers::Buffers;
+use crate::context::Gpu;
+use crate::shaders::{ShaderSource, Switches, sources};
+use crate::upload::{MAX_GROUPS_X, SCAN_THREADS, ScanParams};
+use std::collections::HashMap;
+use wgpu::util::DeviceExt;
+
+/// How a binding is used (binding number = position in the list).
+#[derive(Clone, Copy)]
+enum Use {
+    Uniform,
+    Read,
+    Write,
+}
+
+fn layout(gpu: &Gpu, label: &str, uses: &[Use]) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = uses
+        .iter()
+        .enumerate()
+        .map(|(k, u)| wgpu::BindGroupLayoutEntry {
+            binding: k as u32,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: match u {
+                    Use::Uniform => wgpu::BufferBindingType::Uniform,
+                    Use::Read => wgpu::BufferBindingType::Storage { read_only: true },
+                    Use::Write => wgpu::BufferBindingType::Storage { read_only: false },
+                },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        })
+        .collect();
+    gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries })
+}
+
+fn bind(gpu: &Gpu, label: &str, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> =
+        buffers.iter().enumerate().map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() }).collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
+}
+
+/// The pipelines and bind groups of one simulation.
+pub struct Kernels {
+    pub pipelines: HashMap<&'static str, wgpu::ComputePipeline>,
+    pub broad: wgpu::BindGroup,
+    pub forces: wgpu::BindGroup,
+    pub integrate: wgpu::BindGroup,
+    /// One per per-particle array, in `Buffers::particle_arrays` order.
+    pub reorder: Vec<wgpu::BindGroup>,
+    /// Per scan level: reduce (into the next level) and scan bind groups.
+    pub scan: Vec<wgpu::BindGroup>,
+    /// Keeps the scan uniforms alive.
+    _scan_params: Vec<wgpu::Buffer>,
+}
+
+impl Kernels {
+    pub fn new(gpu: &Gpu, buffers: &Buffers, switches: &Switches) -> Kernels {
+        use Use::*;
+        let layouts: HashMap<&str, wgpu::BindGroupLayout> = [
+            ("broad", layout(gpu, "broad", &[Uniform, Read, Read, Write, Write, Read, Write, Write])),
+            ("scan", layout(gpu, "scan", &[Uniform, Write, Write])),
+            ("reorder", layout(gpu, "reorder", &[Uniform, Read, Read, Write])),
+            ("forces", layout(gpu, "forces", &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write])),
+            ("integrate", layout(gpu, "integrate", &[Uniform, Write, Write, Write, Write, Write, Write, Read, Read, Write])),
+        ]
+        .into_iter()
+        .collect();
+        let mut pipelines = HashMap::new();
+        for shader in sources() {
+            create_pipelines(gpu, &shader, &layouts[shader.name], switches, &mut pipelines);
+        }
+        let b = buffers;
+        let broad = bind(gpu, "broad", &layouts["broad"], &[&b.params, &b.pos, &b.props, &b.cell, &b.count, &b.cell_start, &b.cursor, &b.cell_list]);
+        let forces = bind(
+            gpu,
+            "forces",
+            &layouts["forces"],
+            &[
+                &b.params,
+                &b.pos,
+                &b.vel,
+                &b.omega,
+                &b.acc,
+                &b.alpha,
+                &b.props,
+                &b.cell,
+                &b.cell_start,
+                &b.cell_list,
+                &b.tables,
+                &b.force,
+                &b.torque,
+                &b.stats,
+            ],
+        );
+        let integrate = bind(
+            gpu,
+            "integrate",
+            &layouts["integrate"],
+            &[&b.params, &b.pos, &b.vel, &b.omega, &b.acc, &b.alpha, &b.props, &b.force, &b.torque, &b.energy],
+        );
+        let reorder =
+            b.particle_arrays().iter().map(|a| bind(gpu, "reorder", &layouts["reorder"], &[&b.params, &b.cell_list, a, &b.scratch])).collect();
+        // Scan level l reads level l and writes/reads the sums of level l + 1 (none above the top).
+        let levels = b.scan_sizes.len();
+        let mut scan = Vec::new();
+        let mut scan_params = Vec::new();
+        for l in 0..levels {
+            let data = if l == 0 { &b.cell_start } else { &b.scan_levels[l - 1] };
+            let sums = if l + 1 < levels { &b.scan_levels[l] } else { &b.count };
+            let p = ScanParams { n: b.scan_sizes[l], offsets: u32::from(l + 1 < levels), row: MAX_GROUPS_X * SCAN_THREADS, pad: 0 };
+            let u = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scan params"),
+                contents: bytemuck::bytes_of(&p),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            scan.push(bind(gpu, "scan", &layouts["scan"], &[&u, data, sums]));
+            scan_params.push(u);
+        }
+        Kernels { pipelines, broad, forces, integrate, reorder, scan, _scan_params: scan_params }
+    }
+
+    pub fn pipeline(&self, entry: &str) -> &wgpu::ComputePipeline {
+        &self.pipelines[entry]
+    }
+}
+
+fn create_pipelines(
+    gpu: &Gpu,
+    shader: &ShaderSource,
+    layout: &wgpu::BindGroupLayout,
+    switches: &Switches,
+    out: &mut HashMap<&'static str, wgpu::ComputePipeline>,
+) {
+    let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(shader.name),
+        source: wgpu::ShaderSource::Wgsl(shader.source.as_str().into()),
+    });
+    let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(shader.name),
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    let constants = switches.constants_for(shader);
+    for &entry in shader.entry_points {
+        let pipeline = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, zero_initialize_workgroup_memory: true },
+            cache: None,
+        });
+        out.insert(entry, pipeline);
+    }
+}

@@ -1,0 +1,202 @@
+//! Reading the device state back: particle arrays in id order, observables
+//! (summed on the host in f64, in id order) and tracked particles.
+
+use crate::GpuSimulation;
+use crate::upload::FLAG_DEAD;
+use bytemuck::Pod;
+use glam::DVec3;
+use tumble_cpu::{Observables, State, TrackRow};
+
+/// Everything the device holds per particle, in f32 as it is there.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DeviceArrays {
+    pub pos: Vec<[f32; 4]>,
+    pub vel: Vec<[f32; 4]>,
+    pub omega: Vec<[f32; 4]>,
+    pub acc: Vec<[f32; 4]>,
+    pub alpha: Vec<[f32; 4]>,
+    pub props: Vec<[u32; 4]>,
+    pub energy: Vec<[f32; 4]>,
+    pub force: Vec<[f32; 4]>,
+    pub torque: Vec<[f32; 4]>,
+    pub stats: Vec<[u32; 2]>,
+}
+
+impl DeviceArrays {
+    /// Slots of the particles still in the domain, by id.
+    pub fn alive_by_id(&self) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.pos.len()).filter(|&i| self.props[i][3] & FLAG_DEAD == 0).collect();
+        order.sort_by_key(|&i| self.props[i][2]);
+        order
+    }
+}
+
+fn v3(a: [f32; 4]) -> DVec3 {
+    DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
+}
+
+impl GpuSimulation {
+    /// Copies `count` elements of `buffer` back to the host.
+    pub(crate) fn read<T: Pod>(&self, buffer: &wgpu::Buffer, count: usize) -> Vec<T> {
+        let bytes = self.read_bytes(&[(buffer, (count * std::mem::size_of::<T>()) as u64)]);
+        bytemuck::pod_collect_to_vec::<u8, T>(&bytes[0])
+    }
+
+    /// Copies the first bytes of several buffers back in one submission and one mapping.
+    pub(crate) fn read_bytes(&self, parts: &[(&wgpu::Buffer, u64)]) -> Vec<Vec<u8>> {
+        let total: u64 = parts.iter().map(|p| p.1).sum();
+        if total == 0 {
+            return parts.iter().map(|_| Vec::new()).collect();
+        }
+        let device = &self.gpu.device;
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: total,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+        let mut offset = 0;
+        for (buffer, bytes) in parts {
+            if *bytes > 0 {
+                encoder.copy_buffer_to_buffer(buffer, 0, &staging, offset, *bytes);
+            }
+            offset += bytes;
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        staging.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("mapping a readback buffer"));
+        device.poll(wgpu::PollType::Wait { submission_index: None, timeout: None }).expect("waiting for the device");
+        let view = staging.slice(..).get_mapped_range().expect("mapped readback");
+        let mut out = Vec::new();
+        let mut offset = 0;
+        for (_, bytes) in parts {
+            out.push(view[offset as usize..(offset + bytes) as usize].to_vec());
+            offset += bytes;
+        }
+        drop(view);
+        staging.unmap();
+        out
+    }
+
+    /// Every per-particle array as the device holds it (slot order).
+    pub fn device_arrays(&self) -> DeviceArrays {
+        let b = &self.buffers;
+        let n = self.slots as u64;
+        let v = self.read_bytes(&[
+            (&b.pos, 16 * n),
+            (&b.vel, 16 * n),
+            (&b.omega, 16 * n),
+            (&b.acc, 16 * n),
+            (&b.alpha, 16 * n),
+            (&b.props, 16 * n),
+            (&b.energy, 16 * n),
+            (&b.force, 16 * n),
+            (&b.torque, 16 * n),
+            (&b.stats, 8 * n),
+        ]);
+        fn cast<T: Pod>(bytes: &[u8]) -> Vec<T> {
+            bytemuck::pod_collect_to_vec(bytes)
+        }
+        DeviceArrays {
+            pos: cast(&v[0]),
+            vel: cast(&v[1]),
+            omega: cast(&v[2]),
+            acc: cast(&v[3]),
+            alpha: cast(&v[4]),
+            props: cast(&v[5]),
+            energy: cast(&v[6]),
+            force: cast(&v[7]),
+            torque: cast(&v[8]),
+            stats: cast(&v[9]),
+        }
+    }
+
+    /// The particles still in the domain as a host [`State`] in f64, in id order.
+    pub fn state(&self) -> State {
+        self.state_from(&self.device_arrays())
+    }
+
+    fn state_from(&self, a: &DeviceArrays) -> State {
+        let origin = crate::upload::centre(&self.plan);
+        let mut s = State::default();
+        for i in a.alive_by_id() {
+            let id = a.props[i][2];
+            s.id.push(id);
+            s.pos.push(v3(a.pos[i]) + origin);
+            s.vel.push(v3(a.vel[i]));
+            s.acc.push(v3(a.acc[i]));
+            s.radius.push(a.pos[i][3] as f64);
+            s.reach.push(f32::from_bits(a.props[i][0]) as f64);
+            s.mass.push(a.alpha[i][3] as f64);
+            s.inv_mass.push(a.vel[i][3] as f64);
+            s.material.push(a.props[i][1] as u16);
+            s.group.push(self.group[id as usize]);
+            s.track.push(self.track[id as usize]);
+            s.dissipated.push(a.energy[i][0] as f64);
+            if self.plan.rotation {
+                s.omega.push(v3(a.omega[i]));
+                s.alpha.push(v3(a.alpha[i]));
+                s.inv_inertia.push(a.omega[i][3] as f64);
+            }
+            if self.plan.fluid.is_some() {
+                s.fluid_work.push(a.energy[i][1] as f64);
+                s.drag.push(a.acc[i][3] as f64);
+            }
+        }
+        self.alive.set(Some(s.len()));
+        s
+    }
+
+    /// Whole-system observables, summed in f64 on the host in id order.
+    pub fn observables(&self) -> Observables {
+        let a = self.device_arrays();
+        let s = self.state_from(&a);
+        let g = self.plan.gravity;
+        let mut o = Observables { time: self.time(), particles: s.len(), finite: true, ..Default::default() };
+        for i in 0..s.len() {
+            o.finite &= s.pos[i].is_finite() && s.vel[i].is_finite();
+            if s.inv_mass[i] != 0.0 {
+                o.kinetic_energy += 0.5 * s.mass[i] * s.vel[i].length_squared();
+                o.potential_energy -= s.mass[i] * g.dot(s.pos[i]);
+                if self.plan.rotation {
+                    o.finite &= s.omega[i].is_finite();
+                    o.rotational_energy += 0.5 * s.omega[i].length_squared() / s.inv_inertia[i];
+                }
+            }
+            o.dissipated_energy += s.dissipated[i];
+            if self.plan.fluid.is_some() {
+                o.fluid_work += s.fluid_work[i];
+            }
+        }
+        for i in a.alive_by_id() {
+            o.elastic_energy += a.force[i][3] as f64;
+            o.contacts += a.stats[i][0] as u64;
+            o.max_overlap_ratio = o.max_overlap_ratio.max(f32::from_bits(a.stats[i][1]) as f64);
+        }
+        o.finite &= o.elastic_energy.is_finite() && o.dissipated_energy.is_finite();
+        o
+    }
+
+    /// Tracked particles, by id.
+    pub fn tracks(&self) -> Vec<TrackRow> {
+        let s = self.state();
+        (0..s.len())
+            .filter(|&i| s.track[i])
+            .map(|i| TrackRow {
+                id: s.id[i],
+                position: s.pos[i],
+                velocity: s.vel[i],
+                angular_velocity: if s.omega.is_empty() { DVec3::ZERO } else { s.omega[i] },
+            })
+            .collect()
+    }
+
+    /// Contact force on the particle with id `id` in the last force pass, if it is still in the domain.
+    pub fn contact_force(&self, id: u32) -> Option<DVec3> {
+        let n = self.slots as usize;
+        let props: Vec<[u32; 4]> = self.read(&self.buffers.props, n);
+        let slot = (0..n).find(|&i| props[i][2] == id && props[i][3] & FLAG_DEAD == 0)?;
+        let force: Vec<[f32; 4]> = self.read(&self.buffers.force, n);
+        Some(v3(force[slot]))
+    }
+}

@@ -1,0 +1,159 @@
+//! The WGSL sources and the plan's feature switches (pipeline-overridable constants).
+//!
+//! Each kernel file is assembled with the shared declarations it needs; the
+//! switches are WGSL `override` constants set per pipeline from the plan, so
+//! code behind a switch that is off is removed when the pipeline is built.
+//! `tests/naga_validation.rs` validates every source and every combination of
+//! switches a plan can produce.
+
+use tumble_integrate::Integrator;
+use tumble_scene::{Drag, Plan};
+
+/// Step parameters, switches and index helpers shared by the particle kernels.
+pub const COMMON: &str = include_str!("../shaders/common.wgsl");
+/// Sphere–wall proximity and the minimum image.
+pub const GEOMETRY: &str = include_str!("../shaders/geometry.wgsl");
+/// Cell index and counting sort.
+pub const BROAD: &str = include_str!("../shaders/broad.wgsl");
+/// Reduce-then-scan prefix sum.
+pub const SCAN: &str = include_str!("../shaders/scan.wgsl");
+/// Re-sort of per-particle arrays by cell.
+pub const REORDER: &str = include_str!("../shaders/reorder.wgsl");
+/// The gather-style contact pass.
+pub const FORCES: &str = include_str!("../shaders/forces.wgsl");
+/// Body forces and the integrators.
+pub const INTEGRATE: &str = include_str!("../shaders/integrate.wgsl");
+
+/// One shader module: its name, its own text, and the complete source.
+#[derive(Clone, Debug)]
+pub struct ShaderSource {
+    pub name: &'static str,
+    /// The kernel file alone (decides which switches the module uses).
+    pub body: &'static str,
+    pub source: String,
+    pub entry_points: &'static [&'static str],
+}
+
+/// Every shader module of the backend.
+pub fn sources() -> Vec<ShaderSource> {
+    let with_common = |name, body: &'static str, prefix: &[&str], entry_points| ShaderSource {
+        name,
+        body,
+        source: prefix.iter().copied().chain([body]).collect::<Vec<_>>().join("\n"),
+        entry_points,
+    };
+    vec![
+        with_common("broad", BROAD, &[COMMON], &["bin", "scatter", "order_cells"]),
+        with_common("scan", SCAN, &[], &["reduce", "scan_block"]),
+        with_common("reorder", REORDER, &[COMMON], &["permute"]),
+        with_common("forces", FORCES, &[COMMON, GEOMETRY], &["forces"]),
+        with_common("integrate", INTEGRATE, &[COMMON], &["initial", "kick_drift", "finish"]),
+    ]
+}
+
+/// The plan's feature switches, one per WGSL `override` in common.wgsl.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Switches {
+    pub rotation: bool,
+    pub cohesion: bool,
+    pub periodic: bool,
+    pub linear: bool,
+    pub hertz: bool,
+    pub tangential: bool,
+    pub walls: bool,
+    /// 0: no fluid, 1: Stokes, 2: quadratic.
+    pub drag: u32,
+    pub taylor_green: bool,
+    pub integrator: Integrator,
+}
+
+/// Integrator codes of the shaders (common.wgsl).
+pub fn integrator_code(i: Integrator) -> u32 {
+    match i {
+        Integrator::Euler => 0,
+        Integrator::SymplecticEuler => 1,
+        Integrator::Verlet => 2,
+        Integrator::ImplicitDrag => 3,
+        Integrator::ImplicitDragSymplectic => 4,
+    }
+}
+
+impl Switches {
+    /// The switches a plan needs: features it does not use are off.
+    pub fn from_plan(plan: &Plan) -> Self {
+        use tumble_contact::{NormalLaw, TangentialLaw};
+        Switches {
+            rotation: plan.rotation,
+            cohesion: plan.cohesion,
+            periodic: plan.domain.periodic.iter().any(|&p| p),
+            linear: plan.pairs.iter().any(|p| matches!(p.normal, NormalLaw::Linear { .. })),
+            hertz: plan.pairs.iter().any(|p| matches!(p.normal, NormalLaw::Hertz { .. })),
+            tangential: plan.pairs.iter().any(|p| p.tangential != TangentialLaw::None),
+            walls: !plan.walls.is_empty(),
+            drag: match plan.fluid.map(|f| f.drag) {
+                None => 0,
+                Some(Drag::Stokes { .. }) => 1,
+                Some(Drag::Quadratic { .. }) => 2,
+            },
+            taylor_green: matches!(plan.fluid.map(|f| f.flow), Some(tumble_contact::FlowField::TaylorGreen { .. })),
+            integrator: plan.integrator,
+        }
+    }
+
+    /// Every combination a plan can produce (Taylor–Green only with Stokes drag).
+    pub fn all() -> Vec<Switches> {
+        let mut out = Vec::new();
+        for bits in 0..128u32 {
+            let b = |k: u32| bits & (1 << k) != 0;
+            for (drag, taylor_green) in [(0, false), (1, false), (1, true), (2, false)] {
+                for integrator in Integrator::ALL {
+                    out.push(Switches {
+                        rotation: b(0),
+                        cohesion: b(1),
+                        periodic: b(2),
+                        linear: b(3),
+                        hertz: b(4),
+                        tangential: b(5),
+                        walls: b(6),
+                        drag,
+                        taylor_green,
+                        integrator,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// All override values by name.
+    pub fn constants(&self) -> [(&'static str, f64); 10] {
+        let f = |b: bool| if b { 1.0 } else { 0.0 };
+        [
+            ("ROTATION", f(self.rotation)),
+            ("COHESION", f(self.cohesion)),
+            ("PERIODIC", f(self.periodic)),
+            ("LINEAR", f(self.linear)),
+            ("HERTZ", f(self.hertz)),
+            ("TANGENTIAL", f(self.tangential)),
+            ("WALLS", f(self.walls)),
+            ("DRAG", self.drag as f64),
+            ("TAYLOR_GREEN", f(self.taylor_green)),
+            ("INTEGRATOR", integrator_code(self.integrator) as f64),
+        ]
+    }
+
+    /// The override values a module uses (those named in its own kernel text).
+    pub fn constants_for(&self, shader: &ShaderSource) -> Vec<(&'static str, f64)> {
+        self.constants().into_iter().filter(|(name, _)| uses(shader.body, name)).collect()
+    }
+}
+
+/// True when `text` names `ident` as a whole word.
+fn uses(text: &str, ident: &str) -> bool {
+    text.match_indices(ident).any(|(k, _)| {
+        let before = text[..k].chars().next_back();
+        let after = text[k + ident.len()..].chars().next();
+        let word = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+        !word(before) && !word(after)
+    })
+}

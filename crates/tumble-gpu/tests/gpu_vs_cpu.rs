@@ -1,0 +1,218 @@
+//! The GPU backend against the CPU reference on small scenes, and run-to-run
+//! determinism on the GPU. Without an adapter every test prints one skip line
+//! and passes. Tests share one device and run one at a time.
+
+use std::sync::Mutex;
+use tumble_cpu::CpuSimulation;
+use tumble_gpu::GpuSimulation;
+use tumble_scene::{CompiledScene, compile, parse_scene};
+
+static SERIAL: Mutex<()> = Mutex::new(());
+
+/// Runs `f` on the GPU, or prints one skip line when there is no adapter.
+fn on_gpu(name: &str, f: impl FnOnce()) {
+    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    match tumble_gpu::gpu() {
+        Ok(_) => f(),
+        Err(e) => println!("skipped {name}: no GPU adapter ({e})"),
+    }
+}
+
+fn scene(text: &str) -> CompiledScene {
+    compile(&parse_scene(text).unwrap()).unwrap()
+}
+
+fn verify_scene(file: &str) -> String {
+    std::fs::read_to_string(format!("{}/../../scenes/verify/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+fn example_scene(file: &str) -> String {
+    std::fs::read_to_string(format!("{}/../../scenes/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+/// Final tracked rows of both backends after the whole run.
+fn both(scene: CompiledScene) -> (Vec<tumble_cpu::TrackRow>, Vec<tumble_cpu::TrackRow>) {
+    let steps = scene.plan.steps;
+    let mut cpu = CpuSimulation::new(scene.clone(), 1);
+    let mut gpu = GpuSimulation::new(scene).unwrap();
+    cpu.advance(steps);
+    gpu.advance(steps);
+    (cpu.tracks(), gpu.tracks())
+}
+
+/// Runs `steps` steps on both backends and compares the observables.
+fn compare_observables(scene: CompiledScene, steps: u64, tolerance: f64) -> (tumble_cpu::Observables, tumble_cpu::Observables) {
+    let mut cpu = CpuSimulation::new(scene.clone(), 2);
+    let mut gpu = GpuSimulation::new(scene).unwrap();
+    cpu.advance(steps);
+    gpu.advance(steps);
+    let (c, g) = (cpu.observables(), gpu.observables());
+    println!("{} after {steps} steps\n  cpu {c:?}\n  gpu {g:?}", cpu.plan().name);
+    assert!(g.finite);
+    assert_eq!(c.particles, g.particles, "particles left");
+    // A missed neighbour would show here first.
+    assert!((c.contacts as i64 - g.contacts as i64).abs() <= c.contacts as i64 / 50 + 1, "contacts: cpu {} gpu {}", c.contacts, g.contacts);
+    let scale = c.kinetic_energy.abs() + c.potential_energy.abs() + c.elastic_energy.abs() + c.rotational_energy.abs() + 1e-300;
+    for (name, a, b) in [
+        ("kinetic", c.kinetic_energy, g.kinetic_energy),
+        ("potential", c.potential_energy, g.potential_energy),
+        ("rotational", c.rotational_energy, g.rotational_energy),
+        ("elastic", c.elastic_energy, g.elastic_energy),
+        ("dissipated", c.dissipated_energy, g.dissipated_energy),
+        ("fluid work", c.fluid_work, g.fluid_work),
+    ] {
+        assert!((a - b).abs() <= tolerance * scale, "{name}: cpu {a} gpu {b} (scale {scale})");
+    }
+    (c, g)
+}
+
+fn short(text: &str, steps: f64) -> CompiledScene {
+    let full = scene(text);
+    let mut s = parse_scene(text).unwrap();
+    s.run.duration = steps * full.plan.dt;
+    s.run.dt = Some(tumble_scene::schema::DtSpec::Seconds(full.plan.dt));
+    compile(&s).unwrap()
+}
+
+#[test]
+fn verification_scenes_end_where_the_cpu_ends() {
+    on_gpu("verification_scenes_end_where_the_cpu_ends", || {
+        for f in [
+            "01_stokes_drag.toml",
+            "02_normal_collision.toml",
+            "02_elastic_collision.toml",
+            "03_sliding.toml",
+            "04_cohesive_collision.toml",
+            "05_quadratic_drag.toml",
+            "07_hertz_impact.toml",
+            "08_slide_to_roll.toml",
+        ] {
+            let (c, g) = both(scene(&verify_scene(f)));
+            assert_eq!(c.len(), g.len());
+            for (a, b) in c.iter().zip(&g) {
+                let (dx, dv, dw) =
+                    ((a.position - b.position).length(), (a.velocity - b.velocity).length(), (a.angular_velocity - b.angular_velocity).length());
+                println!("{f} id {}: |dx| {dx:.2e} |dv| {dv:.2e} |dw| {dw:.2e}", a.id);
+                assert_eq!(a.id, b.id);
+                assert!(
+                    dx < 1e-4 && dv < 2e-4 * a.velocity.length().max(1.0) && dw < 1e-3 * a.angular_velocity.length().max(1.0),
+                    "{f}: {a:?} vs {b:?}"
+                );
+            }
+        }
+    });
+}
+
+#[test]
+fn every_integrator_matches_the_cpu_on_stokes_drag() {
+    on_gpu("every_integrator_matches_the_cpu_on_stokes_drag", || {
+        use tumble_scene::schema::IntegratorName::*;
+        for integrator in [Euler, SymplecticEuler, Verlet, ImplicitDrag, ImplicitDragSymplectic] {
+            let mut s = parse_scene(&verify_scene("01_stokes_drag.toml")).unwrap();
+            s.run.integrator = integrator;
+            let (c, g) = both(compile(&s).unwrap());
+            println!("{integrator:?}: cpu x {} gpu x {}", c[0].position.x, g[0].position.x);
+            assert!((c[0].position - g[0].position).length() < 2e-5 * c[0].position.length(), "{integrator:?}");
+            assert!((c[0].velocity - g[0].velocity).length() < 2e-5, "{integrator:?}");
+        }
+    });
+}
+
+#[test]
+fn falling_bed_with_walls_agrees() {
+    on_gpu("falling_bed_with_walls_agrees", || {
+        compare_observables(short(&verify_scene("09_energy_balance.toml"), 400.0), 400, 2e-3);
+    });
+}
+
+#[test]
+fn periodic_taylor_green_suspension_agrees() {
+    on_gpu("periodic_taylor_green_suspension_agrees", || {
+        compare_observables(short(&example_scene("taylor_green.toml"), 200.0), 200, 1e-3);
+    });
+}
+
+#[test]
+fn cohesive_drum_inside_a_cylinder_agrees() {
+    on_gpu("cohesive_drum_inside_a_cylinder_agrees", || {
+        compare_observables(short(&example_scene("drum_cohesive.toml"), 200.0), 200, 5e-3);
+    });
+}
+
+#[test]
+fn pipe_cascade_with_a_fixed_particle_and_a_periodic_axis_agrees() {
+    on_gpu("pipe_cascade_with_a_fixed_particle_and_a_periodic_axis_agrees", || {
+        compare_observables(short(&example_scene("pipe_cascade.toml"), 300.0), 300, 5e-3);
+    });
+}
+
+#[test]
+fn hertz_contacts_on_two_sided_quads_agree() {
+    on_gpu("hertz_contacts_on_two_sided_quads_agree", || {
+        compare_observables(short(&example_scene("hertz_quads.toml"), 300.0), 300, 5e-3);
+    });
+}
+
+#[test]
+fn forward_euler_with_dynamic_only_friction_agrees() {
+    on_gpu("forward_euler_with_dynamic_only_friction_agrees", || {
+        compare_observables(short(&example_scene("friction_failure_modes.toml"), 300.0), 300, 5e-3);
+    });
+}
+
+#[test]
+fn particles_leaving_the_domain_are_removed_as_on_the_cpu() {
+    on_gpu("particles_leaving_the_domain_are_removed_as_on_the_cpu", || {
+        // The quadratic-drag sphere falls out of the bottom of its domain.
+        let mut s = parse_scene(&verify_scene("05_quadratic_drag.toml")).unwrap();
+        s.domain.min[2] = -2.0;
+        let c = compile(&s).unwrap();
+        let steps = c.plan.steps;
+        let mut cpu = CpuSimulation::new(c.clone(), 1);
+        let mut gpu = GpuSimulation::new(c).unwrap();
+        cpu.advance(steps);
+        gpu.advance(steps);
+        assert_eq!(cpu.removed(), 1);
+        assert_eq!(gpu.removed(), 1);
+        assert_eq!(gpu.particles(), 0);
+        assert!(gpu.tracks().is_empty());
+    });
+}
+
+#[test]
+fn two_runs_give_bit_identical_states() {
+    on_gpu("two_runs_give_bit_identical_states", || {
+        // Many contacts, walls, friction, rotation and re-sorts: any order dependence would show.
+        let scene = short(&verify_scene("09_energy_balance.toml"), 300.0);
+        let run = || {
+            let mut gpu = GpuSimulation::new(scene.clone()).unwrap();
+            gpu.advance(300);
+            gpu.device_arrays()
+        };
+        let (a, b) = (run(), run());
+        let bits = |v: &Vec<[f32; 4]>| v.iter().flat_map(|x| x.map(f32::to_bits)).collect::<Vec<u32>>();
+        assert_eq!(bits(&a.pos), bits(&b.pos));
+        assert_eq!(bits(&a.vel), bits(&b.vel));
+        assert_eq!(bits(&a.omega), bits(&b.omega));
+        assert_eq!(bits(&a.force), bits(&b.force));
+        assert_eq!(a.props, b.props);
+        assert_eq!(a.stats, b.stats);
+    });
+}
+
+#[test]
+fn pair_forces_are_exactly_equal_and_opposite() {
+    on_gpu("pair_forces_are_exactly_equal_and_opposite", || {
+        // Two spheres in Hertz contact: one computation, negated for the higher id.
+        let scene = scene(&verify_scene("07_hertz_impact.toml"));
+        let mut gpu = GpuSimulation::new(scene).unwrap();
+        let mut touching = 0;
+        for _ in 0..200 {
+            gpu.advance(1);
+            let (a, b) = (gpu.contact_force(0).unwrap(), gpu.contact_force(1).unwrap());
+            assert_eq!(a, -b);
+            touching += usize::from(a != glam::DVec3::ZERO);
+        }
+        assert!(touching > 10);
+    });
+}
