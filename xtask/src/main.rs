@@ -4,6 +4,7 @@
 mod charts;
 mod conformance;
 mod svg;
+mod sweep;
 mod verify;
 
 fn main() {
@@ -12,9 +13,10 @@ fn main() {
         Some("verify") => verify::run(&args[1..]),
         Some("conformance") => conformance::run(&args[1..]),
         Some("charts") => charts::run(&args[1..]),
+        Some("sweep") => sweep::run(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask <verify|conformance|charts>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map and convergence charts (SVG + CSV) in docs/charts/"
+                "usage: cargo xtask <verify|conformance|charts|sweep>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map and convergence charts (SVG + CSV) in docs/charts/\n  sweep        agglomeration in a Taylor-Green vortex over Stk x Sy (cargo xtask sweep --help): CSV and heat maps in docs/agglomeration/"
             );
             2
         }
