@@ -333,9 +333,9 @@ pub fn heat_map(
     scale_label: &str,
 ) -> String {
     let (cols, rows) = (x_ticks.len(), y_ticks.len());
-    let (cell_w, cell_h) = (140.0, 90.0);
-    let (left, top) = (110.0, 90.0);
-    let width = left + cols as f64 * cell_w + 150.0;
+    let (cell_w, cell_h) = (170.0, 90.0);
+    let (left, top) = (140.0, 90.0);
+    let width = (left + cols as f64 * cell_w + 190.0).max(960.0);
     let height = top + rows as f64 * cell_h + 80.0;
     let mut svg = Svg::new(width, height);
     svg.bold(width / 2.0, 30.0, 18.0, Anchor::Middle, title);
@@ -354,7 +354,7 @@ pub fn heat_map(
             let ink = if t > 0.6 { "#111111" } else { "#ffffff" };
             let lines = label(r, c);
             for (k, s) in lines.iter().enumerate() {
-                let (size, dy) = if k == 0 { (18.0, 0.0) } else { (12.0, 20.0 * k as f64) };
+                let (size, dy) = if k == 0 { (18.0, 0.0) } else { (11.0, 20.0 * k as f64) };
                 svg.text(x + cell_w / 2.0, y + cell_h / 2.0 + 6.0 - 8.0 * (lines.len() - 1) as f64 + dy, size, Anchor::Middle, ink, s);
             }
         }
@@ -364,7 +364,7 @@ pub fn heat_map(
         svg.text(left + (c as f64 + 0.5) * cell_w, top + rows as f64 * cell_h + 22.0, 14.0, Anchor::Middle, "#222222", t);
     }
     svg.text(left + cols as f64 * cell_w / 2.0, top + rows as f64 * cell_h + 50.0, 15.0, Anchor::Middle, "#222222", x_label);
-    svg.vertical_text(left - 70.0, top + rows as f64 * cell_h / 2.0, 15.0, y_label);
+    svg.vertical_text(left - 95.0, top + rows as f64 * cell_h / 2.0, 15.0, y_label);
     // Colour bar.
     let (bx, bh) = (left + cols as f64 * cell_w + 30.0, rows as f64 * cell_h);
     for k in 0..50 {
@@ -373,6 +373,6 @@ pub fn heat_map(
     }
     svg.text(bx + 28.0, top + 10.0, 12.0, Anchor::Start, "#222222", &format!("{hi:.3}"));
     svg.text(bx + 28.0, top + bh, 12.0, Anchor::Start, "#222222", &format!("{lo:.3}"));
-    svg.vertical_text(bx + 95.0, top + bh / 2.0, 12.0, scale_label);
+    svg.vertical_text(bx + 100.0, top + bh / 2.0, 12.0, scale_label);
     svg.finish()
 }

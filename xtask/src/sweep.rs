@@ -12,7 +12,7 @@ use std::time::Instant;
 use tumble::{RunOptions, compile, read_scene, run_compiled};
 use tumble_scene::schema::{BackendName, CohesionSection, StokesTarget, ViscositySpec};
 
-const USAGE: &str = "usage: cargo xtask sweep [--stk 0.1,1,5,10] [--sy 0.1,0.6,1.0,1.5] [--particles 1500] [--box L] [--duration 1.2]
+const USAGE: &str = "usage: cargo xtask sweep [--stk 0.1,1,5,10] [--sy 0.1,0.6,1.0,1.5] [--particles 2000] [--box L] [--duration 2.0]
                           [--window T0,T1] [--output-interval S] [--threads N] [--backend cpu] [--scene scenes/agglomeration_tg.toml]
                           [--out docs/agglomeration] [--runs out/sweep]
   Runs every Stk x Sy scene (the example scene with those targets), averages agglomerates.csv over the window
@@ -42,9 +42,9 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut o = Options {
         stk: vec![0.1, 1.0, 5.0, 10.0],
         sy: vec![0.1, 0.6, 1.0, 1.5],
-        particles: 1500,
+        particles: 2000,
         box_edge: None,
-        duration: 1.2,
+        duration: 2.0,
         window: None,
         output_interval: None,
         threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -343,7 +343,7 @@ fn write_outputs(o: &Options, points: &[Point], window: (f64, f64), wall: f64, p
         &y_ticks,
         &grid(&|p| p.mean_size),
         |j, i| vec![format!("{:.3}", at(i, j).mean_size), format!("weighted {:.2}, max {:.0}", at(i, j).weighted_mean_size, at(i, j).max_size)],
-        "number-mean size (particles per agglomerate)",
+        "particles per agglomerate",
     );
     let void = heat_map(
         "Mean void fraction of agglomerates",
@@ -354,7 +354,7 @@ fn write_outputs(o: &Options, points: &[Point], window: (f64, f64), wall: f64, p
         &y_ticks,
         &grid(&|p| p.mean_void_fraction),
         |j, i| vec![format!("{:.4}", at(i, j).mean_void_fraction), format!("clusters only {:.3}", at(i, j).mean_void_fraction_multi)],
-        "mean of 1 - sum V_p / V_bs (singles count 0)",
+        "1 - sum V_p / V_bs (singles count 0)",
     );
     for (name, svg) in [("mean_size", size), ("void_fraction", void)] {
         write(&format!("{name}.svg"), svg)?;
