@@ -109,8 +109,8 @@ pub fn agglomerate_list(positions: &[DVec3], radii: &[f64], periodic: Option<&Pe
     // Members per component, in ascending index order.
     let mut members: Vec<Vec<u32>> = Vec::new();
     let mut slot = vec![u32::MAX; n];
-    for i in 0..n {
-        let root = label[i] as usize;
+    for (i, &root) in label.iter().enumerate() {
+        let root = root as usize;
         if slot[root] == u32::MAX {
             slot[root] = members.len() as u32;
             members.push(Vec::new());

@@ -67,7 +67,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--output-interval" => o.output_interval = Some(value()?.parse().map_err(|e| format!("--output-interval: {e}"))?),
             "--window" => {
                 let w = list(&value()?)?;
-                if w.len() != 2 || !(w[1] > w[0]) {
+                if w.len() != 2 || w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
                     return Err("--window needs T0,T1 with T1 > T0".into());
                 }
                 o.window = Some((w[0], w[1]));
@@ -86,7 +86,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             other => return Err(format!("unknown option {other}")),
         }
     }
-    if o.stk.is_empty() || o.sy.is_empty() || o.particles == 0 || o.threads == 0 || !(o.duration > 0.0) {
+    if o.stk.is_empty() || o.sy.is_empty() || o.particles == 0 || o.threads == 0 || o.duration.is_nan() || o.duration <= 0.0 {
         return Err("need at least one Stk and one Sy, particles > 0, threads > 0 and duration > 0".into());
     }
     Ok(o)

@@ -184,6 +184,7 @@ pub fn tangent_balls(c: &[DVec3], r: &[f64]) -> Vec<Ball> {
 
 /// Solves G λ = b for two right-hand sides by Gaussian elimination with full pivoting; dependent
 /// rows (pivot below 1e-12 of the largest) are skipped and their λ set to 0.
+#[allow(clippy::needless_range_loop)] // row and column indices of a small dense matrix
 fn solve_pivoted(mut g: [[f64; 3]; 3], mut a: [f64; 3], mut b: [f64; 3], m: usize) -> ([f64; 3], [f64; 3]) {
     let mut col = [0usize, 1, 2];
     let big = (0..m).flat_map(|i| (0..m).map(move |j| (i, j))).map(|(i, j)| g[i][j].abs()).fold(0.0, f64::max);

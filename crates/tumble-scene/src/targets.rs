@@ -161,7 +161,7 @@ pub(crate) fn resolve(
                 format!("Sy = {sy} with restitution e = {e} is out of reach: Sy < 1/e = {:.4} for any k_c (lower Sy or e)", 1.0 / e),
             ));
         }
-        if !(effect_length > 0.0) {
+        if effect_length.is_nan() || effect_length <= 0.0 {
             return Err(SceneError::field(field, "needs an effect_diameter larger than the body diameter (L_e = d_e − d_b > 0)"));
         }
         let Some(u) = speed else {
