@@ -182,3 +182,13 @@ fn the_example_scene_reports_stk_and_sy() {
     assert!(text.contains("Stk = ") && text.contains("Sy = "), "{text}");
     assert!(c.plan.agglomerates);
 }
+
+#[test]
+fn tumble_plan_prints_stk_and_sy() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/agglomeration_tg.toml");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tumble")).arg("plan").arg(&scene).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    assert!(text.contains("u_0 = 3.899708 m/s") && text.contains("Stk = 1.000000") && text.contains("Sy = 0.486138"), "{text}");
+    assert!(text.contains("agglomerates on"), "{text}");
+}

@@ -367,3 +367,33 @@ fn write_outputs(o: &Options, points: &[Point], window: (f64, f64), wall: f64, p
     println!("wrote {}/sweep.csv, sweep.txt, mean_size.svg, void_fraction.svg", o.out.display());
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_and_options() {
+        let o = parse(&[]).unwrap();
+        assert_eq!((o.stk.len(), o.sy.len(), o.particles, o.duration), (4, 4, 2000, 2.0));
+        let args: Vec<String> = ["--stk", "1,2", "--sy", "0.5", "--window", "0.1,0.2", "--particles", "10"].iter().map(|s| s.to_string()).collect();
+        let o = parse(&args).unwrap();
+        assert_eq!((o.stk, o.sy, o.window, o.particles), (vec![1.0, 2.0], vec![0.5], Some((0.1, 0.2)), 10));
+        assert!(parse(&["--window".into(), "0.2,0.1".into()]).is_err());
+        assert!(parse(&["--backend".into(), "gpu".into()]).is_err());
+    }
+
+    #[test]
+    fn averages_rows_in_the_window() {
+        let dir = std::env::temp_dir().join(format!("tumble-sweep-avg-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("agglomerates.csv");
+        let mut text = tumble::agglomerates::csv_header(4) + "\n";
+        text += "0,4,4,1,1,1,0,0,0,4,0,0\n0.5,4,2,2,2,2,0.375,1,0.75,1,0,0\n1,4,1,4,4,4,0.8,1,0.8,0,0,1\n";
+        std::fs::write(&path, text).unwrap();
+        let (rows, avg) = average(&path, (0.5, 1.0)).unwrap();
+        assert_eq!(rows, 2);
+        assert_eq!(avg, [1.5, 3.0, 3.0, 3.0, 0.5875, 0.775]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
