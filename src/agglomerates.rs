@@ -38,6 +38,9 @@ pub struct AgglomerateStats {
     pub multi_count: usize,
     /// Mean void fraction over the agglomerates of two or more particles (0 when there are none).
     pub mean_void_fraction_multi: f64,
+    /// Agglomerates that wrap around a periodic axis (connected to their own periodic image: a
+    /// box-spanning network, whose enclosing sphere is that of one unwrapped copy).
+    pub wrapping: usize,
     /// Size histogram in log2 bins: `histogram[k]` counts agglomerates with 2^k ≤ size < 2^(k+1).
     pub histogram: Vec<usize>,
 }
@@ -52,6 +55,8 @@ pub struct Agglomerate {
     pub radius: f64,
     /// 1 − Σ V_p / V_bs (0 for a single particle).
     pub void_fraction: f64,
+    /// Connected to its own periodic image (see [`AgglomerateStats::wrapping`]).
+    pub wraps: bool,
 }
 
 /// Number of log2 histogram bins needed for up to `n` particles.
@@ -118,6 +123,8 @@ pub fn agglomerate_list(positions: &[DVec3], radii: &[f64], periodic: Option<&Pe
         members[slot[root] as usize].push(i as u32);
     }
     let mut unwrapped = vec![DVec3::ZERO; n];
+    // Unwrapped separations differ from contact separations by whole box lengths or not at all.
+    let wrap_tolerance = periodic.map_or(f64::INFINITY, |b| 0.5 * b.extent().min_element());
     let mut seen = vec![false; n];
     let mut queue = std::collections::VecDeque::new();
     members
@@ -125,20 +132,25 @@ pub fn agglomerate_list(positions: &[DVec3], radii: &[f64], periodic: Option<&Pe
         .map(|m| {
             if m.len() == 1 {
                 let i = m[0] as usize;
-                return Agglomerate { members: m, centre: positions[i], radius: radii[i], void_fraction: 0.0 };
+                return Agglomerate { members: m, centre: positions[i], radius: radii[i], void_fraction: 0.0, wraps: false };
             }
             let first = m[0] as usize;
             unwrapped[first] = positions[first];
             seen[first] = true;
             queue.push_back(first);
+            let mut wraps = false;
             while let Some(i) = queue.pop_front() {
                 for &j in &adj[start[i]..start[i + 1]] {
                     let j = j as usize;
+                    let d = positions[j] - positions[i];
+                    let step = periodic.map_or(d, |b| b.minimum_image(d));
                     if !seen[j] {
                         seen[j] = true;
-                        let d = positions[j] - positions[i];
-                        unwrapped[j] = unwrapped[i] + periodic.map_or(d, |b| b.minimum_image(d));
+                        unwrapped[j] = unwrapped[i] + step;
                         queue.push_back(j);
+                    } else if (unwrapped[j] - unwrapped[i] - step).length() > wrap_tolerance {
+                        // A contact that closes a loop around the box.
+                        wraps = true;
                     }
                 }
             }
@@ -147,7 +159,7 @@ pub fn agglomerate_list(positions: &[DVec3], radii: &[f64], periodic: Option<&Pe
             let ball = enclosing_sphere_of_spheres(&x, &r);
             let solid: f64 = r.iter().map(|r| r.powi(3)).sum();
             let void_fraction = 1.0 - solid / ball.radius.powi(3);
-            Agglomerate { members: m, centre: ball.centre, radius: ball.radius, void_fraction }
+            Agglomerate { members: m, centre: ball.centre, radius: ball.radius, void_fraction, wraps }
         })
         .collect()
 }
@@ -186,6 +198,7 @@ pub fn stats_of(list: &[Agglomerate], particles: usize) -> AgglomerateStats {
         s.max_size = s.max_size.max(size);
         sum_sq += (size * size) as f64;
         sum_void += a.void_fraction;
+        s.wrapping += usize::from(a.wraps);
         if size > 1 {
             s.multi_count += 1;
             sum_void_multi += a.void_fraction;
@@ -212,8 +225,9 @@ pub fn agglomerates(positions: &[DVec3], radii: &[f64], periodic: Option<&Period
 
 /// The header of agglomerates.csv for up to `particles` particles.
 pub fn csv_header(particles: usize) -> String {
-    let mut h =
-        String::from("t,particles,agglomerates,mean_size,weighted_mean_size,max_size,mean_void_fraction,multi_agglomerates,mean_void_fraction_multi");
+    let mut h = String::from(
+        "t,particles,agglomerates,mean_size,weighted_mean_size,max_size,mean_void_fraction,multi_agglomerates,mean_void_fraction_multi,wrapping",
+    );
     for k in 0..histogram_bins(particles) {
         let (lo, hi) = (1usize << k, (1usize << (k + 1)) - 1);
         if lo == hi {
@@ -228,8 +242,16 @@ pub fn csv_header(particles: usize) -> String {
 /// One row of agglomerates.csv (bins beyond the header's are never produced: sizes ≤ particles).
 pub fn csv_row(t: f64, s: &AgglomerateStats, bins: usize) -> String {
     let mut row = format!(
-        "{t},{},{},{},{},{},{},{},{}",
-        s.particles, s.count, s.mean_size, s.weighted_mean_size, s.max_size, s.mean_void_fraction, s.multi_count, s.mean_void_fraction_multi
+        "{t},{},{},{},{},{},{},{},{},{}",
+        s.particles,
+        s.count,
+        s.mean_size,
+        s.weighted_mean_size,
+        s.max_size,
+        s.mean_void_fraction,
+        s.multi_count,
+        s.mean_void_fraction_multi,
+        s.wrapping
     );
     for k in 0..bins {
         row += &format!(",{}", s.histogram.get(k).copied().unwrap_or(0));
@@ -262,6 +284,22 @@ mod tests {
         let list = agglomerate_list(&x, &[0.0205; 3], Some(&periodic_box()));
         assert_eq!(list.len(), 1);
         assert!((list[0].radius - (0.04 + 0.0205)).abs() < 1e-12, "{:?}", list[0]);
+    }
+
+    #[test]
+    fn a_chain_around_the_box_wraps_and_a_short_one_does_not() {
+        // 10 touching spheres of diameter 0.101 at spacing 0.0999 along x in a box of length 1: a ring through the seam.
+        let ring: Vec<DVec3> = (0..10).map(|k| DVec3::new(0.05 + 0.0999 * k as f64, 0.5, 0.5)).collect();
+        let r = 0.0505;
+        let list = agglomerate_list(&ring, &[r; 10], Some(&periodic_box()));
+        assert_eq!(list.len(), 1);
+        assert!(list[0].wraps);
+        assert_eq!(agglomerates(&ring, &[r; 10], Some(&periodic_box())).wrapping, 1);
+        let chain = &ring[..9];
+        let list = agglomerate_list(chain, &[r; 9], Some(&periodic_box()));
+        assert!(list.len() == 1 && !list[0].wraps);
+        // Open space never wraps.
+        assert!(!agglomerate_list(&ring, &[r; 10], None)[0].wraps);
     }
 
     #[test]

@@ -288,6 +288,7 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
             "max_size": a.max_size,
             "mean_void_fraction": a.mean_void_fraction,
             "mean_void_fraction_multi": a.mean_void_fraction_multi,
+            "wrapping": a.wrapping,
         });
     }
     if let Some(tg) = &plan.targets.taylor_green {

@@ -111,6 +111,8 @@ struct Point {
     max_size: f64,
     mean_void_fraction: f64,
     mean_void_fraction_multi: f64,
+    /// Mean number of agglomerates wrapping around the box (box-spanning networks).
+    wrapping: f64,
     error: Option<String>,
 }
 
@@ -250,7 +252,7 @@ fn run_point(base: &tumble::Scene, o: &Options, stk: f64, sy: f64, window: (f64,
     match average(&dir.join("agglomerates.csv"), window) {
         Ok(avg) => {
             p.rows = avg.0;
-            [p.agglomerates, p.mean_size, p.weighted_mean_size, p.max_size, p.mean_void_fraction, p.mean_void_fraction_multi] = avg.1;
+            [p.agglomerates, p.mean_size, p.weighted_mean_size, p.max_size, p.mean_void_fraction, p.mean_void_fraction_multi, p.wrapping] = avg.1;
         }
         Err(e) => p.error = Some(e),
     }
@@ -258,14 +260,14 @@ fn run_point(base: &tumble::Scene, o: &Options, stk: f64, sy: f64, window: (f64,
 }
 
 /// Averages of (agglomerates, mean_size, weighted_mean_size, max_size, mean_void_fraction,
-/// mean_void_fraction_multi) over the rows with t in the window.
-fn average(path: &Path, (t0, t1): (f64, f64)) -> Result<(usize, [f64; 6]), String> {
+/// mean_void_fraction_multi, wrapping) over the rows with t in the window.
+fn average(path: &Path, (t0, t1): (f64, f64)) -> Result<(usize, [f64; 7]), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().ok_or("empty agglomerates.csv")?.split(',').collect();
-    let names = ["agglomerates", "mean_size", "weighted_mean_size", "max_size", "mean_void_fraction", "mean_void_fraction_multi"];
+    let names = ["agglomerates", "mean_size", "weighted_mean_size", "max_size", "mean_void_fraction", "mean_void_fraction_multi", "wrapping"];
     let cols: Vec<usize> = names.iter().map(|n| header.iter().position(|h| h == n).ok_or(format!("no column {n}"))).collect::<Result<_, _>>()?;
-    let (mut sum, mut rows) = ([0.0; 6], 0usize);
+    let (mut sum, mut rows) = ([0.0; 7], 0usize);
     for line in lines {
         let v: Vec<f64> = line.split(',').map(|x| x.parse::<f64>().unwrap_or(f64::NAN)).collect();
         // A small tolerance so rows at the window's ends count despite rounding in t.
@@ -286,11 +288,11 @@ fn write_outputs(o: &Options, points: &[Point], window: (f64, f64), wall: f64, p
     std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
     let write = |name: &str, text: String| std::fs::write(o.out.join(name), text).map_err(|e| format!("{name}: {e}"));
     let mut csv = String::from(
-        "stk,sy,viscosity,cohesion_stiffness,particles,steps,dt,wall_seconds,particle_steps_per_second,rows_averaged,agglomerates,mean_size,weighted_mean_size,max_size,mean_void_fraction,mean_void_fraction_multi\n",
+        "stk,sy,viscosity,cohesion_stiffness,particles,steps,dt,wall_seconds,particle_steps_per_second,rows_averaged,agglomerates,mean_size,weighted_mean_size,max_size,mean_void_fraction,mean_void_fraction_multi,wrapping\n",
     );
     for p in points {
         csv += &format!(
-            "{},{},{:.6e},{:.6e},{},{},{:.6e},{:.2},{:.4e},{},{:.3},{:.5},{:.5},{:.3},{:.5},{:.5}\n",
+            "{},{},{:.6e},{:.6e},{},{},{:.6e},{:.2},{:.4e},{},{:.3},{:.5},{:.5},{:.3},{:.5},{:.5},{:.3}\n",
             p.stk,
             p.sy,
             p.viscosity,
@@ -306,7 +308,8 @@ fn write_outputs(o: &Options, points: &[Point], window: (f64, f64), wall: f64, p
             p.weighted_mean_size,
             p.max_size,
             p.mean_void_fraction,
-            p.mean_void_fraction_multi
+            p.mean_void_fraction_multi,
+            p.wrapping
         );
     }
     write("sweep.csv", csv)?;
@@ -389,11 +392,11 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("agglomerates.csv");
         let mut text = tumble::agglomerates::csv_header(4) + "\n";
-        text += "0,4,4,1,1,1,0,0,0,4,0,0\n0.5,4,2,2,2,2,0.375,1,0.75,1,0,0\n1,4,1,4,4,4,0.8,1,0.8,0,0,1\n";
+        text += "0,4,4,1,1,1,0,0,0,0,4,0,0\n0.5,4,2,2,2,2,0.375,1,0.75,0,1,0,0\n1,4,1,4,4,4,0.8,1,0.8,0,0,0,1\n";
         std::fs::write(&path, text).unwrap();
         let (rows, avg) = average(&path, (0.5, 1.0)).unwrap();
         assert_eq!(rows, 2);
-        assert_eq!(avg, [1.5, 3.0, 3.0, 3.0, 0.5875, 0.775]);
+        assert_eq!(avg, [1.5, 3.0, 3.0, 3.0, 0.5875, 0.775, 0.0]);
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
