@@ -126,6 +126,9 @@ pub(crate) fn resolve(
         let Some((u0, l0)) = tg else {
             return Err(SceneError::field(field, "needs flow = { taylor_green = { … } } (u_0 and l_0 come from the vortex)"));
         };
+        if !matches!(fluid.as_ref().map(|f| f.drag), Some(Drag::Stokes { .. })) {
+            return Err(SceneError::field(field, "needs drag = \"stokes\" (the Stokes number is defined by Stokes drag)"));
+        }
         if u0 == 0.0 || movable.is_empty() {
             return Err(SceneError::field(field, "needs a non-zero flow amplitude and movable particles"));
         }
