@@ -12,6 +12,7 @@
 //! println!("{} particle-steps/s", summary.particle_steps_per_second);
 //! ```
 
+pub mod agglomerates;
 pub mod cli;
 mod monitor;
 mod output;

@@ -52,3 +52,22 @@ impl TracksCsv {
         self.0.flush()
     }
 }
+
+/// agglomerates.csv, one row per output interval (see `crate::agglomerates::csv_header`).
+pub struct AgglomeratesCsv {
+    w: BufWriter<File>,
+    bins: usize,
+}
+
+impl AgglomeratesCsv {
+    pub fn create(dir: &Path, particles: usize) -> std::io::Result<Self> {
+        let mut w = BufWriter::new(File::create(dir.join("agglomerates.csv"))?);
+        writeln!(w, "{}", crate::agglomerates::csv_header(particles))?;
+        Ok(AgglomeratesCsv { w, bins: crate::agglomerates::histogram_bins(particles) })
+    }
+
+    pub fn row(&mut self, t: f64, s: &crate::agglomerates::AgglomerateStats) -> std::io::Result<()> {
+        writeln!(self.w, "{}", crate::agglomerates::csv_row(t, s, self.bins))?;
+        self.w.flush()
+    }
+}

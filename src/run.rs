@@ -2,7 +2,7 @@
 
 use crate::Simulation;
 use crate::monitor::{Instability, Monitor};
-use crate::output::{ObservablesCsv, TracksCsv};
+use crate::output::{AgglomeratesCsv, ObservablesCsv, TracksCsv};
 use crate::progress::Progress;
 use crate::vtk::SnapshotWriter;
 use std::fmt;
@@ -55,6 +55,8 @@ pub struct RunSummary {
     pub wall_seconds: f64,
     pub particle_steps_per_second: f64,
     pub final_observables: crate::Observables,
+    /// Agglomerate statistics at the end, when the plan writes agglomerates.csv.
+    pub final_agglomerates: Option<crate::agglomerates::AgglomerateStats>,
 }
 
 #[derive(Debug)]
@@ -122,6 +124,11 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let fluid = sim.plan().fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, fluid))?;
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir))?;
+    let mut agglo_csv = match sim.plan().agglomerates {
+        true => Some(io(&out_dir, AgglomeratesCsv::create(&out_dir, sim.particles()))?),
+        false => None,
+    };
+    let mut last_agglomerates = None;
     let mut snapshots = match sim.plan().snapshot_every {
         Some(_) => Some(io(&out_dir, SnapshotWriter::create(&out_dir, sim.plan()))?),
         None => None,
@@ -130,6 +137,11 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let monitor = Monitor::new(sim.plan(), &initial, potential_range(&sim));
     io(&out_dir, obs_csv.row(&initial, fluid))?;
     io(&out_dir, tracks_csv.rows(0.0, &sim.tracks()))?;
+    if let Some(w) = agglo_csv.as_mut() {
+        let a = agglomerates_of(&sim);
+        io(&out_dir, w.row(0.0, &a))?;
+        last_agglomerates = Some(a);
+    }
     if let Some(w) = snapshots.as_mut() {
         io(&out_dir, w.write(0, &sim))?;
     }
@@ -171,6 +183,11 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
                 }
                 io(&out_dir, obs_csv.row(&o, fluid))?;
                 io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
+                if let Some(w) = agglo_csv.as_mut() {
+                    let a = agglomerates_of(&sim);
+                    io(&out_dir, w.row(o.time, &a))?;
+                    last_agglomerates = Some(a);
+                }
             }
             // Never write NaN: a non-finite state is stopped by the monitor at the next output.
             if let (true, true, Some(w), Some(k)) = (snapshot, o.finite, snapshots.as_mut(), snapshot_every) {
@@ -193,6 +210,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         wall_seconds,
         particle_steps_per_second: particle_steps as f64 / wall_seconds.max(1e-12),
         final_observables,
+        final_agglomerates: last_agglomerates,
     };
     let stop_text = match &stopped {
         Some(Stop::Unstable(e)) => Some(e.to_string()),
@@ -208,6 +226,12 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir }),
         None => Ok(summary),
     }
+}
+
+/// Agglomerate statistics of the current state (positions wrapped into the domain).
+fn agglomerates_of(sim: &Simulation) -> crate::agglomerates::AgglomerateStats {
+    let s = sim.cpu().state();
+    crate::agglomerates::agglomerates(&s.pos, &s.radius, Some(&sim.plan().domain))
 }
 
 /// Most steps advanced between two checks of the interrupt flag and the progress display.
@@ -276,5 +300,26 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
         },
         "stopped": stopped,
     });
+    let mut value = value;
+    if let Some(a) = &s.final_agglomerates {
+        value["agglomerates"] = serde_json::json!({
+            "count": a.count,
+            "mean_size": a.mean_size,
+            "weighted_mean_size": a.weighted_mean_size,
+            "max_size": a.max_size,
+            "mean_void_fraction": a.mean_void_fraction,
+            "mean_void_fraction_multi": a.mean_void_fraction_multi,
+            "wrapping": a.wrapping,
+        });
+    }
+    if let Some(tg) = &plan.targets.taylor_green {
+        value["plan"]["mean_flow_speed"] = serde_json::json!(tg.mean_flow_speed);
+        value["plan"]["vortex_size"] = serde_json::json!(tg.vortex_size);
+        value["plan"]["stokes_number"] = serde_json::json!(tg.stokes_number);
+    }
+    if let Some(sy) = &plan.targets.stickiness {
+        value["plan"]["stickiness_number"] = serde_json::json!(sy.number);
+        value["plan"]["cohesion_stiffness"] = serde_json::json!(sy.stiffness);
+    }
     serde_json::to_string_pretty(&value).unwrap() + "\n"
 }

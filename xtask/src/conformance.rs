@@ -139,30 +139,9 @@ fn cohesive_cluster(backend: Backend) -> Vec<Measured> {
     let domain = scene.plan.domain;
     let (sim, _) = run_with_outputs(backend, scene);
     let s = sim.state();
-    vec![against_cpu("cohesive cluster: agglomerates", agglomerates(&s, &domain) as f64, Error::Relative, 0.15)]
-}
-
-/// Agglomerates: groups of particles linked through overlapping effect surfaces.
-// replaced by tumble::agglomerates at merge
-fn agglomerates(s: &tumble_cpu::State, domain: &tumble_geom::PeriodicBox) -> usize {
-    let n = s.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    for i in 0..n {
-        for j in i + 1..n {
-            if domain.minimum_image(s.pos[i] - s.pos[j]).length() < s.reach[i] + s.reach[j] {
-                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
-                parent[a] = b;
-            }
-        }
-    }
-    (0..n).filter(|&i| root(&mut parent, i) == i).count()
+    let periodic = domain.periodic.iter().any(|&p| p).then_some(&domain);
+    let count = tumble::agglomerates::agglomerates(&s.pos, &s.radius, periodic).count;
+    vec![against_cpu("cohesive cluster: agglomerates", count as f64, Error::Relative, 0.15)]
 }
 
 /// Every measurement of the suite on one backend.

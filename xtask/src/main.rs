@@ -5,6 +5,7 @@ mod charts;
 mod conformance;
 mod friction_charts;
 mod svg;
+mod sweep;
 mod verify;
 
 fn main() {
@@ -14,9 +15,10 @@ fn main() {
         Some("conformance") => conformance::run(&args[1..]),
         Some("charts") => charts::run(&args[1..]),
         Some("gpu-profile") => gpu_profile(&args[1..]),
+        Some("sweep") => sweep::run(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask <verify|conformance|charts|gpu-profile>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map and convergence charts (SVG + CSV) in docs/charts/\n  gpu-profile  SCENE [STEPS]: GPU particle-steps/s and per-kernel device times (timestamp queries)"
+                "usage: cargo xtask <verify|conformance|charts|gpu-profile|sweep>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map, convergence and friction charts (SVG + CSV) in docs/charts/ (charts friction: only the friction ones)\n  gpu-profile  SCENE [STEPS]: GPU particle-steps/s and per-kernel device times (timestamp queries)\n  sweep        agglomeration in a Taylor-Green vortex over Stk x Sy (cargo xtask sweep --help): CSV and heat maps in docs/agglomeration/"
             );
             2
         }

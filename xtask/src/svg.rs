@@ -382,3 +382,73 @@ pub fn linear_frame(svg: &mut Svg, x: LinearAxis, y: YAxis, xlabel: &str, ylabel
     svg.text(0.5 * (left + right), bottom + 36.0, 12.0, Anchor::Middle, "#222222", xlabel);
     svg.vertical_text(left - 48.0, 0.5 * (top + bottom), 12.0, ylabel);
 }
+
+/// A colour on a perceptual sequential scale (viridis stops, linear in between), `t` in [0, 1].
+pub fn viridis(t: f64) -> String {
+    const STOPS: [(f64, f64, f64); 5] = [(68.0, 1.0, 84.0), (59.0, 82.0, 139.0), (33.0, 145.0, 140.0), (94.0, 201.0, 98.0), (253.0, 231.0, 37.0)];
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 } * (STOPS.len() - 1) as f64;
+    let k = (t.floor() as usize).min(STOPS.len() - 2);
+    let f = t - k as f64;
+    let (a, b) = (STOPS[k], STOPS[k + 1]);
+    let mix = |x: f64, y: f64| (x + (y - x) * f).round() as u8;
+    format!("#{:02x}{:02x}{:02x}", mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// A labelled heat map: `values[row][col]` over categorical axes, each cell coloured on the viridis
+/// scale between the smallest and largest value and labelled with `label(row, col)` (one or two lines).
+#[allow(clippy::too_many_arguments)]
+pub fn heat_map(
+    title: &str,
+    subtitle: &str,
+    x_label: &str,
+    x_ticks: &[String],
+    y_label: &str,
+    y_ticks: &[String],
+    values: &[Vec<f64>],
+    label: impl Fn(usize, usize) -> Vec<String>,
+    scale_label: &str,
+) -> String {
+    let (cols, rows) = (x_ticks.len(), y_ticks.len());
+    let (cell_w, cell_h) = (170.0, 90.0);
+    let (left, top) = (140.0, 90.0);
+    let width = (left + cols as f64 * cell_w + 190.0).max(960.0);
+    let height = top + rows as f64 * cell_h + 80.0;
+    let mut svg = Svg::new(width, height);
+    svg.bold(width / 2.0, 30.0, 18.0, Anchor::Middle, title);
+    svg.text(width / 2.0, 52.0, 12.0, Anchor::Middle, "#444444", subtitle);
+    let finite = values.iter().flatten().copied().filter(|v| v.is_finite());
+    let lo = finite.clone().fold(f64::INFINITY, f64::min);
+    let hi = finite.fold(f64::NEG_INFINITY, f64::max);
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    for (r, row) in values.iter().enumerate() {
+        // Row 0 at the bottom, like a y axis.
+        let y = top + (rows - 1 - r) as f64 * cell_h;
+        for (c, &v) in row.iter().enumerate() {
+            let x = left + c as f64 * cell_w;
+            let t = (v - lo) / span;
+            svg.rect(x, y, cell_w, cell_h, &if v.is_finite() { viridis(t) } else { "#dddddd".into() }, "#ffffff");
+            let ink = if t > 0.6 { "#111111" } else { "#ffffff" };
+            let lines = label(r, c);
+            for (k, s) in lines.iter().enumerate() {
+                let (size, dy) = if k == 0 { (18.0, 0.0) } else { (11.0, 20.0 * k as f64) };
+                svg.text(x + cell_w / 2.0, y + cell_h / 2.0 + 6.0 - 8.0 * (lines.len() - 1) as f64 + dy, size, Anchor::Middle, ink, s);
+            }
+        }
+        svg.text(left - 10.0, y + cell_h / 2.0 + 5.0, 14.0, Anchor::End, "#222222", &y_ticks[r]);
+    }
+    for (c, t) in x_ticks.iter().enumerate() {
+        svg.text(left + (c as f64 + 0.5) * cell_w, top + rows as f64 * cell_h + 22.0, 14.0, Anchor::Middle, "#222222", t);
+    }
+    svg.text(left + cols as f64 * cell_w / 2.0, top + rows as f64 * cell_h + 50.0, 15.0, Anchor::Middle, "#222222", x_label);
+    svg.vertical_text(left - 95.0, top + rows as f64 * cell_h / 2.0, 15.0, y_label);
+    // Colour bar.
+    let (bx, bh) = (left + cols as f64 * cell_w + 30.0, rows as f64 * cell_h);
+    for k in 0..50 {
+        let t = k as f64 / 49.0;
+        svg.rect(bx, top + bh * (1.0 - (k + 1) as f64 / 50.0), 22.0, bh / 50.0 + 0.5, &viridis(t), "none");
+    }
+    svg.text(bx + 28.0, top + 10.0, 12.0, Anchor::Start, "#222222", &format!("{hi:.3}"));
+    svg.text(bx + 28.0, top + bh, 12.0, Anchor::Start, "#222222", &format!("{lo:.3}"));
+    svg.vertical_text(bx + 100.0, top + bh / 2.0, 12.0, scale_label);
+    svg.finish()
+}

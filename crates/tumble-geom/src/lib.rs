@@ -13,6 +13,7 @@
 
 pub use glam::DVec3;
 
+mod enclosing_sphere;
 mod periodic;
 mod sphere_cylinder;
 mod sphere_plane;
@@ -20,6 +21,7 @@ mod sphere_quad;
 mod sphere_sphere;
 mod surface;
 
+pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosing_sphere_of_spheres, tangent_balls};
 pub use periodic::PeriodicBox;
 pub use sphere_cylinder::Cylinder;
 pub use sphere_plane::Plane;

@@ -31,6 +31,7 @@ mod particles;
 mod plan;
 mod rng;
 pub mod schema;
+pub mod targets;
 
 pub use error::SceneError;
 pub use load::{parse_scene, read_scene};

@@ -5,9 +5,22 @@ use std::path::Path;
 pub fn parse_scene(text: &str) -> Result<Scene, SceneError> {
     toml::from_str::<Scene>(text).map_err(|e| {
         let line_col = e.span().map(|span| line_col(text, span.start));
-        SceneError { file: None, line_col, field: None, message: e.message().trim().replace('\n', " ") }
+        let mut message = e.message().trim().replace('\n', " ");
+        // Untagged forms say only that no form matched: name the valid ones.
+        for (name, forms) in UNTAGGED_FORMS {
+            if message.contains(&format!("untagged enum {name}")) {
+                message += &format!("; {forms}");
+            }
+        }
+        SceneError { file: None, line_col, field: None, message }
     })
 }
+
+const UNTAGGED_FORMS: [(&str, &str); 3] = [
+    ("VelocitySpec", "velocity is [vx, vy, vz], { random = { mean_speed = …, std = … } } or \"flow\""),
+    ("ViscositySpec", "viscosity is a number in Pa s or { stokes_number = … }"),
+    ("DtSpec", "dt is a number in seconds or { collision_fraction = … }"),
+];
 
 /// Reads and parses a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {

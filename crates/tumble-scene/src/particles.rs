@@ -1,10 +1,11 @@
 //! Turning particle groups (explicit, lattice, random) into initial particle arrays.
 
 use crate::rng::Rng;
-use crate::schema::{DiameterSpec, ParticleGroup, ShapeSection, VelocitySpec};
+use crate::schema::{DiameterSpec, FlowSection, NamedVelocity, ParticleGroup, ShapeSection, VelocitySpec};
 use crate::{Scene, SceneError};
 use glam::DVec3;
 use std::collections::HashMap;
+use tumble_contact::FlowField;
 
 /// Initial state of every particle, indexed by particle id.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -47,6 +48,17 @@ pub fn generate(scene: &Scene, material_index: &HashMap<String, u16>) -> Result<
             DiameterSpec::Uniform(r) => rng.range(r.min, r.max),
         };
         let centres = group_positions(group, g, &mut rng, &mut diameter)?;
+        // velocity = "flow": the fluid velocity where each particle starts.
+        let flow = match (&group.velocity, scene.fluid.as_ref().map(|f| &f.flow)) {
+            (Some(VelocitySpec::Named(NamedVelocity::Flow)), Some(FlowSection::Uniform(u))) => Some(FlowField::Uniform(DVec3::from_array(*u))),
+            (Some(VelocitySpec::Named(NamedVelocity::Flow)), Some(FlowSection::TaylorGreen(tg))) => {
+                Some(FlowField::TaylorGreen { amplitude: tg.amplitude, frequency: tg.frequency })
+            }
+            (Some(VelocitySpec::Named(NamedVelocity::Flow)), None) => {
+                return Err(SceneError::field(field("velocity"), "velocity = \"flow\" needs a [fluid] section with a flow"));
+            }
+            _ => None,
+        };
         for (x, d) in centres {
             let effect = match (sphere.effect_diameter, sphere.effect_ratio) {
                 (Some(de), _) => de,
@@ -57,6 +69,7 @@ pub fn generate(scene: &Scene, material_index: &HashMap<String, u16>) -> Result<
                 None => DVec3::ZERO,
                 Some(VelocitySpec::Vector(v)) => DVec3::from_array(*v),
                 Some(VelocitySpec::Random(r)) => rng.direction() * (r.random.mean_speed + r.random.std * rng.normal()),
+                Some(VelocitySpec::Named(NamedVelocity::Flow)) => flow.map_or(DVec3::ZERO, |f| f.velocity(x)),
             };
             out.position.push(x);
             out.velocity.push(if group.fixed { DVec3::ZERO } else { v });

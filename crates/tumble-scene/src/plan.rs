@@ -117,6 +117,10 @@ pub struct Plan {
     pub resort_interval: u32,
     pub monitor: MonitorSection,
     pub bytes_per_particle: usize,
+    /// Write agglomerates.csv at every output interval.
+    pub agglomerates: bool,
+    /// Stk and Sy, with the scales they were taken at (Taylor–Green flows, cohesive scenes).
+    pub targets: crate::targets::Targets,
 }
 
 impl Plan {
@@ -173,6 +177,24 @@ impl Plan {
         let _ = writeln!(s, "features");
         for f in &self.features {
             let _ = writeln!(s, "  {:<12} {:<4} {}", f.name, if f.active { "on" } else { "off" }, f.reason);
+        }
+        if let Some(tg) = &self.targets.taylor_green {
+            let _ = write!(s, "taylor-green u_0 = {:.6} m/s (mean |u|), l_0 = pi/a = {:.6} m", tg.mean_flow_speed, tg.vortex_size);
+            match (tg.stokes_number, tg.viscosity) {
+                (Some(stk), Some(mu)) => {
+                    let _ = writeln!(s, ", Stk = {stk:.6} (mu = {mu:.6e} Pa s)");
+                }
+                _ => {
+                    let _ = writeln!(s);
+                }
+            }
+        }
+        if let Some(sy) = &self.targets.stickiness {
+            let _ = writeln!(
+                s,
+                "stickiness   Sy = {:.6} (k_c = {:.6e} N/m, e = {}, L_e = {:.4e} m, m* = {:.4e} kg, collision speed {:.6} m/s)",
+                sy.number, sy.stiffness, sy.restitution, sy.effect_length, sy.reduced_mass, sy.collision_speed
+            );
         }
         for w in &self.warnings {
             let _ = writeln!(s, "warning: {w}");
@@ -249,6 +271,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     // Contact laws per material pair.
     let n_mat = materials.len();
     let mut pairs = Vec::with_capacity(n_mat * n_mat);
+    let mut cohesion_specs = Vec::with_capacity(n_mat * n_mat);
     for a in 0..n_mat {
         for b in 0..n_mat {
             let over = scene.contact.pairs.iter().enumerate().find(|(_, p)| {
@@ -261,6 +284,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             let e = p.and_then(|p| p.restitution).unwrap_or(scene.contact.restitution);
             let tangential = p.and_then(|p| p.tangential.as_ref()).unwrap_or(&scene.contact.tangential);
             let cohesion = p.and_then(|p| p.cohesion.as_ref()).or(scene.contact.cohesion.as_ref());
+            cohesion_specs.push((field_root.clone(), cohesion.cloned()));
             let mut params = pair_params(&field_root, normal, e, tangential, cohesion, scene.contact.no_attraction, &materials[a], &materials[b])?;
             let rolling_root = if p.and_then(|p| p.rolling_friction).is_some() { field_root.as_str() } else { "contact" };
             params.rolling = non_negative(
@@ -379,10 +403,16 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         Some(fl) => {
             let drag = match fl.drag {
                 DragName::Stokes => Drag::Stokes {
-                    viscosity: positive(
-                        "fluid.viscosity",
-                        fl.viscosity.ok_or_else(|| SceneError::field("fluid.viscosity", "Stokes drag needs the dynamic viscosity in Pa s"))?,
-                    )?,
+                    viscosity: match fl.viscosity {
+                        Some(ViscositySpec::PascalSeconds(mu)) => positive("fluid.viscosity", mu)?,
+                        Some(ViscositySpec::Target(_)) => f64::NAN, // from the Stokes number, in targets::resolve
+                        None => {
+                            return Err(SceneError::field(
+                                "fluid.viscosity",
+                                "Stokes drag needs the dynamic viscosity in Pa s or { stokes_number = Stk }",
+                            ));
+                        }
+                    },
                 },
                 DragName::Quadratic => Drag::Quadratic {
                     coefficient: positive(
@@ -401,6 +431,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             Some(Fluid { drag, flow })
         }
     };
+    let mut fluid = fluid;
+    let targets = crate::targets::resolve(scene, &particles, &materials, &mut pairs, &cohesion_specs, &mut fluid)?;
     let gravity = match &scene.gravity {
         Some(g) => finite3("gravity.acceleration", g.acceleration)?,
         None => DVec3::ZERO,
@@ -558,6 +590,17 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             },
         },
     ];
+    let agglomerates = scene.run.agglomerates.unwrap_or(cohesion);
+    features.push(Feature {
+        name: "agglomerates",
+        active: agglomerates,
+        reason: match scene.run.agglomerates {
+            Some(true) => "run.agglomerates = true: agglomerates.csv at every output interval".into(),
+            Some(false) => "run.agglomerates = false".into(),
+            None if cohesion => "cohesion is on: agglomerates.csv at every output interval (run.agglomerates = false turns it off)".into(),
+            None => "no cohesion (run.agglomerates = true writes agglomerates.csv anyway)".into(),
+        },
+    });
     if !movable {
         features.push(Feature { name: "motion", active: false, reason: "every particle is fixed".into() });
     }
@@ -621,6 +664,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             resort_interval: run.resort_interval.unwrap_or(25),
             monitor: run.monitor,
             bytes_per_particle,
+            agglomerates,
+            targets,
         },
         particles,
     })
@@ -732,7 +777,12 @@ fn pair_params(
         }
     };
     let cohesion = match cohesion {
-        Some(c) => positive(&format!("{root}.cohesion.stiffness"), c.stiffness)?,
+        Some(CohesionSection { stiffness: Some(k), stickiness_number: None, .. }) => positive(&format!("{root}.cohesion.stiffness"), *k)?,
+        // Derived from Sy once the particles are known (targets::resolve).
+        Some(CohesionSection { stiffness: None, stickiness_number: Some(_), .. }) => f64::NAN,
+        Some(_) => {
+            return Err(SceneError::field(format!("{root}.cohesion"), "give exactly one of stiffness (k_c, N/m) or stickiness_number (Sy)"));
+        }
         None => 0.0,
     };
     Ok(PairParams { normal, tangential, cohesion, no_attraction, rolling: 0.0 })

@@ -44,6 +44,8 @@ pub struct RunSection {
     pub skin: Option<f64>,
     #[serde(default)]
     pub monitor: MonitorSection,
+    /// Write agglomerates.csv at every output interval (default: when cohesion is on).
+    pub agglomerates: Option<bool>,
 }
 
 fn default_seed() -> u64 {
@@ -126,14 +128,28 @@ pub struct GravitySection {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidSection {
-    /// Dynamic viscosity μ_f in Pa s (Stokes drag).
-    pub viscosity: Option<f64>,
+    /// Dynamic viscosity μ_f in Pa s (Stokes drag), or `{ stokes_number = Stk }` (Taylor–Green flow).
+    pub viscosity: Option<ViscositySpec>,
     #[serde(default)]
     pub drag: DragName,
     /// α in kg/m for quadratic drag.
     pub coefficient: Option<f64>,
     #[serde(default)]
     pub flow: FlowSection,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum ViscositySpec {
+    PascalSeconds(f64),
+    Target(StokesTarget),
+}
+
+/// μ_f chosen so that the particles' Stokes number in the Taylor–Green flow is `stokes_number`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StokesTarget {
+    pub stokes_number: f64,
 }
 
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
@@ -243,7 +259,12 @@ pub enum TangentialSection {
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CohesionSection {
-    pub stiffness: f64,
+    /// k_c in N/m; or give `stickiness_number` instead.
+    pub stiffness: Option<f64>,
+    /// Target Sy: k_c is derived from it (restitution, L_e = d_e − d_b, m*, collision speed).
+    pub stickiness_number: Option<f64>,
+    /// Collision speed of Sy in m/s (default: the Taylor–Green flow's mean speed u_0).
+    pub collision_speed: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -328,6 +349,14 @@ pub struct RegionSection {
 pub enum VelocitySpec {
     Vector(V3),
     Random(RandomVelocityWrapper),
+    /// `velocity = "flow"`: the local fluid velocity at each particle's position.
+    Named(NamedVelocity),
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum NamedVelocity {
+    Flow,
 }
 
 #[derive(Clone, Debug, Deserialize, PartialEq)]
