@@ -230,7 +230,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
 
 /// Agglomerate statistics of the current state (positions wrapped into the domain).
 fn agglomerates_of(sim: &Simulation) -> crate::agglomerates::AgglomerateStats {
-    let s = sim.cpu().state();
+    let s = sim.state();
     crate::agglomerates::agglomerates(&s.pos, &s.radius, Some(&sim.plan().domain))
 }
 

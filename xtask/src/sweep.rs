@@ -13,7 +13,7 @@ use tumble::{RunOptions, compile, read_scene, run_compiled};
 use tumble_scene::schema::{BackendName, CohesionSection, StokesTarget, ViscositySpec};
 
 const USAGE: &str = "usage: cargo xtask sweep [--stk 0.1,1,5,10] [--sy 0.1,0.6,1.0,1.5] [--particles 2000] [--box L] [--duration 2.0]
-                          [--window T0,T1] [--output-interval S] [--threads N] [--backend cpu] [--scene scenes/agglomeration_tg.toml]
+                          [--window T0,T1] [--output-interval S] [--threads N] [--backend cpu|gpu] [--scene scenes/agglomeration_tg.toml]
                           [--out docs/agglomeration] [--runs out/sweep]
   Runs every Stk x Sy scene (the example scene with those targets), averages agglomerates.csv over the window
   [default: the second half of the run] and writes OUT/sweep.csv, OUT/mean_size.svg/.png, OUT/void_fraction.svg/.png.
@@ -29,6 +29,8 @@ struct Options {
     window: Option<(f64, f64)>,
     output_interval: Option<f64>,
     threads: usize,
+    /// cpu: scenes in parallel, one thread each; gpu: one scene at a time on the adapter.
+    backend: BackendName,
     scene: PathBuf,
     out: PathBuf,
     runs: PathBuf,
@@ -48,6 +50,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         window: None,
         output_interval: None,
         threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        backend: BackendName::Cpu,
         scene: root().join("scenes/agglomeration_tg.toml"),
         out: root().join("docs/agglomeration"),
         runs: root().join("out/sweep"),
@@ -74,9 +77,10 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--threads" => o.threads = value()?.parse().map_err(|e| format!("--threads: {e}"))?,
             "--backend" => {
-                let b = value()?;
-                if b != "cpu" {
-                    return Err(format!("--backend {b}: only the cpu backend exists in this build (valid: cpu)"));
+                o.backend = match value()?.as_str() {
+                    "cpu" => BackendName::Cpu,
+                    "gpu" => BackendName::Gpu,
+                    b => return Err(format!("--backend {b}: valid backends are cpu and gpu")),
                 }
             }
             "--scene" => o.scene = PathBuf::from(value()?),
@@ -88,6 +92,9 @@ fn parse(args: &[String]) -> Result<Options, String> {
     }
     if o.stk.is_empty() || o.sy.is_empty() || o.particles == 0 || o.threads == 0 || o.duration.is_nan() || o.duration <= 0.0 {
         return Err("need at least one Stk and one Sy, particles > 0, threads > 0 and duration > 0".into());
+    }
+    if o.backend == BackendName::Gpu {
+        o.threads = 1; // one adapter: the scenes queue up on it
     }
     Ok(o)
 }
@@ -204,7 +211,7 @@ fn run_point(base: &tumble::Scene, o: &Options, stk: f64, sy: f64, window: (f64,
     scene.run.output_interval = Some(o.output_interval.unwrap_or(o.duration / 60.0));
     scene.run.snapshot_interval = None;
     scene.run.agglomerates = Some(true);
-    scene.run.backend = BackendName::Cpu;
+    scene.run.backend = o.backend;
     let a = match scene.fluid.as_ref().map(|f| &f.flow) {
         Some(tumble_scene::schema::FlowSection::TaylorGreen(tg)) => tg.frequency,
         _ => {
@@ -383,7 +390,9 @@ mod tests {
         let o = parse(&args).unwrap();
         assert_eq!((o.stk, o.sy, o.window, o.particles), (vec![1.0, 2.0], vec![0.5], Some((0.1, 0.2)), 10));
         assert!(parse(&["--window".into(), "0.2,0.1".into()]).is_err());
-        assert!(parse(&["--backend".into(), "gpu".into()]).is_err());
+        assert!(parse(&["--backend".into(), "tpu".into()]).is_err());
+        let gpu = parse(&["--backend".into(), "gpu".into(), "--threads".into(), "4".into()]).unwrap();
+        assert_eq!((gpu.backend, gpu.threads), (BackendName::Gpu, 1));
     }
 
     #[test]
