@@ -11,9 +11,11 @@
 //! assert_eq!(c.normal, DVec3::Z);
 //! ```
 
-pub use glam::DVec3;
+pub use glam::{DQuat, DVec3};
 
 mod periodic;
+mod polyhedron;
+mod pose;
 mod sphere_cylinder;
 mod sphere_plane;
 mod sphere_quad;
@@ -21,6 +23,8 @@ mod sphere_sphere;
 mod surface;
 
 pub use periodic::PeriodicBox;
+pub use polyhedron::{Edge, Face, Polyhedron};
+pub use pose::Pose;
 pub use sphere_cylinder::Cylinder;
 pub use sphere_plane::Plane;
 pub use sphere_quad::Quad;
