@@ -15,18 +15,24 @@ pub use glam::{DQuat, DVec3};
 
 mod periodic;
 mod polyhedron;
+mod polyhedron_polyhedron;
 mod pose;
 mod sphere_cylinder;
 mod sphere_plane;
+mod sphere_polyhedron;
 mod sphere_quad;
 mod sphere_sphere;
 mod surface;
 
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};
+pub use polyhedron_polyhedron::{
+    ContactFeature, ManifoldPoint, PolyContact, SeparationCache, polyhedron_polyhedron, polyhedron_polyhedron_cached, segment_closest_points,
+};
 pub use pose::Pose;
 pub use sphere_cylinder::Cylinder;
 pub use sphere_plane::Plane;
+pub use sphere_polyhedron::{closest_point_on_polyhedron, sphere_polyhedron};
 pub use sphere_quad::Quad;
 pub use sphere_sphere::{SpherePair, sphere_sphere};
 pub use surface::{SurfaceContact, SurfaceShape};

@@ -1,0 +1,205 @@
+//! The polyhedron contact routines against parry3d's GJK/EPA `contact` (the oracle).
+//!
+//! For random hulls and the named solids at random poses and overlaps:
+//! - parry finds a penetration deeper than 1e-6 of the size ⇒ we report a contact;
+//!   parry finds none (or a gap wider than that) ⇒ we report none;
+//! - depth within 5 % (or 1e-6 of the size) of parry's;
+//! - normal within 5° of parry's, unless the two normals are a tie: the overlap along parry's
+//!   normal, measured with the support functions, equals our depth (then either is a minimum);
+//! - our depth is the overlap of the two bodies along our own normal (support functions).
+
+use glam::DQuat;
+use parry3d_f64::query;
+use parry3d_f64::shape::{Ball, ConvexPolyhedron};
+use proptest::prelude::*;
+use tumble_geom::{DVec3, PolyContact, Polyhedron, Pose, polyhedron_polyhedron, sphere_polyhedron};
+
+fn named(k: usize, size: f64) -> Polyhedron {
+    match k % 8 {
+        0 => Polyhedron::cube(size),
+        1 => Polyhedron::cuboid(DVec3::new(0.5, 0.2, 0.3) * size),
+        2 => Polyhedron::tetrahedron(size),
+        3 => Polyhedron::octahedron(size),
+        4 => Polyhedron::dodecahedron(0.5 * size),
+        5 => Polyhedron::icosahedron(0.6 * size),
+        6 => Polyhedron::prism(3 + k % 5, 0.5 * size, 0.8 * size),
+        _ => Polyhedron::prism(6, 0.5 * size, 0.2 * size),
+    }
+}
+
+fn shape() -> impl Strategy<Value = Polyhedron> {
+    prop_oneof![
+        (0usize..40, 0.3f64..2.0).prop_map(|(k, s)| named(k, s)),
+        (proptest::collection::vec((-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0), 6..24), 0.2f64..1.0, 0.2f64..1.0)
+            .prop_filter_map("degenerate cloud", |(pts, sy, sz)| {
+                Polyhedron::from_points(&pts.iter().map(|&(x, y, z)| DVec3::new(x, y * sy, z * sz)).collect::<Vec<_>>())
+            }),
+    ]
+}
+
+fn rotation() -> impl Strategy<Value = DQuat> {
+    (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0).prop_filter_map("zero quaternion", |(x, y, z, w)| {
+        let q = DQuat::from_xyzw(x, y, z, w);
+        (q.length() > 0.1).then(|| q.normalize())
+    })
+}
+
+fn unit() -> impl Strategy<Value = DVec3> {
+    (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0).prop_filter_map("zero", |(x, y, z)| {
+        let v = DVec3::new(x, y, z);
+        (v.length() > 0.1).then(|| v.normalize())
+    })
+}
+
+/// The overlap of A and B along n (from B to A): max_B n·b − min_A n·a.
+fn overlap_along(a: &Polyhedron, pa: &Pose, b: &Polyhedron, pb: &Pose, n: DVec3) -> f64 {
+    let max_b = b.vertices().iter().map(|v| n.dot(pb.to_world(*v))).fold(f64::NEG_INFINITY, f64::max);
+    let min_a = a.vertices().iter().map(|v| n.dot(pa.to_world(*v))).fold(f64::INFINITY, f64::min);
+    max_b - min_a
+}
+
+#[derive(Debug, Default, Clone, Copy)]
+struct Stats {
+    cases: usize,
+    contacts: usize,
+    separated: usize,
+    ties: usize,
+    worst_angle_deg: f64,
+    worst_depth_rel: f64,
+}
+
+/// Compares one configuration; returns Err with a message on a mismatch.
+fn compare(
+    a: &Polyhedron,
+    pa: &Pose,
+    pha: &ConvexPolyhedron,
+    b: &Polyhedron,
+    pb: &Pose,
+    phb: &ConvexPolyhedron,
+    st: &mut Stats,
+) -> Result<(), String> {
+    let size = a.size().max(b.size());
+    let eps = 1e-6 * size;
+    let oracle = query::contact(&pa.to_parry(), pha, &pb.to_parry(), phb, 0.0).map_err(|e| format!("parry: {e:?}"))?;
+    let ours = polyhedron_polyhedron(a, pa, b, pb);
+    st.cases += 1;
+    match (oracle, ours) {
+        (Some(o), Some(c)) if o.dist < -eps => {
+            st.contacts += 1;
+            check_contact(&c, -o.normal1, -o.dist, size, st, |n| overlap_along(a, pa, b, pb, n))?;
+            let own = overlap_along(a, pa, b, pb, c.normal);
+            if (own - c.depth).abs() > 1e-9 * size {
+                return Err(format!("depth {} is not the overlap {own} along our normal", c.depth));
+            }
+            for m in c.manifold() {
+                if !(m.depth > 0.0 && m.depth <= c.depth + 1e-9 * size) {
+                    return Err(format!("manifold depth {} outside (0, {}]", m.depth, c.depth));
+                }
+            }
+            Ok(())
+        }
+        (Some(o), None) if o.dist < -eps => Err(format!("parry finds depth {} but we find no contact", -o.dist)),
+        (Some(o), Some(c)) if o.dist > eps => Err(format!("parry finds a gap {} but we find depth {}", o.dist, c.depth)),
+        (None, Some(c)) => Err(format!("parry finds no contact but we find depth {}", c.depth)),
+        (None, None) => {
+            st.separated += 1;
+            Ok(())
+        }
+        (Some(o), None) if o.dist >= 0.0 => {
+            st.separated += 1;
+            Ok(())
+        }
+        _ => Ok(()), // within eps of touching: either answer is right
+    }
+}
+
+fn check_contact(c: &PolyContact, n_ref: DVec3, d_ref: f64, size: f64, st: &mut Stats, overlap: impl Fn(DVec3) -> f64) -> Result<(), String> {
+    let derr = (c.depth - d_ref).abs();
+    if derr > (0.05 * d_ref).max(1e-6 * size) {
+        return Err(format!("depth {} vs parry {d_ref}", c.depth));
+    }
+    st.worst_depth_rel = st.worst_depth_rel.max(derr / d_ref.max(1e-6 * size));
+    let angle = c.normal.dot(n_ref).clamp(-1.0, 1.0).acos().to_degrees();
+    if angle > 5.0 {
+        // A tie: parry's normal is as short a way out as ours.
+        let along_ref = overlap(n_ref);
+        if (along_ref - c.depth).abs() > (0.05 * c.depth).max(1e-6 * size) {
+            return Err(format!("normal {:?} vs parry {n_ref:?} ({angle:.2}°), overlap along parry's {along_ref} vs depth {}", c.normal, c.depth));
+        }
+        st.ties += 1;
+    } else {
+        st.worst_angle_deg = st.worst_angle_deg.max(angle);
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn polyhedron_pairs_agree_with_parry(a in shape(), b in shape(), qa in rotation(), qb in rotation(), dir in unit(), frac in 0.0f64..1.1) {
+        let pb = Pose::new(DVec3::new(0.3, -0.2, 0.1), qb);
+        let pa = Pose::new(pb.position + dir * frac * (a.bounding_radius() + b.bounding_radius()), qa);
+        let mut st = Stats::default();
+        compare(&a, &pa, &a.to_parry(), &b, &pb, &b.to_parry(), &mut st).map_err(TestCaseError::fail)?;
+    }
+
+    #[test]
+    fn spheres_on_polyhedra_agree_with_parry(b in shape(), qb in rotation(), dir in unit(), frac in 0.0f64..1.2, r in 0.05f64..0.8) {
+        let pb = Pose::new(DVec3::new(-0.4, 0.2, 1.0), qb);
+        let centre = pb.position + dir * frac * (b.bounding_radius() + r);
+        let size = b.size();
+        let eps = 1e-6 * size;
+        let oracle = query::contact(&Pose::from_position(centre).to_parry(), &Ball::new(r), &pb.to_parry(), &b.to_parry(), 0.0).unwrap();
+        let ours = sphere_polyhedron(centre, r, &b, &pb);
+        match (oracle, ours) {
+            (Some(o), Some(c)) if o.dist < -eps => {
+                let mut st = Stats::default();
+                check_contact(&c, -o.normal1, -o.dist, size, &mut st, |_| f64::NAN).map_err(TestCaseError::fail)?;
+            }
+            (Some(o), None) if o.dist < -eps => prop_assert!(false, "parry finds depth {} but we find none", -o.dist),
+            (Some(o), Some(c)) if o.dist > eps => prop_assert!(false, "parry gap {} but we find depth {}", o.dist, c.depth),
+            (None, Some(c)) => prop_assert!(false, "parry none, we find depth {}", c.depth),
+            _ => {}
+        }
+    }
+}
+
+/// A seeded sweep that reports the worst normal angle and depth error (run with --nocapture).
+#[test]
+fn sweep_reports_worst_errors() {
+    let mut s = 0x9e3779b97f4a7c15u64;
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut shapes: Vec<Polyhedron> = (0..16).map(|k| named(k, 0.5 + rnd())).collect();
+    while shapes.len() < 32 {
+        let n = 6 + (rnd() * 16.0) as usize;
+        let pts: Vec<DVec3> = (0..n).map(|_| DVec3::new(rnd() - 0.5, 0.6 * (rnd() - 0.5), 0.9 * (rnd() - 0.5))).collect();
+        if let Some(p) = Polyhedron::from_points(&pts) {
+            shapes.push(p);
+        }
+    }
+    let parry: Vec<ConvexPolyhedron> = shapes.iter().map(|p| p.to_parry()).collect();
+    let mut quat = || DQuat::from_xyzw(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
+    let mut st = Stats::default();
+    let mut failures = Vec::new();
+    let mut r2 = 0.31f64;
+    for i in 0..1500 {
+        let (ia, ib) = (i % shapes.len(), (i * 7 + 3) % shapes.len());
+        let (qa, qb) = (quat(), quat());
+        r2 = (r2 * 3.9 * (1.0 - r2)).clamp(0.01, 0.99); // a cheap second stream for the distances
+        let dir = (qa * DVec3::X + qb * DVec3::Y * 0.3).normalize();
+        let (a, b) = (&shapes[ia], &shapes[ib]);
+        let pb = Pose::new(DVec3::ZERO, qb);
+        let pa = Pose::new(dir * r2 * (a.bounding_radius() + b.bounding_radius()), qa);
+        if let Err(e) = compare(a, &pa, &parry[ia], b, &pb, &parry[ib], &mut st) {
+            failures.push(format!("case {i} ({ia} vs {ib}): {e}"));
+        }
+    }
+    eprintln!("polyhedron sweep: {st:?}");
+    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+}
