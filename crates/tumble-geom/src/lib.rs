@@ -15,7 +15,10 @@ pub use glam::{DQuat, DVec3};
 
 mod periodic;
 mod polyhedron;
+mod polyhedron_cylinder;
+mod polyhedron_plane;
 mod polyhedron_polyhedron;
+mod polyhedron_quad;
 mod pose;
 mod sphere_cylinder;
 mod sphere_plane;

@@ -345,7 +345,7 @@ fn merge_faces(points: &[DVec3], tris: &[[u32; 3]], size: f64) -> Option<(Vec<DV
 }
 
 /// Counter-clockwise (about `n`) strictly convex hull of the given points of one plane.
-fn planar_hull(points: &[DVec3], idx: &[u32], n: DVec3, size: f64) -> Option<Vec<u32>> {
+pub(crate) fn planar_hull(points: &[DVec3], idx: &[u32], n: DVec3, size: f64) -> Option<Vec<u32>> {
     let t1 = n.any_orthonormal_vector();
     let t2 = n.cross(t1);
     let mut p: Vec<(f64, f64, u32)> = idx.iter().map(|&i| (points[i as usize].dot(t1), points[i as usize].dot(t2), i)).collect();
