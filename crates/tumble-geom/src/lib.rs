@@ -3,6 +3,12 @@
 //! Everything here is pure geometry in `f64`: no masses, no forces, no scenes.
 //! The narrow phase has one file per shape pair behind [`SurfaceShape::sphere_contact`].
 //!
+//! Convex polyhedra ([`Polyhedron`], posed by [`Pose`]) meet each other through
+//! [`polyhedron_polyhedron`], spheres through [`sphere_polyhedron`] and walls through
+//! [`SurfaceShape::polyhedron_contact`]; every such contact is a [`PolyContact`] with the normal
+//! from B (the second body, or the wall) to A, a depth ≥ 0 and up to four manifold points.
+//! parry3d-f64 computes hulls and mass properties and is the oracle of the property tests.
+//!
 //! ```
 //! use tumble_geom::{DVec3, Plane, SurfaceShape};
 //! let floor = SurfaceShape::Plane(Plane::new(DVec3::ZERO, DVec3::Z));

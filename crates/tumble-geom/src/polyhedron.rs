@@ -173,6 +173,28 @@ impl Polyhedron {
         Polyhedron::from_points(&pts).expect("a prism with positive radius and height")
     }
 
+    /// The same shape scaled by `factor > 0` about its centre of mass (one particle type per size).
+    ///
+    /// ```
+    /// use tumble_geom::Polyhedron;
+    /// let big = Polyhedron::tetrahedron(1.0).scaled(3.0);
+    /// assert!((big.volume() - 27.0 * Polyhedron::tetrahedron(1.0).volume()).abs() < 1e-12);
+    /// ```
+    pub fn scaled(&self, factor: f64) -> Polyhedron {
+        assert!(factor > 0.0 && factor.is_finite(), "scale factor must be positive");
+        let mut p = self.clone();
+        p.vertices.iter_mut().for_each(|v| *v *= factor);
+        for f in &mut p.faces {
+            f.centroid *= factor;
+            f.offset *= factor;
+        }
+        p.bounding_radius *= factor;
+        p.volume *= factor.powi(3);
+        p.unit_inertia *= factor.powi(5);
+        p.input_to_body.position *= factor;
+        p
+    }
+
     /// Vertices in the body frame.
     pub fn vertices(&self) -> &[DVec3] {
         &self.vertices

@@ -177,24 +177,35 @@ pub fn polyhedron_polyhedron_cached(
             best_a = (s, fi);
         }
     }
-    // Edge pairs that form a face of the Minkowski difference.
+    // Edge pairs that form a face of the Minkowski difference (Gauss-map arcs cross). With arcs
+    // a→b (A's edge) and c→d (B's, negated normals): c, d on opposite sides of the plane of a, b;
+    // a, b on opposite sides of the plane of c, d; and the same hemisphere.
     let mut best_e = (f64::NEG_INFINITY, 0usize, 0usize);
-    let eb: Buf<(DVec3, DVec3, DVec3)> = b
+    let eb: Buf<(u32, u32, DVec3)> = b
         .edges()
         .iter()
         .map(|e| {
-            let (c, d) = (-b.faces()[e.faces[0] as usize].normal, -b.faces()[e.faces[1] as usize].normal);
-            (c, d, d.cross(c))
+            let (n0, n1) = (b.faces()[e.faces[0] as usize].normal, b.faces()[e.faces[1] as usize].normal);
+            (e.faces[0], e.faces[1], n1.cross(n0)) // d × c with c = −n0, d = −n1
         })
         .collect();
+    let mut side_b: Buf<f64> = smallvec::smallvec![0.0; b.faces().len()];
     for (ia, ea) in a.edges().iter().enumerate() {
         let (an, bn) = (na[ea.faces[0] as usize], na[ea.faces[1] as usize]);
         let bxa = bn.cross(an);
+        // n_f · (b × a) for every face of B once per edge of A; c·(b×a) = −that.
+        for (sb, f) in side_b.iter_mut().zip(b.faces()) {
+            *sb = f.normal.dot(bxa);
+        }
         let (p0, p1) = (va[ea.vertices[0] as usize], va[ea.vertices[1] as usize]);
         let u = p1 - p0;
-        for (ib, &(c, d, dxc)) in eb.iter().enumerate() {
-            let (cba, dba, adc, bdc) = (c.dot(bxa), d.dot(bxa), an.dot(dxc), bn.dot(dxc));
-            if !(cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0) {
+        for (ib, &(f0, f1, dxc)) in eb.iter().enumerate() {
+            let (cba, dba) = (-side_b[f0 as usize], -side_b[f1 as usize]);
+            if cba * dba >= 0.0 {
+                continue;
+            }
+            let (adc, bdc) = (an.dot(dxc), bn.dot(dxc));
+            if !(adc * bdc < 0.0 && cba * bdc > 0.0) {
                 continue;
             }
             let eb_ = &b.edges()[ib];

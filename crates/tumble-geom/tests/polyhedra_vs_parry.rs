@@ -144,6 +144,17 @@ proptest! {
         compare(&a, &pa, &a.to_parry(), &b, &pb, &b.to_parry(), &mut st).map_err(TestCaseError::fail)?;
     }
 
+    /// Sizes two decades apart, and deep overlaps (centre of the small one inside the big one).
+    #[test]
+    fn polyhedra_of_very_different_sizes_agree_with_parry(a in shape(), b in shape(), qa in rotation(), qb in rotation(), dir in unit(),
+                                                          frac in 0.0f64..1.05, scale in -2.0f64..2.0) {
+        let a = a.scaled(10f64.powf(scale));
+        let pb = Pose::new(DVec3::new(1.0, 2.0, -3.0), qb);
+        let pa = Pose::new(pb.position + dir * frac * (a.bounding_radius() + b.bounding_radius()), qa);
+        let mut st = Stats::default();
+        compare(&a, &pa, &a.to_parry(), &b, &pb, &b.to_parry(), &mut st).map_err(TestCaseError::fail)?;
+    }
+
     #[test]
     fn spheres_on_polyhedra_agree_with_parry(b in shape(), qb in rotation(), dir in unit(), frac in 0.0f64..1.2, r in 0.05f64..0.8) {
         let pb = Pose::new(DVec3::new(-0.4, 0.2, 1.0), qb);
