@@ -180,7 +180,8 @@ pub fn polyhedron_polyhedron_cached(
     // Edge pairs that form a face of the Minkowski difference (Gauss-map arcs cross). With arcs
     // a→b (A's edge) and c→d (B's, negated normals): c, d on opposite sides of the plane of a, b;
     // a, b on opposite sides of the plane of c, d; and the same hemisphere.
-    let mut best_e = (f64::NEG_INFINITY, 0usize, 0usize);
+    // Only edge pairs shallower than the best face matter.
+    let mut best_e = (best_a.0.max(best_b.0), usize::MAX, usize::MAX);
     let eb: Buf<(u32, u32, DVec3)> = b
         .edges()
         .iter()
@@ -211,20 +212,27 @@ pub fn polyhedron_polyhedron_cached(
             let eb_ = &b.edges()[ib];
             let q0 = vb[eb_.vertices[0] as usize];
             let v = vb[eb_.vertices[1] as usize] - q0;
-            let Some(s) = edge_separation(u, v, p0, q0) else { continue };
-            if s >= 0.0 {
+            // Separation num/len along n = u × v (unnormalised) oriented away from B's centre;
+            // the square root only for a new best (num < 0 < len: s > thr ⇔ num² < thr² len²).
+            let n = u.cross(v);
+            let len2 = n.length_squared();
+            if len2 <= 1e-24 * u.length_squared() * v.length_squared() {
+                continue; // parallel edges: a face axis covers them
+            }
+            let num = if n.dot(q0) < 0.0 { -n.dot(p0 - q0) } else { n.dot(p0 - q0) };
+            if num >= 0.0 {
                 cache.feature = Some(ContactFeature::EdgeEdge(ia as u32, ib as u32));
                 return None;
             }
-            if s > best_e.0 {
-                best_e = (s, ia, ib);
+            if num * num < best_e.0 * best_e.0 * len2 {
+                best_e = (num / len2.sqrt(), ia, ib);
             }
         }
     }
 
     // Minimum penetration; face contacts win near-ties (they give the steadier manifold).
     let tie = 1e-9 * (a.size() + b.size());
-    let contact = if best_e.0 > best_a.0.max(best_b.0) + tie {
+    let contact = if best_e.1 != usize::MAX && best_e.0 > best_a.0.max(best_b.0) + tie {
         let (ea, eb_) = (&a.edges()[best_e.1], &b.edges()[best_e.2]);
         let (p0, p1) = (va[ea.vertices[0] as usize], va[ea.vertices[1] as usize]);
         let (q0, q1) = (vb[eb_.vertices[0] as usize], vb[eb_.vertices[1] as usize]);
@@ -303,21 +311,6 @@ pub(crate) fn min_dot(pts: &[DVec3], n: DVec3) -> f64 {
 #[inline]
 pub(crate) fn max_dot(pts: &[DVec3], n: DVec3) -> f64 {
     pts.iter().map(|p| p.dot(n)).fold(f64::NEG_INFINITY, f64::max)
-}
-
-/// Signed separation along the edge axis u × v, oriented away from B's centre (the origin of
-/// B's frame): positive when the edges are apart. `None` for (nearly) parallel edges, whose
-/// axis a face normal already covers.
-#[inline]
-fn edge_separation(u: DVec3, v: DVec3, p0: DVec3, q0: DVec3) -> Option<f64> {
-    let n = u.cross(v);
-    let l2 = n.length_squared();
-    if l2 <= 1e-24 * u.length_squared() * v.length_squared() {
-        return None;
-    }
-    let n = n / l2.sqrt();
-    let n = if n.dot(q0) < 0.0 { -n } else { n };
-    Some(n.dot(p0 - q0))
 }
 
 /// Closest points between segments P(s) = p0 + s u and Q(t) = q0 + t v, s, t ∈ [0, 1]
