@@ -36,7 +36,8 @@ mod surface;
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};
 pub use polyhedron_polyhedron::{
-    ContactFeature, ManifoldPoint, PolyContact, SeparationCache, polyhedron_polyhedron, polyhedron_polyhedron_cached, segment_closest_points,
+    ContactFeature, ManifoldPoint, PolyContact, SAT_MAX_EDGE_PAIRS, SeparationCache, polyhedron_polyhedron, polyhedron_polyhedron_cached,
+    polyhedron_polyhedron_gjk, polyhedron_polyhedron_sat, segment_closest_points,
 };
 pub use pose::Pose;
 pub use sphere_cylinder::Cylinder;

@@ -1,6 +1,7 @@
 use glam::{DMat3, DQuat};
 use parry3d_f64::mass_properties::MassProperties;
 use parry3d_f64::math::SymmetricEigen3;
+use parry3d_f64::shape::ConvexPolyhedron;
 
 use crate::{DVec3, Pose};
 
@@ -52,6 +53,8 @@ pub struct Polyhedron {
     volume: f64,
     unit_inertia: DVec3,
     input_to_body: Pose,
+    /// parry3d's copy of the shape (body frame), for the GJK/EPA path of large shapes.
+    parry: ConvexPolyhedron,
 }
 
 /// Relative tolerance (of the size) for coplanarity and collinearity when building faces.
@@ -88,7 +91,8 @@ impl Polyhedron {
         // input = com + axes · body, so the body frame sits at `com` with orientation `rotation` in the input frame;
         // input_to_body maps input coordinates to body coordinates.
         let input_to_body = Pose { position: -rotation.inverse().mul_vec3(com), rotation: rotation.inverse() };
-        Some(Polyhedron { vertices, faces, edges, bounding_radius, volume, unit_inertia, input_to_body })
+        let parry = ConvexPolyhedron::from_convex_hull(&vertices)?;
+        Some(Polyhedron { vertices, faces, edges, bounding_radius, volume, unit_inertia, input_to_body, parry })
     }
 
     /// A cube of edge length `edge`.
@@ -192,6 +196,7 @@ impl Polyhedron {
         p.volume *= factor.powi(3);
         p.unit_inertia *= factor.powi(5);
         p.input_to_body.position *= factor;
+        p.parry = ConvexPolyhedron::from_convex_hull(&p.vertices).expect("a scaled hull stays valid");
         p
     }
 
@@ -273,8 +278,13 @@ impl Polyhedron {
     }
 
     /// The same shape as parry3d's convex polyhedron, in the body frame.
-    pub fn to_parry(&self) -> parry3d_f64::shape::ConvexPolyhedron {
-        parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&self.vertices).expect("a valid hull stays valid")
+    pub fn parry_shape(&self) -> &ConvexPolyhedron {
+        &self.parry
+    }
+
+    /// A copy of [`Self::parry_shape`].
+    pub fn to_parry(&self) -> ConvexPolyhedron {
+        self.parry.clone()
     }
 }
 

@@ -12,7 +12,7 @@ use glam::DQuat;
 use parry3d_f64::query;
 use parry3d_f64::shape::{Ball, ConvexPolyhedron};
 use proptest::prelude::*;
-use tumble_geom::{DVec3, PolyContact, Polyhedron, Pose, polyhedron_polyhedron, sphere_polyhedron};
+use tumble_geom::{DVec3, PolyContact, Polyhedron, Pose, SeparationCache, polyhedron_polyhedron, polyhedron_polyhedron_sat, sphere_polyhedron};
 
 fn named(k: usize, size: f64) -> Polyhedron {
     match k % 8 {
@@ -81,7 +81,8 @@ fn compare(
     let size = a.size().max(b.size());
     let eps = 1e-6 * size;
     let oracle = query::contact(&pa.to_parry(), pha, &pb.to_parry(), phb, 0.0).map_err(|e| format!("parry: {e:?}"))?;
-    let ours = polyhedron_polyhedron(a, pa, b, pb);
+    // The fast path itself, whatever the shapes' size (the dispatcher may hand large ones to parry).
+    let ours = polyhedron_polyhedron_sat(a, pa, b, pb, &mut SeparationCache::default());
     st.cases += 1;
     match (oracle, ours) {
         (Some(o), Some(c)) if o.dist < -eps => {
@@ -338,4 +339,35 @@ mod walls {
             }
         }
     }
+}
+
+/// Large hulls go to parry3d through the dispatcher; the fast path agrees with it there too.
+#[test]
+fn large_hulls_use_gjk_and_agree_with_the_fast_path() {
+    let mut s = 5u64;
+    let mut r = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let ball = Polyhedron::from_points(&(0..40).map(|_| DVec3::new(r(), r(), r()).normalize()).collect::<Vec<_>>()).unwrap();
+    assert!(ball.edges().len().pow(2) > tumble_geom::SAT_MAX_EDGE_PAIRS);
+    let mut found = 0;
+    for k in 0..200 {
+        let q = DQuat::from_xyzw(r(), r(), r(), r()).normalize();
+        let pa = Pose::new(DVec3::new(r(), r(), r()).normalize() * (1.2 + 0.8 * r()), q);
+        let via = polyhedron_polyhedron(&ball, &pa, &ball, &Pose::IDENTITY);
+        let sat = polyhedron_polyhedron_sat(&ball, &pa, &ball, &Pose::IDENTITY, &mut SeparationCache::default());
+        match (via, sat) {
+            (Some(g), Some(c)) => {
+                found += 1;
+                assert_eq!(g.feature, tumble_geom::ContactFeature::Gjk);
+                assert!((g.depth - c.depth).abs() <= (0.05 * c.depth).max(1e-6f64), "case {k}: {} vs {}", g.depth, c.depth);
+            }
+            (None, None) => {}
+            (g, c) => assert!(g.map_or(0.0, |g| g.depth).max(c.map_or(0.0, |c| c.depth)) < 1e-6, "case {k}: {g:?} vs {c:?}"),
+        }
+    }
+    assert!(found > 20, "{found}");
 }
