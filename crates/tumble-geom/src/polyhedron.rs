@@ -75,7 +75,7 @@ impl Polyhedron {
         let mp = MassProperties::from_convex_polyhedron(1.0, &hull_pts, &tris);
         let volume = mp.mass();
         let size = hull_pts.iter().map(|p| (*p - hull_pts[0]).length()).fold(0.0, f64::max);
-        if !(volume > 1e-12 * size * size * size) {
+        if volume.is_nan() || volume <= 1e-12 * size * size * size {
             return None;
         }
         let com = mp.local_com;

@@ -175,7 +175,7 @@ pub fn polyhedron_polyhedron_sat(a: &Polyhedron, pose_a: &Pose, b: &Polyhedron, 
     let na: Buf<DVec3> = a.faces().iter().map(|f| r * f.normal).collect();
     let oa: Buf<f64> = a.faces().iter().zip(&na).map(|(f, n)| f.offset + n.dot(t)).collect();
     let vb = b.vertices();
-    let ctx = Ctx { a, b, va: &va, na: &na, oa: &oa, t };
+    let ctx = Ctx { a, b, va: &va, na: &na, oa: &oa };
 
     if let Some(f) = cache.feature
         && ctx.separation(f).is_some_and(|s| s >= 0.0)
@@ -300,12 +300,10 @@ struct Ctx<'a> {
     va: &'a [DVec3],
     na: &'a [DVec3],
     oa: &'a [f64],
-    t: DVec3,
 }
 
 impl Ctx<'_> {
     fn separation(&self, f: ContactFeature) -> Option<f64> {
-        let _ = self.t;
         match f {
             ContactFeature::FaceB(i) => {
                 let face = self.b.faces().get(i as usize)?;
