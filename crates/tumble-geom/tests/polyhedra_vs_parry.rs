@@ -213,6 +213,30 @@ fn sweep_reports_worst_errors() {
         }
     }
     eprintln!("polyhedron sweep: {st:?}");
+    // Spheres around the same shapes.
+    let mut ss = Stats::default();
+    for i in 0..1500 {
+        let b = &shapes[i % shapes.len()];
+        let pb = Pose::new(DVec3::ZERO, quat());
+        let r = 0.05 + 0.5 * r2;
+        r2 = (r2 * 3.9 * (1.0 - r2)).clamp(0.01, 0.99);
+        let centre = (pb.rotation * DVec3::new(0.3, 1.0, -0.2)).normalize() * (b.bounding_radius() + r) * r2 * 1.1;
+        let oracle = query::contact(&Pose::from_position(centre).to_parry(), &Ball::new(r), &pb.to_parry(), &parry[i % shapes.len()], 0.0).unwrap();
+        let size = b.size();
+        ss.cases += 1;
+        match (oracle, sphere_polyhedron(centre, r, b, &pb)) {
+            (Some(o), Some(c)) if o.dist < -1e-6 * size => {
+                ss.contacts += 1;
+                if let Err(e) = check_contact(&c, -o.normal1, -o.dist, size, &mut ss, |_| f64::NAN) {
+                    failures.push(format!("sphere case {i}: {e}"));
+                }
+            }
+            (Some(o), None) if o.dist < -1e-6 * size => failures.push(format!("sphere case {i}: parry depth {}, ours none", -o.dist)),
+            (None, Some(c)) => failures.push(format!("sphere case {i}: parry none, ours {}", c.depth)),
+            _ => ss.separated += 1,
+        }
+    }
+    eprintln!("sphere sweep: {ss:?}");
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
 }
 
