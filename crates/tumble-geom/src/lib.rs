@@ -3,6 +3,12 @@
 //! Everything here is pure geometry in `f64`: no masses, no forces, no scenes.
 //! The narrow phase has one file per shape pair behind [`SurfaceShape::sphere_contact`].
 //!
+//! Convex polyhedra ([`Polyhedron`], posed by [`Pose`]) meet each other through
+//! [`polyhedron_polyhedron`], spheres through [`sphere_polyhedron`] and walls through
+//! [`SurfaceShape::polyhedron_contact`]; every such contact is a [`PolyContact`] with the normal
+//! from B (the second body, or the wall) to A, a depth ≥ 0 and up to four manifold points.
+//! parry3d-f64 computes hulls and mass properties and is the oracle of the property tests.
+//!
 //! ```
 //! use tumble_geom::{DVec3, Plane, SurfaceShape};
 //! let floor = SurfaceShape::Plane(Plane::new(DVec3::ZERO, DVec3::Z));
@@ -11,20 +17,34 @@
 //! assert_eq!(c.normal, DVec3::Z);
 //! ```
 
-pub use glam::DVec3;
+pub use glam::{DQuat, DVec3};
 
 mod enclosing_sphere;
 mod periodic;
+mod polyhedron;
+mod polyhedron_cylinder;
+mod polyhedron_plane;
+mod polyhedron_polyhedron;
+mod polyhedron_quad;
+mod pose;
 mod sphere_cylinder;
 mod sphere_plane;
+mod sphere_polyhedron;
 mod sphere_quad;
 mod sphere_sphere;
 mod surface;
 
 pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosing_sphere_of_spheres, tangent_balls};
 pub use periodic::PeriodicBox;
+pub use polyhedron::{Edge, Face, Polyhedron};
+pub use polyhedron_polyhedron::{
+    ContactFeature, ManifoldPoint, PolyContact, SAT_MAX_EDGE_PAIRS, SeparationCache, polyhedron_polyhedron, polyhedron_polyhedron_cached,
+    polyhedron_polyhedron_gjk, polyhedron_polyhedron_sat, segment_closest_points,
+};
+pub use pose::Pose;
 pub use sphere_cylinder::Cylinder;
 pub use sphere_plane::Plane;
+pub use sphere_polyhedron::{closest_point_on_polyhedron, sphere_polyhedron};
 pub use sphere_quad::Quad;
 pub use sphere_sphere::{SpherePair, sphere_sphere};
 pub use surface::{SurfaceContact, SurfaceShape};

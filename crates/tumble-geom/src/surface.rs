@@ -1,4 +1,4 @@
-use crate::{Cylinder, DVec3, Plane, Quad};
+use crate::{Cylinder, DVec3, Plane, PolyContact, Polyhedron, Pose, Quad};
 
 /// A sphere touching a world surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,6 +32,16 @@ impl SurfaceShape {
             SurfaceShape::Plane(p) => p.sphere_proximity(centre, radius, reach),
             SurfaceShape::Quad(q) => q.sphere_proximity(centre, radius, reach),
             SurfaceShape::Cylinder(c) => c.sphere_proximity(centre, radius, reach),
+        }
+    }
+
+    /// Contact of a convex polyhedron (at `pose`) with this surface: normal from the surface to
+    /// the polyhedron, depth ≥ 0, up to four manifold points (see the per-shape methods).
+    pub fn polyhedron_contact(&self, poly: &Polyhedron, pose: &Pose) -> Option<PolyContact> {
+        match self {
+            SurfaceShape::Plane(p) => p.polyhedron_contact(poly, pose),
+            SurfaceShape::Quad(q) => q.polyhedron_contact(poly, pose),
+            SurfaceShape::Cylinder(c) => c.polyhedron_contact(poly, pose),
         }
     }
 }
