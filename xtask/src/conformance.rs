@@ -129,7 +129,7 @@ fn taylor_green(backend: Backend) -> Vec<Measured> {
     let contacts: u64 = outputs.iter().map(|o| o.contacts).sum();
     vec![
         against_cpu("taylor-green: mean speed [m/s]", mean_speed, Error::Relative, 1e-3),
-        against_cpu("taylor-green: contacts over outputs", contacts as f64, Error::Relative, 0.25),
+        against_cpu("taylor-green: contacts over outputs", contacts as f64, Error::Relative, 0.2),
     ]
 }
 
@@ -139,7 +139,7 @@ fn cohesive_cluster(backend: Backend) -> Vec<Measured> {
     let domain = scene.plan.domain;
     let (sim, _) = run_with_outputs(backend, scene);
     let s = sim.state();
-    vec![against_cpu("cohesive cluster: agglomerates", agglomerates(&s, &domain) as f64, Error::Relative, 0.15)]
+    vec![against_cpu("cohesive cluster: agglomerates", agglomerates(&s, &domain) as f64, Error::Relative, 0.1)]
 }
 
 /// Agglomerates: groups of particles linked through overlapping effect surfaces.
