@@ -199,6 +199,21 @@ impl GpuSimulation {
         rows
     }
 
+    /// The broad phase's tables after the last binning: cell of each slot, cell starts
+    /// (cells + 2 entries: the removed bucket, then the total) and the slots in cell order.
+    pub fn cell_tables(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+        let b = &self.buffers;
+        let n = self.slots as u64;
+        let cells = b.scan_sizes[0] as u64;
+        let v = self.read_bytes(&[(&b.cell, 4 * n), (&b.cell_start, 4 * cells), (&b.cell_list, 4 * n)]);
+        (bytemuck::pod_collect_to_vec(&v[0]), bytemuck::pod_collect_to_vec(&v[1]), bytemuck::pod_collect_to_vec(&v[2]))
+    }
+
+    /// Levels of the prefix sum over the cell counts.
+    pub fn scan_levels(&self) -> usize {
+        self.buffers.scan_sizes.len()
+    }
+
     /// Contact force on the particle with id `id` in the last force pass, if it is still in the domain.
     pub fn contact_force(&self, id: u32) -> Option<DVec3> {
         let n = self.slots as usize;
