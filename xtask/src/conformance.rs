@@ -129,7 +129,7 @@ fn taylor_green(backend: Backend) -> Vec<Measured> {
     let contacts: u64 = outputs.iter().map(|o| o.contacts).sum();
     vec![
         against_cpu("taylor-green: mean speed [m/s]", mean_speed, Error::Relative, 1e-3),
-        against_cpu("taylor-green: contacts over outputs", contacts as f64, Error::Relative, 0.25),
+        against_cpu("taylor-green: contacts over outputs", contacts as f64, Error::Relative, 0.2),
     ]
 }
 
@@ -141,7 +141,7 @@ fn cohesive_cluster(backend: Backend) -> Vec<Measured> {
     let s = sim.state();
     let periodic = domain.periodic.iter().any(|&p| p).then_some(&domain);
     let count = tumble::agglomerates::agglomerates(&s.pos, &s.radius, periodic).count;
-    vec![against_cpu("cohesive cluster: agglomerates", count as f64, Error::Relative, 0.15)]
+    vec![against_cpu("cohesive cluster: agglomerates", count as f64, Error::Relative, 0.1)]
 }
 
 /// Every measurement of the suite on one backend.

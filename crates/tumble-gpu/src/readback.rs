@@ -177,18 +177,41 @@ impl GpuSimulation {
         o
     }
 
-    /// Tracked particles, by id.
+    /// Tracked particles, by id (reads back positions, velocities, spins and properties only).
     pub fn tracks(&self) -> Vec<TrackRow> {
-        let s = self.state();
-        (0..s.len())
-            .filter(|&i| s.track[i])
+        let b = &self.buffers;
+        let n = self.slots as u64;
+        let v = self.read_bytes(&[(&b.pos, 16 * n), (&b.vel, 16 * n), (&b.omega, 16 * n), (&b.props, 16 * n)]);
+        let (pos, vel, omega): (Vec<[f32; 4]>, Vec<[f32; 4]>, Vec<[f32; 4]>) =
+            (bytemuck::pod_collect_to_vec(&v[0]), bytemuck::pod_collect_to_vec(&v[1]), bytemuck::pod_collect_to_vec(&v[2]));
+        let props: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&v[3]);
+        let origin = crate::upload::centre(&self.plan);
+        let mut rows: Vec<TrackRow> = (0..pos.len())
+            .filter(|&i| props[i][3] & FLAG_DEAD == 0 && self.track[props[i][2] as usize])
             .map(|i| TrackRow {
-                id: s.id[i],
-                position: s.pos[i],
-                velocity: s.vel[i],
-                angular_velocity: if s.omega.is_empty() { DVec3::ZERO } else { s.omega[i] },
+                id: props[i][2],
+                position: v3(pos[i]) + origin,
+                velocity: v3(vel[i]),
+                angular_velocity: if self.plan.rotation { v3(omega[i]) } else { DVec3::ZERO },
             })
-            .collect()
+            .collect();
+        rows.sort_by_key(|r| r.id);
+        rows
+    }
+
+    /// The broad phase's tables after the last binning: cell of each slot, cell starts
+    /// (cells + 2 entries: the removed bucket, then the total) and the slots in cell order.
+    pub fn cell_tables(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+        let b = &self.buffers;
+        let n = self.slots as u64;
+        let cells = b.scan_sizes[0] as u64;
+        let v = self.read_bytes(&[(&b.cell, 4 * n), (&b.cell_start, 4 * cells), (&b.cell_list, 4 * n)]);
+        (bytemuck::pod_collect_to_vec(&v[0]), bytemuck::pod_collect_to_vec(&v[1]), bytemuck::pod_collect_to_vec(&v[2]))
+    }
+
+    /// Levels of the prefix sum over the cell counts.
+    pub fn scan_levels(&self) -> usize {
+        self.buffers.scan_sizes.len()
     }
 
     /// Contact force on the particle with id `id` in the last force pass, if it is still in the domain.

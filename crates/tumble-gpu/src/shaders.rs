@@ -157,3 +157,30 @@ fn uses(text: &str, ident: &str) -> bool {
         !word(before) && !word(after)
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::upload::{SCAN_BLOCK, SCAN_THREADS, WORKGROUP};
+
+    #[test]
+    fn host_and_shader_constants_agree() {
+        assert!(COMMON.contains(&format!("const WORKGROUP: u32 = {WORKGROUP}u;")));
+        assert!(SCAN.contains(&format!("const BLOCK: u32 = {SCAN_BLOCK}u;")));
+        assert!(SCAN.contains(&format!("const SCAN_THREADS: u32 = {SCAN_THREADS}u;")));
+        assert!(COMMON.contains(&format!("const FLAG_DEAD: u32 = {}u;", crate::upload::FLAG_DEAD)));
+        assert!(COMMON.contains(&format!("const FLAG_FIXED: u32 = {}u;", crate::upload::FLAG_FIXED)));
+    }
+
+    #[test]
+    fn every_switch_is_an_override_and_modules_get_only_the_ones_they_use() {
+        let all = Switches::all();
+        for (name, _) in all[0].constants() {
+            assert!(COMMON.contains(&format!("override {name}:")), "{name}");
+        }
+        let broad = sources().into_iter().find(|s| s.name == "broad").unwrap();
+        assert!(all[0].constants_for(&broad).is_empty());
+        let forces = sources().into_iter().find(|s| s.name == "forces").unwrap();
+        assert!(all[0].constants_for(&forces).iter().any(|(n, _)| *n == "COHESION"));
+    }
+}

@@ -3,7 +3,7 @@
 //! the particle arrays by cell), the contact pass, then the update.
 
 use crate::GpuSimulation;
-use crate::upload::{SCAN_BLOCK, SCAN_THREADS, WORKGROUP, dispatch};
+use crate::upload::{SCAN_BLOCK, WORKGROUP, dispatch};
 use tumble_integrate::Integrator;
 
 /// Records passes into one encoder, optionally bracketing each with timestamps.
@@ -53,7 +53,6 @@ impl GpuSimulation {
         for l in (0..levels).rev() {
             r.pass(self, "scan_block", &self.kernels.scan[l], dispatch(b.scan_sizes[l], SCAN_BLOCK));
         }
-        let _ = SCAN_THREADS;
         r.pass(self, "scatter", &self.kernels.broad, self.particle_groups());
         r.pass(self, "order_cells", &self.kernels.broad, dispatch(self.grid.cells() + 1, WORKGROUP));
     }

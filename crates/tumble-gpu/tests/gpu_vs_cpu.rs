@@ -216,3 +216,56 @@ fn pair_forces_are_exactly_equal_and_opposite() {
         assert!(touching > 10);
     });
 }
+
+#[test]
+fn the_broad_phase_tables_are_a_sorted_counting_sort_with_a_three_level_scan() {
+    on_gpu("the_broad_phase_tables_are_a_sorted_counting_sort_with_a_three_level_scan", || {
+        // 140,000 small spheres spread through a large box: over 1,048,576 cells, so the scan
+        // needs three levels of 1,024-value blocks.
+        let text = r#"
+name = "sparse"
+[run]
+duration = 1.0e-4
+dt = 1.0e-4
+[domain]
+min = [0.0, 0.0, 0.0]
+max = [1.0, 1.0, 1.0]
+[[materials]]
+name = "glass"
+density = 2500.0
+[contact]
+normal = { model = "linear", stiffness = 1.0e3 }
+restitution = 0.5
+[[particles]]
+material = "glass"
+shape = { sphere = { diameter = 0.004 } }
+lattice = { min = [0.002, 0.002, 0.002], max = [0.998, 0.998, 0.998], spacing = 0.019, jitter = 0.2 }
+"#;
+        let scene = scene(text);
+        let n = scene.particles.len();
+        assert!(n > 130_000, "{n}");
+        let mut gpu = GpuSimulation::new(scene).unwrap();
+        gpu.advance(1);
+        let (cell, start, list) = gpu.cell_tables();
+        let cells = gpu.grid().cells() as usize;
+        assert!(cells + 2 > 1 << 20 && gpu.scan_levels() == 3, "{cells} cells, {} levels", gpu.scan_levels());
+        assert_eq!(start.len(), cells + 2);
+        assert_eq!(start[0], 0);
+        assert_eq!(*start.last().unwrap() as usize, n);
+        let mut counts = vec![0u32; cells + 1];
+        for &c in &cell {
+            counts[c as usize] += 1;
+        }
+        let mut seen = vec![false; n];
+        for c in 0..=cells {
+            assert_eq!(start[c + 1] - start[c], counts[c], "cell {c}");
+            let slots = &list[start[c] as usize..start[c + 1] as usize];
+            assert!(slots.windows(2).all(|w| w[0] < w[1]), "cell {c} is ordered by slot");
+            for &k in slots {
+                assert_eq!(cell[k as usize] as usize, c);
+                assert!(!std::mem::replace(&mut seen[k as usize], true));
+            }
+        }
+        assert!(seen.iter().all(|&s| s));
+    });
+}
