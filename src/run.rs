@@ -1,8 +1,9 @@
 //! Running a scene end to end: compile, step, monitor, write outputs.
 
 use crate::Simulation;
+use crate::flow::FlowCounter;
 use crate::monitor::{Instability, Monitor};
-use crate::output::{ObservablesCsv, TracksCsv};
+use crate::output::{ExtraColumns, ObservablesCsv, TracksCsv};
 use crate::progress::Progress;
 use crate::vtk::SnapshotWriter;
 use std::fmt;
@@ -112,7 +113,8 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let plan_text = compiled.plan.describe(compiled.particles.len());
     let mut sim = Simulation::new(compiled, options.threads);
     let fluid = sim.plan().fluid.is_some();
-    let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, fluid))?;
+    let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, sim.plan()))?;
+    let mut extra = ExtraRows::new(&sim);
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir))?;
     let mut snapshots = match sim.plan().snapshot_every {
         Some(_) => Some(io(&out_dir, SnapshotWriter::create(&out_dir, sim.plan()))?),
@@ -120,7 +122,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     };
     let initial = sim.observables();
     let monitor = Monitor::new(sim.plan(), &initial, potential_range(&sim));
-    io(&out_dir, obs_csv.row(&initial, fluid))?;
+    io(&out_dir, obs_csv.row(&initial, fluid, &extra.row(&sim)))?;
     io(&out_dir, tracks_csv.rows(0.0, &sim.tracks()))?;
     if let Some(w) = snapshots.as_mut() {
         io(&out_dir, w.write(0, &sim))?;
@@ -161,7 +163,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
                     stopped = Some(Stop::Unstable(e));
                     break;
                 }
-                io(&out_dir, obs_csv.row(&o, fluid))?;
+                io(&out_dir, obs_csv.row(&o, fluid, &extra.row(&sim)))?;
                 io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
             }
             // Never write NaN: a non-finite state is stopped by the monitor at the next output.
@@ -199,6 +201,33 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         Some(Stop::Capacity(e)) => Err(RunError::Capacity(e)),
         Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir }),
         None => Ok(summary),
+    }
+}
+
+/// Wall power (mean over the output interval), drum profiles and flow-plane counts.
+struct ExtraRows {
+    moving: Vec<usize>,
+    last: Option<(f64, Vec<f64>)>,
+    flow: Option<FlowCounter>,
+}
+
+impl ExtraRows {
+    fn new(sim: &Simulation) -> Self {
+        let plan = sim.plan();
+        let moving = (0..plan.wall_groups.len()).filter(|&g| plan.wall_groups[g].moving).collect();
+        ExtraRows { moving, last: None, flow: (!plan.flow_planes.is_empty()).then(|| FlowCounter::new(sim)) }
+    }
+
+    fn row(&mut self, sim: &Simulation) -> ExtraColumns {
+        let (t, work) = (sim.time(), sim.cpu().wall_work().to_vec());
+        let power = match &self.last {
+            // Mean power since the last row: Δ(work) / Δt.
+            Some((t0, w0)) if t > *t0 => self.moving.iter().map(|&g| (work[g] - w0[g]) / (t - t0)).collect(),
+            // The first row: the power of the initial force pass.
+            _ => self.moving.iter().map(|&g| sim.cpu().wall_power()[g]).collect(),
+        };
+        self.last = Some((t, work));
+        ExtraColumns { power, drums: sim.cpu().drum_profiles(), flow: self.flow.as_mut().map_or(Vec::new(), |f| f.update(sim)) }
     }
 }
 

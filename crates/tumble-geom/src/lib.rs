@@ -11,11 +11,12 @@
 //! assert_eq!(c.normal, DVec3::Z);
 //! ```
 
-pub use glam::DVec3;
+pub use glam::{DQuat, DVec3};
 
 mod periodic;
 mod sphere_cylinder;
 mod sphere_plane;
+mod sphere_prism;
 mod sphere_quad;
 mod sphere_sphere;
 mod surface;
@@ -23,6 +24,7 @@ mod surface;
 pub use periodic::PeriodicBox;
 pub use sphere_cylinder::Cylinder;
 pub use sphere_plane::Plane;
+pub use sphere_prism::Prism;
 pub use sphere_quad::Quad;
 pub use sphere_sphere::{SpherePair, sphere_sphere};
 pub use surface::{SurfaceContact, SurfaceShape};
