@@ -267,14 +267,19 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
             slots.keep(&mut sum.springs, key, spring);
         }
         sum.force += f.force;
-        if let Some(p) = wall_power.get_mut(slot) {
-            *p = f.force.dot(v_wall);
-        }
+        let mut power = f.force.dot(v_wall);
         if ROT {
             sum.torque += arm.cross(f.tangential);
             if params.rolling > 0.0 {
-                sum.torque += rolling_torque(params.rolling, r, f.normal, c.omega[i], s.inv_inertia[i], plan.dt);
+                // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
+                let spin = w.angular_velocity();
+                let roll = rolling_torque(params.rolling, r, f.normal, c.omega[i] - spin, s.inv_inertia[i], plan.dt);
+                sum.torque += roll;
+                power += roll.dot(spin);
             }
+        }
+        if let Some(p) = wall_power.get_mut(slot) {
+            *p = power;
         }
         sum.elastic += f.elastic;
         sum.dissipation += f.dissipation;

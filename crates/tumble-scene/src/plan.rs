@@ -82,6 +82,15 @@ impl Wall {
     pub fn velocity_at(&self, x: DVec3) -> DVec3 {
         self.motion.map_or(DVec3::ZERO, |m| m.velocity_at(x))
     }
+
+    /// Angular velocity of the wall (zero unless it rotates).
+    #[inline]
+    pub fn angular_velocity(&self) -> DVec3 {
+        match self.motion {
+            Some(Motion::Rotate { axis, omega, .. }) => axis * omega,
+            _ => DVec3::ZERO,
+        }
+    }
 }
 
 /// Prescribed rigid motion of a wall.
@@ -824,6 +833,31 @@ fn compile_walls(
                 return Err(SceneError::field(f("box"), "max must exceed min on every axis"));
             }
             for (side, quad) in ["-x", "+x", "-y", "+y", "-z", "+z"].iter().zip(Quad::box_faces(lo, hi)) {
+                if *side == "-z"
+                    && let Some(hole) = b.floor_hole
+                {
+                    let w = positive(&f("box.floor_hole"), hole)?;
+                    let (c, half) = (0.5 * (lo + hi), 0.5 * w);
+                    if c.x + half >= hi.x || c.y + half >= hi.y {
+                        return Err(SceneError::field(
+                            f("box.floor_hole"),
+                            format!("a {w} m hole does not fit in the {} x {} m floor", hi.x - lo.x, hi.y - lo.y),
+                        ));
+                    }
+                    // Four quads around the hole, normal +z like the floor they replace.
+                    let (x0, x1, y0, y1) = (c.x - half, c.x + half, c.y - half, c.y + half);
+                    let q = |ax: f64, bx: f64, ay: f64, by: f64| {
+                        SurfaceShape::Quad(Quad::new(
+                            [DVec3::new(ax, ay, lo.z), DVec3::new(bx, ay, lo.z), DVec3::new(bx, by, lo.z), DVec3::new(ax, by, lo.z)],
+                            false,
+                        ))
+                    };
+                    shapes.push((format!("{name}-z0"), q(lo.x, x0, lo.y, hi.y)));
+                    shapes.push((format!("{name}-z1"), q(x1, hi.x, lo.y, hi.y)));
+                    shapes.push((format!("{name}-z2"), q(x0, x1, lo.y, y0)));
+                    shapes.push((format!("{name}-z3"), q(x0, x1, y1, hi.y)));
+                    continue;
+                }
                 shapes.push((format!("{name}{side}"), SurfaceShape::Quad(quad)));
             }
         } else if let Some(c) = &w.cylinder {

@@ -443,6 +443,8 @@ pub struct QuadSection {
 pub struct BoxSection {
     pub min: V3,
     pub max: V3,
+    /// Width of a square hole centred in the −z face (a flat-bottomed hopper's orifice), m.
+    pub floor_hole: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
