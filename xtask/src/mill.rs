@@ -57,6 +57,13 @@ impl MillRow {
     fn total(&self) -> f64 {
         self.power.iter().sum()
     }
+
+    /// Bond's ball-mill power (Rowland's metric form, kW per tonne of balls, no pulp, D < 3.3 m so no
+    /// ball-size term): 4.879 D^0.3 (3.2 − 3 J) φ_c (1 − 0.1 / 2^(9 − 10 φ_c)), times the ball mass.
+    fn bond(&self) -> f64 {
+        let per_tonne = 4.879 * D_MILL.powf(0.3) * (3.2 - 3.0 * self.filling) * self.fraction * (1.0 - 0.1 / 2f64.powf(9.0 - 10.0 * self.fraction));
+        per_tonne * 1000.0 * self.balls as f64 * 7800.0 * std::f64::consts::PI / 6.0 * D_BALL.powi(3) / 1000.0
+    }
 }
 
 const D_MILL: f64 = 0.9;
@@ -158,12 +165,12 @@ pub fn mill(_args: &[String]) -> i32 {
     let mut csv = String::from(
         "# scenes/ball_mill.toml: D = 0.9 m, L = 0.15 m, 8 lifters 4 x 4 cm, 5 cm steel balls; spin-up 1.5 s, mean over the next 2.5 s\n\
          # filling J = n V_ball / (0.6 V_mill); angles in degrees from straight down, positive on the rising side\n\
-         fill,balls,filling,fraction_of_critical,rpm,power_total_w,power_shell_w,power_lifters_w,power_ends_w,torque_arm_power_w,toe_deg,shoulder_deg,com_angle_deg,com_radius_m,wall_seconds,particle_steps\n",
+         fill,balls,filling,fraction_of_critical,rpm,power_total_w,power_shell_w,power_lifters_w,power_ends_w,torque_arm_power_w,bond_power_w,toe_deg,shoulder_deg,com_angle_deg,com_radius_m,wall_seconds,particle_steps\n",
     );
     for r in &rows {
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{},{:.4},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.4},{:.2},{:.4e}",
+            "{},{},{:.4},{},{:.4},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.4},{:.2},{:.4e}",
             r.fill_label.trim_end_matches(" %"),
             r.balls,
             r.filling,
@@ -174,6 +181,7 @@ pub fn mill(_args: &[String]) -> i32 {
             r.power[1],
             r.power[2] + r.power[3],
             r.torque_arm,
+            r.bond(),
             r.toe,
             r.shoulder,
             r.com_angle,
@@ -194,16 +202,16 @@ const FILL_STYLES: [Style; 2] =
     [Style { colour: "#0072B2", shape: Shape::Circle, dashed: false }, Style { colour: "#D55E00", shape: Shape::Square, dashed: false }];
 
 fn mill_chart(rows: &[MillRow]) -> String {
-    let (w, h) = (1200.0, 540.0);
+    let (w, h) = (1200.0, 640.0);
     let mut doc = Svg::new(w, h);
     doc.bold(w / 2.0, 28.0, 16.0, Anchor::Middle, "Ball mill 0.9 m x 0.15 m, 8 lifters, 5 cm steel balls: power draw and charge profile");
     let x = |left: f64| LinearAxis { lo: 20.0, hi: 80.0, step: 10.0, p0: left, p1: left + 460.0 };
-    let max_power = rows.iter().map(|r| r.total().max(r.torque_arm)).fold(0.0, f64::max);
+    let max_power = rows.iter().map(|r| r.total().max(r.torque_arm).max(r.bond())).fold(0.0, f64::max);
     let step = if max_power > 800.0 { 200.0 } else { 100.0 };
     let top = (max_power / step).ceil() * step + step;
     let yp = LinearAxis { lo: 0.0, hi: top, step, p0: 470.0, p1: 60.0 };
     linear_frame(&mut doc, x(90.0), YAxis::Linear(yp), "speed, % of critical (N_c = 42.3/√(D − d) = 45.9 rpm)", "drive power, W");
-    let ya = LinearAxis { lo: -90.0, hi: 120.0, step: 30.0, p0: 470.0, p1: 60.0 };
+    let ya = LinearAxis { lo: -60.0, hi: 180.0, step: 30.0, p0: 470.0, p1: 60.0 };
     linear_frame(&mut doc, x(690.0), YAxis::Linear(ya), "speed, % of critical", "angle from straight down, degrees");
     for (k, label) in ["20 %", "30 %"].iter().enumerate() {
         let st = FILL_STYLES[k];
@@ -218,6 +226,9 @@ fn mill_chart(rows: &[MillRow]) -> String {
         let arm = pts(90.0, &|r| r.torque_arm, yp);
         doc.polyline(&arm, st.colour, 1.5, Some("5,3"), 1.0);
         arm.iter().for_each(|&(a, b)| doc.marker(st.shape, a, b, 9.0, st.colour, true));
+        let bond = pts(90.0, &|r| r.bond(), yp);
+        doc.polyline(&bond, st.colour, 1.0, Some("1,3"), 0.9);
+        bond.iter().for_each(|&(a, b)| doc.marker(Shape::Diamond, a, b, 8.0, st.colour, true));
         let lift = pts(90.0, &|r| r.power[1], yp);
         doc.polyline(&lift, st.colour, 1.0, Some("2,3"), 0.8);
         lift.iter().for_each(|&(a, b)| doc.marker(Shape::Cross, a, b, 7.0, st.colour, false));
@@ -233,19 +244,20 @@ fn mill_chart(rows: &[MillRow]) -> String {
     }
     doc.legend(
         100.0,
-        70.0,
+        525.0,
         &[
             (FILL_STYLES[0], "20 % filling: measured Σ F·v_wall (all walls)".into()),
             (FILL_STYLES[1], "30 % filling: measured".into()),
             (Style { colour: "#555555", shape: Shape::Circle, dashed: true }, "hollow, dashed: M g r_com sin θ_com ω".into()),
             (Style { colour: "#555555", shape: Shape::Cross, dashed: true }, "crosses: lifters alone".into()),
+            (Style { colour: "#555555", shape: Shape::Diamond, dashed: true }, "diamonds, dotted: Bond (Rowland), kW/t x ball mass".into()),
         ],
         true,
         11.0,
     );
     doc.legend(
         700.0,
-        70.0,
+        525.0,
         &[
             (Style { colour: "#555555", shape: Shape::Triangle, dashed: false }, "shoulder (95th percentile, shell layer)".into()),
             (Style { colour: "#555555", shape: Shape::Circle, dashed: false }, "centre of mass θ_com".into()),
@@ -327,14 +339,18 @@ pub fn hopper(_args: &[String]) -> i32 {
     let xa = LinearAxis { lo: 2.0, hi: 7.0, step: 1.0, p0: 90.0, p1: 550.0 };
     let ya = LinearAxis { lo: 0.0, hi: top, step: 0.2, p0: 450.0, p1: 60.0 };
     linear_frame(&mut doc, xa, YAxis::Linear(ya), "orifice width L / d", "discharge rate, kg/s");
-    let fit: Vec<(f64, f64)> = (0..=100).map(|i| 2.0 + 5.0 * i as f64 / 100.0).map(|l| (xa.px(l), ya.px(beverloo(l * D_SPHERE)))).collect();
+    let fit: Vec<(f64, f64)> = (0..=100)
+        .map(|i| 2.0 + 5.0 * i as f64 / 100.0)
+        .filter(|&l| beverloo(l * D_SPHERE) <= top)
+        .map(|l| (xa.px(l), ya.px(beverloo(l * D_SPHERE))))
+        .collect();
     doc.polyline(&fit, "#555555", 1.5, Some("5,3"), 1.0);
     for r in &rows {
         doc.marker(Shape::Circle, xa.px(r.0 / D_SPHERE), ya.px(r.1), 10.0, "#0072B2", false);
     }
     doc.legend(
         100.0,
-        70.0,
+        525.0,
         &[
             (Style { colour: "#0072B2", shape: Shape::Circle, dashed: false }, "spheres (measured, outlet plane)".into()),
             (Style { colour: "#555555", shape: Shape::Cross, dashed: true }, format!("Beverloo fit, C = {c:.2}, k = {k:.2}")),
