@@ -311,3 +311,36 @@ flow_planes = [{{ name = "outlet", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 
     assert_ne!(a, b, "the paddle turned");
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn lifters_are_convex_bars_on_the_shell() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_mill.toml")).unwrap();
+    let plan = compile(&parse_scene(&text).unwrap()).unwrap().plan;
+    let bars: Vec<_> = plan
+        .walls
+        .iter()
+        .filter_map(|w| match &w.shape {
+            tumble_geom::SurfaceShape::Prism(p) => Some(p),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bars.len(), 8);
+    assert_eq!(plan.wall_groups[1].name, "lifters");
+    assert_eq!(plan.drums.len(), 1);
+    for p in &bars {
+        // The top face is 4 cm in from the 0.45 m shell: the annulus test must not skip it.
+        assert!((p.inner - 0.41).abs() < 1e-12, "{}", p.inner);
+        let radial = DVec3::new(p.centre.x, p.centre.y, 0.0).normalize();
+        // A ball just touching the middle of the top face, 0.1 mm deep.
+        let centre = DVec3::new(0.0, 0.0, 0.075) + radial * (0.41 - 0.0249);
+        let c = tumble_geom::SurfaceShape::Prism((*p).clone()).sphere_contact(centre, 0.025).expect("touches the top face");
+        assert!((c.overlap - 1e-4).abs() < 1e-9 && (c.normal + radial).length() < 1e-9, "{c:?}");
+    }
+    // Trapezoidal bars: the base widens by 2 h tan(face angle).
+    let wide = text.replace("face_angle = 0.0", "face_angle = 30.0");
+    let plan = compile(&parse_scene(&wide).unwrap()).unwrap().plan;
+    let tumble_geom::SurfaceShape::Prism(p) = &plan.walls[1].shape else { panic!() };
+    let widths: Vec<f64> = p.faces[..4].iter().map(|f| (f.corners[1] - f.corners[0]).length()).collect();
+    let base = 0.04 + 2.0 * 0.04 * 30f64.to_radians().tan();
+    assert!(widths.iter().any(|w| (w - base).abs() < 1e-12) && widths.iter().any(|w| (w - 0.04).abs() < 1e-12), "{widths:?}");
+}

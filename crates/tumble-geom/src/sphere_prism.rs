@@ -25,21 +25,21 @@ impl Prism {
         let verts: Vec<DVec3> = a.iter().chain(&b).copied().collect();
         let centre = verts.iter().copied().sum::<DVec3>() / 8.0;
         let bound = verts.iter().map(|v| (*v - centre).length()).fold(0.0, f64::max);
-        let inner = verts
-            .iter()
-            .map(|v| {
-                let d = *v - axis_point;
-                (d - axis * d.dot(axis)).length()
-            })
-            .fold(f64::INFINITY, f64::min);
+        // Nearest approach to the axis: the projection of the prism on the cross-section is the
+        // hull of its projected edges, so the least distance from the axis to a projected edge
+        // (the axis must not pass through the prism, as it never does for a lifter).
+        let flat = |v: DVec3| {
+            let d = v - axis_point;
+            d - axis * d.dot(axis)
+        };
+        let edges = (0..4).flat_map(|k| [(a[k], a[(k + 1) % 4]), (b[k], b[(k + 1) % 4]), (a[k], b[k])]);
+        let inner = edges.map(|(p, q)| crate::sphere_quad::closest_on_segment(flat(p), flat(q), DVec3::ZERO).length()).fold(f64::INFINITY, f64::min);
         let outward = |c: [DVec3; 4]| {
             let q = Quad::new(c, false);
             if q.normal.dot(centre - c[0]) > 0.0 { Quad::new([c[3], c[2], c[1], c[0]], false) } else { q }
         };
         let side = |k: usize| outward([a[k], a[(k + 1) % 4], b[(k + 1) % 4], b[k]]);
         let faces = [side(0), side(1), side(2), side(3), outward(a), outward(b)];
-        // `inner` from the vertices is exact when the nearest point is a vertex or a face
-        // parallel to the axis (lifter tops); it bounds the annulus test for lifters.
         Prism { faces, centre, bound, axis_point, axis, inner }
     }
 
@@ -117,6 +117,8 @@ mod tests {
         // Inside, nearest the y = 1 face.
         let c = p.sphere_proximity(DVec3::new(0.5, 0.9, 0.5), 0.1, 0.0).unwrap();
         assert!((c.normal - DVec3::Y).length() < 1e-12 && (c.overlap - 0.2).abs() < 1e-12);
+        // Nearest approach to the axis: the middle of the y = 0 face, not a corner.
+        assert!((p.inner - 10.0).abs() < 1e-12, "{}", p.inner);
         // Far away, and inside the annulus.
         assert!(p.sphere_proximity(DVec3::new(0.5, 1.2, 0.5), 0.1, 0.0).is_none());
         assert!(p.sphere_proximity(DVec3::new(0.5, -0.5, 0.5), 0.1, 0.0).is_none());
