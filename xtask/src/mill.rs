@@ -350,7 +350,7 @@ pub fn hopper(_args: &[String]) -> i32 {
     }
     doc.legend(
         100.0,
-        525.0,
+        70.0,
         &[
             (Style { colour: "#0072B2", shape: Shape::Circle, dashed: false }, "spheres (measured, outlet plane)".into()),
             (Style { colour: "#555555", shape: Shape::Cross, dashed: true }, format!("Beverloo fit, C = {c:.2}, k = {k:.2}")),
