@@ -39,9 +39,8 @@ pub fn run(args: &[String]) -> i32 {
     let t = Instant::now();
     let stability = stability_runs();
     eprintln!("stability runs: {:.1} s", t.elapsed().as_secs_f64());
-    let outputs =
-        [("speed_vs_accuracy", speed_vs_accuracy(&series)), ("convergence", convergence(&series)), ("stability_map", stability_map(&stability))]
-            .map(|(name, (svg, csv))| (name, svg, csv));
+    let outputs = [("speed_vs_accuracy", speed_vs_accuracy(&series)), ("convergence", convergence(&series)), ("stability_map", stability_map(&stability))]
+        .map(|(name, (svg, csv))| (name, svg, csv));
     if let Err(code) = write_charts(&dir, outputs.into()) {
         return code;
     }

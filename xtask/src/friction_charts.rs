@@ -65,8 +65,7 @@ fn oblique_impact() -> (&'static str, String, String) {
         // The sliding threshold tan θ = 7/2 μ (1 + e).
         doc.line((x.px(threshold), y.p1), (x.px(threshold), y.p0), "#999999", 1.0, Some("2,3"));
         doc.text(x.px(threshold) + 4.0, y.p1 + 14.0, 10.0, Anchor::Start, "#555555", &format!("sliding throughout above {threshold:.1}°"));
-        let theory_pts: Vec<(f64, f64)> =
-            (10..=890).map(|a| a as f64 / 10.0).map(|a| (x.px(a), clamp(theory(tv::coulomb_impact(a, MU_IMPACT, E))))).collect();
+        let theory_pts: Vec<(f64, f64)> = (10..=890).map(|a| a as f64 / 10.0).map(|a| (x.px(a), clamp(theory(tv::coulomb_impact(a, MU_IMPACT, E))))).collect();
         doc.polyline(&theory_pts, THEORY.colour, 1.5, Some("6,4"), 1.0);
         for (m, rows) in &data {
             let s = style(*m);
@@ -116,8 +115,7 @@ fn incline_creep() -> (&'static str, String, String) {
     for (m, rows) in &data {
         let s = style(*m);
         if let Some(a0) = angles.first().copied().filter(|&a| theory(*m, a).is_some()) {
-            let pts: Vec<(f64, f64)> =
-                (0..=100).map(|k| a0 + k as f64 * (angles[angles.len() - 1] - a0) / 100.0).map(|a| (x.px(a), y.px(theory(*m, a).unwrap()))).collect();
+            let pts: Vec<(f64, f64)> = (0..=100).map(|k| a0 + k as f64 * (angles[angles.len() - 1] - a0) / 100.0).map(|a| (x.px(a), y.px(theory(*m, a).unwrap()))).collect();
             doc.polyline(&pts, s.colour, 1.3, Some("6,4"), 0.9);
         }
         let mut pts = Vec::new();
