@@ -79,7 +79,7 @@ pub struct CpuSimulation {
     /// `walls_time` at the last neighbour-list build.
     walls_built_at: f64,
     /// F_on_particle · v_wall per wall candidate (parallel to the list's wall entries).
-    wall_power: Vec<f64>,
+    candidate_power: Vec<f64>,
     /// Per wall group: power at the last force pass and work done since t = 0.
     group_power: Vec<f64>,
     group_work: Vec<f64>,
@@ -120,7 +120,7 @@ impl CpuSimulation {
             moving_walls,
             walls_time: 0.0,
             walls_built_at: 0.0,
-            wall_power: Vec::new(),
+            candidate_power: Vec::new(),
             group_power: vec![0.0; groups],
             group_work: vec![0.0; groups],
         };

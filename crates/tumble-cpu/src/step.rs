@@ -127,7 +127,7 @@ impl CpuSimulation {
         if self.moving_walls {
             // Serial, in array order: the same sums for any thread count.
             self.group_power.fill(0.0);
-            for (&w, &p) in self.neighbours.wall_entries.iter().zip(&self.wall_power) {
+            for (&w, &p) in self.neighbours.wall_entries.iter().zip(&self.candidate_power) {
                 self.group_power[self.plan.walls[w as usize].group as usize] += p;
             }
             if commit {
@@ -146,7 +146,7 @@ impl CpuSimulation {
         let (list, pair_out, pair_spring, sums) = (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.sums);
         let next = &mut self.history_next;
         // Each particle's share of the wall-power slots (empty without moving walls).
-        let power = &mut self.wall_power;
+        let power = &mut self.candidate_power;
         power.clear();
         if self.moving_walls {
             power.resize(list.wall_entries.len(), 0.0);

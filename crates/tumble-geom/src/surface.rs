@@ -18,8 +18,8 @@ pub enum SurfaceShape {
     Plane(Plane),
     Quad(Quad),
     Cylinder(Cylinder),
-    /// A convex lifter bar.
-    Prism(Prism),
+    /// A convex lifter bar (boxed: six quads make it ten times the size of the others).
+    Prism(Box<Prism>),
 }
 
 impl SurfaceShape {
@@ -48,14 +48,14 @@ impl SurfaceShape {
             SurfaceShape::Plane(p) => SurfaceShape::Plane(Plane { point: pt(p.point), normal: dir(p.normal) }),
             SurfaceShape::Quad(q) => SurfaceShape::Quad(quad(q)),
             SurfaceShape::Cylinder(c) => SurfaceShape::Cylinder(Cylinder { point: pt(c.point), axis: dir(c.axis), ..c.clone() }),
-            SurfaceShape::Prism(p) => SurfaceShape::Prism(Prism {
+            SurfaceShape::Prism(p) => SurfaceShape::Prism(Box::new(Prism {
                 faces: p.faces.each_ref().map(quad),
                 centre: pt(p.centre),
                 bound: p.bound,
                 axis_point: pt(p.axis_point),
                 axis: dir(p.axis),
                 inner: p.inner,
-            }),
+            })),
         }
     }
 }

@@ -760,12 +760,11 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     })
 }
 
+/// Surfaces, their groups (one per [[walls]] entry) and the drums among them.
+type CompiledWalls = (Vec<Wall>, Vec<WallGroup>, Vec<Drum>);
+
 /// The [[walls]] entries as surfaces (boxes as six quads, lifters as prisms), their groups and the drums.
-fn compile_walls(
-    scene: &Scene,
-    lookup: &dyn Fn(String, &str) -> Result<u16, SceneError>,
-    domain: &PeriodicBox,
-) -> Result<(Vec<Wall>, Vec<WallGroup>, Vec<Drum>), SceneError> {
+fn compile_walls(scene: &Scene, lookup: &dyn Fn(String, &str) -> Result<u16, SceneError>, domain: &PeriodicBox) -> Result<CompiledWalls, SceneError> {
     let names: Vec<String> = scene.walls.iter().enumerate().map(|(k, w)| w.name.clone().unwrap_or_else(|| format!("wall{k}"))).collect();
     // Motions first: lifters take their cylinder's.
     let mut motions: Vec<Option<Motion>> = Vec::new();
@@ -919,7 +918,7 @@ fn compile_walls(
             }
             motion = motions[j];
             for (r, prism) in lifter_prisms(&cyl, l.count, h, width, base, l.phase.to_radians()).into_iter().enumerate() {
-                shapes.push((format!("{name}{r}"), SurfaceShape::Prism(prism)));
+                shapes.push((format!("{name}{r}"), SurfaceShape::Prism(Box::new(prism))));
             }
         }
         groups.push(WallGroup { name, moving: motion.is_some() });
