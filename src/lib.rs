@@ -14,6 +14,7 @@
 
 pub mod agglomerates;
 pub mod cli;
+mod flow;
 mod monitor;
 mod output;
 mod progress;
@@ -22,8 +23,9 @@ mod simulation;
 pub mod verify;
 pub mod vtk;
 
+pub use flow::FlowCounter;
 pub use monitor::{Instability, Monitor};
 pub use run::{RunError, RunOptions, RunSummary, load_scene, run_compiled, run_scene_file};
 pub use simulation::Simulation;
-pub use tumble_cpu::{Observables, TrackRow};
+pub use tumble_cpu::{DrumProfile, Observables, TrackRow};
 pub use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};

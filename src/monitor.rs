@@ -51,7 +51,7 @@ impl Monitor {
             max_overlap_ratio: plan.monitor.max_overlap_ratio,
             energy_growth: plan.monitor.energy_growth,
             has_source: plan.fluid.is_some(),
-            initial_energy: initial.mechanical_energy() + initial.dissipated_energy,
+            initial_energy: initial.mechanical_energy() + initial.dissipated_energy - initial.wall_work,
             energy_floor: (1e-3 * (initial.mechanical_energy().abs() + potential_range)).max(f64::MIN_POSITIVE),
             peak_energy: std::cell::Cell::new(moving_energy(initial)),
             dt: plan.dt,
@@ -75,7 +75,8 @@ impl Monitor {
             // Energy in motion sets the scale: a resting bed must not gain a share of it.
             self.peak_energy.set(self.peak_energy.get().max(moving_energy(o)));
             let scale = self.peak_energy.get().max(self.energy_floor);
-            let gain = o.mechanical_energy() + o.dissipated_energy - self.initial_energy;
+            // Moving walls are a source whose work is booked: only unbooked gains count.
+            let gain = o.mechanical_energy() + o.dissipated_energy - o.wall_work - self.initial_energy;
             if gain > self.energy_growth * scale {
                 return fail(format!(
                     "energy grew by {:.3e} J without a source ({:.0} % of the largest kinetic and elastic energy, {:.3e} J)",

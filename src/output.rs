@@ -1,25 +1,53 @@
 //! Output files: observables.csv and tracks.csv (scene-and-cli.md, "Outputs").
 
-use crate::{Observables, TrackRow};
+use crate::{DrumProfile, Observables, TrackRow};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
+use tumble_scene::Plan;
+
+/// The columns observables.csv adds for moving walls, drums and flow planes.
+#[derive(Clone, Debug, Default)]
+pub struct ExtraColumns {
+    /// Per moving wall group: mean power over the output interval, W.
+    pub power: Vec<f64>,
+    pub drums: Vec<DrumProfile>,
+    /// Per flow plane: (rate kg/s over the output interval, net mass since t = 0 kg).
+    pub flow: Vec<(f64, f64)>,
+}
 
 /// observables.csv, one row per output interval.
 pub struct ObservablesCsv(BufWriter<File>);
 
 impl ObservablesCsv {
-    pub fn create(dir: &Path, fluid: bool) -> std::io::Result<Self> {
+    /// Header: the fixed columns, `fluid_work` with a fluid, then `power_<wall>` per moving wall
+    /// and `wall_work`, then per drum `charge_mass_<d>,com_angle_<d>,com_radius_<d>,toe_<d>,shoulder_<d>,torque_arm_power_<d>`,
+    /// then per flow plane `flow_<p>,mass_<p>`.
+    pub fn create(dir: &Path, plan: &Plan) -> std::io::Result<Self> {
         let mut w = BufWriter::new(File::create(dir.join("observables.csv"))?);
         write!(w, "t,kinetic_energy,rotational_energy,potential_energy,elastic_energy,dissipated_energy,contacts,max_overlap_ratio")?;
-        if fluid {
+        if plan.fluid.is_some() {
             write!(w, ",fluid_work")?;
+        }
+        let moving: Vec<&str> = plan.wall_groups.iter().filter(|g| g.moving).map(|g| g.name.as_str()).collect();
+        for g in &moving {
+            write!(w, ",power_{g}")?;
+        }
+        if !moving.is_empty() {
+            write!(w, ",wall_work")?;
+        }
+        for d in &plan.drums {
+            let n = &d.name;
+            write!(w, ",charge_mass_{n},com_angle_{n},com_radius_{n},toe_{n},shoulder_{n},torque_arm_power_{n}")?;
+        }
+        for p in &plan.flow_planes {
+            write!(w, ",flow_{0},mass_{0}", p.name)?;
         }
         writeln!(w)?;
         Ok(ObservablesCsv(w))
     }
 
-    pub fn row(&mut self, o: &Observables, fluid: bool) -> std::io::Result<()> {
+    pub fn row(&mut self, o: &Observables, fluid: bool, extra: &ExtraColumns) -> std::io::Result<()> {
         write!(
             self.0,
             "{},{},{},{},{},{},{},{}",
@@ -27,6 +55,18 @@ impl ObservablesCsv {
         )?;
         if fluid {
             write!(self.0, ",{}", o.fluid_work)?;
+        }
+        for p in &extra.power {
+            write!(self.0, ",{p}")?;
+        }
+        if !extra.power.is_empty() {
+            write!(self.0, ",{}", o.wall_work)?;
+        }
+        for d in &extra.drums {
+            write!(self.0, ",{},{},{},{},{},{}", d.charge_mass, d.com_angle, d.com_radius, d.toe, d.shoulder, d.torque_arm_power)?;
+        }
+        for (rate, mass) in &extra.flow {
+            write!(self.0, ",{rate},{mass}")?;
         }
         writeln!(self.0)?;
         // Flushed every row so an interrupted or stopped run leaves complete rows.

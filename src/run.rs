@@ -1,8 +1,9 @@
 //! Running a scene end to end: compile, step, monitor, write outputs.
 
 use crate::Simulation;
+use crate::flow::FlowCounter;
 use crate::monitor::{Instability, Monitor};
-use crate::output::{AgglomeratesCsv, ObservablesCsv, TracksCsv};
+use crate::output::{AgglomeratesCsv, ExtraColumns, ObservablesCsv, TracksCsv};
 use crate::progress::Progress;
 use crate::vtk::SnapshotWriter;
 use std::fmt;
@@ -122,7 +123,8 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let mut sim = Simulation::on(backend, compiled, options.threads).map_err(RunError::Backend)?;
     io(&out_dir, std::fs::create_dir_all(&out_dir))?;
     let fluid = sim.plan().fluid.is_some();
-    let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, fluid))?;
+    let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, sim.plan()))?;
+    let mut extra = ExtraRows::new(&sim);
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir))?;
     let mut agglo_csv = match sim.plan().agglomerates {
         true => Some(io(&out_dir, AgglomeratesCsv::create(&out_dir, sim.particles()))?),
@@ -135,7 +137,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     };
     let initial = sim.observables();
     let monitor = Monitor::new(sim.plan(), &initial, potential_range(&sim));
-    io(&out_dir, obs_csv.row(&initial, fluid))?;
+    io(&out_dir, obs_csv.row(&initial, fluid, &extra.row(&sim)))?;
     io(&out_dir, tracks_csv.rows(0.0, &sim.tracks()))?;
     if let Some(w) = agglo_csv.as_mut() {
         let a = agglomerates_of(&sim);
@@ -181,7 +183,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
                     stopped = Some(Stop::Unstable(e));
                     break;
                 }
-                io(&out_dir, obs_csv.row(&o, fluid))?;
+                io(&out_dir, obs_csv.row(&o, fluid, &extra.row(&sim)))?;
                 io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
                 if let Some(w) = agglo_csv.as_mut() {
                     let a = agglomerates_of(&sim);
@@ -232,6 +234,38 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
 fn agglomerates_of(sim: &Simulation) -> crate::agglomerates::AgglomerateStats {
     let s = sim.state();
     crate::agglomerates::agglomerates(&s.pos, &s.radius, Some(&sim.plan().domain))
+}
+
+/// Wall power (mean over the output interval), drum profiles and flow-plane counts.
+struct ExtraRows {
+    moving: Vec<usize>,
+    last: Option<(f64, Vec<f64>)>,
+    flow: Option<FlowCounter>,
+}
+
+impl ExtraRows {
+    fn new(sim: &Simulation) -> Self {
+        let plan = sim.plan();
+        let moving = (0..plan.wall_groups.len()).filter(|&g| plan.wall_groups[g].moving).collect();
+        ExtraRows { moving, last: None, flow: (!plan.flow_planes.is_empty()).then(|| FlowCounter::new(sim)) }
+    }
+
+    fn row(&mut self, sim: &Simulation) -> ExtraColumns {
+        let plan = sim.plan();
+        // Nothing to add (and the GPU backend refuses moving walls, drums and flow planes so far).
+        if self.moving.is_empty() && plan.drums.is_empty() && self.flow.is_none() {
+            return ExtraColumns::default();
+        }
+        let (t, work) = (sim.time(), sim.cpu().wall_work().to_vec());
+        let power = match &self.last {
+            // Mean power since the last row: Δ(work) / Δt.
+            Some((t0, w0)) if t > *t0 => self.moving.iter().map(|&g| (work[g] - w0[g]) / (t - t0)).collect(),
+            // The first row: the power of the initial force pass.
+            _ => self.moving.iter().map(|&g| sim.cpu().wall_power()[g]).collect(),
+        };
+        self.last = Some((t, work));
+        ExtraColumns { power, drums: sim.cpu().drum_profiles(), flow: self.flow.as_mut().map_or(Vec::new(), |f| f.update(sim)) }
+    }
 }
 
 /// Most steps advanced between two checks of the interrupt flag and the progress display.

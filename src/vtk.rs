@@ -1,5 +1,6 @@
 //! ParaView snapshots: `snapshots/particles_NNNNNN.vtp` (VTK XML PolyData, ASCII) and
-//! `particles.pvd`, the time series that opens them all; `walls.vtp` for the static walls.
+//! `particles.pvd`, the time series that opens them all; `walls.vtp` when every wall is static,
+//! else `snapshots/walls_NNNNNN.vtp` at each snapshot and `walls.pvd`.
 
 use crate::Simulation;
 use std::fmt::Write as _;
@@ -10,16 +11,28 @@ use std::path::{Path, PathBuf};
 pub struct SnapshotWriter {
     out_dir: PathBuf,
     entries: Vec<(f64, String)>,
+    moving_walls: bool,
+    wall_entries: Vec<(f64, String)>,
+}
+
+fn pvd(entries: &[(f64, String)]) -> String {
+    let mut pvd = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
+    for (t, file) in entries {
+        let _ = writeln!(pvd, "    <DataSet timestep=\"{t}\" part=\"0\" file=\"{file}\"/>");
+    }
+    pvd += "  </Collection>\n</VTKFile>\n";
+    pvd
 }
 
 impl SnapshotWriter {
-    /// Creates snapshots/ and, when the scene has walls, `walls.vtp` (they do not move).
+    /// Creates snapshots/ and, when the scene has walls and none moves, `walls.vtp`.
     pub fn create(out_dir: &Path, plan: &tumble_scene::Plan) -> io::Result<Self> {
         std::fs::create_dir_all(out_dir.join("snapshots"))?;
-        if !plan.walls.is_empty() {
-            std::fs::write(out_dir.join("walls.vtp"), walls_vtp(plan))?;
+        let moving_walls = plan.walls.iter().any(|w| w.motion.is_some());
+        if !plan.walls.is_empty() && !moving_walls {
+            std::fs::write(out_dir.join("walls.vtp"), walls_vtp(plan, &plan.walls))?;
         }
-        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), entries: Vec::new() })
+        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), entries: Vec::new(), moving_walls, wall_entries: Vec::new() })
     }
 
     /// Writes snapshot `index` of the current state and rewrites particles.pvd.
@@ -27,12 +40,14 @@ impl SnapshotWriter {
         let name = format!("snapshots/particles_{index:06}.vtp");
         std::fs::write(self.out_dir.join(&name), particles_vtp(sim))?;
         self.entries.push((sim.time(), name));
-        let mut pvd = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
-        for (t, file) in &self.entries {
-            let _ = writeln!(pvd, "    <DataSet timestep=\"{t}\" part=\"0\" file=\"{file}\"/>");
+        std::fs::write(self.out_dir.join("particles.pvd"), pvd(&self.entries))?;
+        if self.moving_walls {
+            let name = format!("snapshots/walls_{index:06}.vtp");
+            std::fs::write(self.out_dir.join(&name), walls_vtp(sim.plan(), sim.cpu().walls()))?;
+            self.wall_entries.push((sim.time(), name));
+            std::fs::write(self.out_dir.join("walls.pvd"), pvd(&self.wall_entries))?;
         }
-        pvd += "  </Collection>\n</VTKFile>\n";
-        std::fs::write(self.out_dir.join("particles.pvd"), pvd)
+        Ok(())
     }
 }
 
@@ -76,16 +91,16 @@ fn array(out: &mut String, ty: &str, name: &str, components: usize, values: impl
     out.push_str("\n        </DataArray>\n");
 }
 
-/// The static walls as VTK XML PolyData polygons: quads as they are, planes as a square
-/// covering the domain, cylinders as 48 facets.
-pub fn walls_vtp(plan: &tumble_scene::Plan) -> String {
+/// Walls (`plan.walls`, or the same walls in another pose) as VTK XML PolyData polygons: quads
+/// as they are, planes as a square covering the domain, cylinders as 48 facets, lifters as their six faces.
+pub fn walls_vtp(plan: &tumble_scene::Plan, walls: &[tumble_scene::Wall]) -> String {
     use tumble_geom::{DVec3, SurfaceShape};
     let mut points: Vec<DVec3> = Vec::new();
     let mut polys: Vec<Vec<usize>> = Vec::new();
     let mut wall_of_poly: Vec<usize> = Vec::new();
     let centre = 0.5 * (plan.domain.min + plan.domain.max);
     let size = plan.domain.extent().length();
-    for (w, wall) in plan.walls.iter().enumerate() {
+    for (w, wall) in walls.iter().enumerate() {
         let mut quad = |corners: [DVec3; 4]| {
             polys.push((points.len()..points.len() + 4).collect());
             points.extend(corners);
@@ -109,6 +124,7 @@ pub fn walls_vtp(plan: &tumble_scene::Plan) -> String {
                     quad([ring(k, 0.0), ring(k + 1, 0.0), ring(k + 1, c.length), ring(k, c.length)]);
                 }
             }
+            SurfaceShape::Prism(p) => p.corners().for_each(&mut quad),
         }
     }
     let mut out = String::new();
@@ -123,7 +139,8 @@ pub fn walls_vtp(plan: &tumble_scene::Plan) -> String {
     );
     let _ = writeln!(out, "      <CellData Scalars=\"wall\">");
     array(&mut out, "Int32", "wall", 1, wall_of_poly.iter().map(|w| w.to_string()));
-    array(&mut out, "Int32", "material", 1, wall_of_poly.iter().map(|&w| plan.walls[w].material.to_string()));
+    array(&mut out, "Int32", "material", 1, wall_of_poly.iter().map(|&w| walls[w].material.to_string()));
+    array(&mut out, "Int32", "group", 1, wall_of_poly.iter().map(|&w| walls[w].group.to_string()));
     let _ = writeln!(out, "      </CellData>");
     let _ = writeln!(out, "      <Points>");
     array(&mut out, "Float64", "position", 3, points.iter().flat_map(|p| p.to_array()).map(|v| v.to_string()));

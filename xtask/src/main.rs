@@ -4,6 +4,7 @@
 mod charts;
 mod conformance;
 mod friction_charts;
+mod mill;
 mod svg;
 mod sweep;
 mod verify;
@@ -16,9 +17,11 @@ fn main() {
         Some("charts") => charts::run(&args[1..]),
         Some("gpu-profile") => gpu_profile(&args[1..]),
         Some("sweep") => sweep::run(&args[1..]),
+        Some("mill") => mill::mill(&args[1..]),
+        Some("hopper") => mill::hopper(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask <verify|conformance|charts|gpu-profile|sweep>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map, convergence and friction charts (SVG + CSV) in docs/charts/ (charts friction: only the friction ones)\n  gpu-profile  SCENE [STEPS]: GPU particle-steps/s and per-kernel device times (timestamp queries)\n  sweep        agglomeration in a Taylor-Green vortex over Stk x Sy (cargo xtask sweep --help): CSV and heat maps in docs/agglomeration/"
+                "usage: cargo xtask <verify|conformance|charts|gpu-profile|sweep|mill|hopper>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure\n  charts       speed-vs-accuracy, stability-map, convergence and friction charts (SVG + CSV) in docs/charts/ (charts friction: only the friction ones)\n  gpu-profile  SCENE [STEPS]: GPU particle-steps/s and per-kernel device times (timestamp queries)\n  sweep        agglomeration in a Taylor-Green vortex over Stk x Sy (cargo xtask sweep --help): CSV and heat maps in docs/agglomeration/\n  mill         ball-mill power draw and charge profile against speed and filling (docs/charts/mill_power.*)\n  hopper       hopper discharge rate against orifice width (docs/charts/hopper_discharge.*)"
             );
             2
         }

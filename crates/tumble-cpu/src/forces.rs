@@ -10,7 +10,7 @@ use tumble_contact::{
     TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, history_force, normal_force, rolling_torque, tangential_force,
 };
 use tumble_geom::sphere_sphere;
-use tumble_scene::{PairParams, Plan};
+use tumble_scene::{PairParams, Plan, Wall};
 
 /// What the contact pass gives one particle.
 #[derive(Clone, Copy, Debug, Default)]
@@ -43,6 +43,8 @@ pub struct ContactInputs<'a> {
     /// Velocities the forces see (Verlet: the predicted v_{n+1}).
     pub vel: &'a [DVec3],
     pub omega: &'a [DVec3],
+    /// The walls at the time of this pass (moving ones in their current pose).
+    pub walls: &'a [Wall],
 }
 
 /// One pair's contribution, computed once in canonical order (a has the lower id).
@@ -194,6 +196,8 @@ impl SpringSlots<'_> {
 
 /// Particle `i`'s sum: its pairs, gathered in list order, then the walls.
 /// With history it also writes the springs it keeps into `slots` (a sees +ξ, b sees −ξ).
+/// `wall_power` is empty, or one slot per wall candidate of `i` (its share of
+/// `list.wall_entries`), which receives F_on_particle · v_wall of that contact.
 #[inline(always)]
 pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
     c: &ContactInputs,
@@ -202,6 +206,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
     springs: &[DVec3],
     i: usize,
     mut slots: SpringSlots,
+    wall_power: &mut [f64],
 ) -> ContactSum {
     let mut sum = ContactSum::default();
     for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
@@ -235,13 +240,14 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
     if near.is_empty() {
         return sum;
     }
-    // Walls: static, infinite mass, R* = r_i.
+    // Walls: infinite mass, R* = r_i; a moving wall's velocity at the contact point enters v_rel.
     let xi = s.pos[i];
     let r = s.radius[i];
     let extra = s.reach[i] - r;
-    for &wall in near {
+    wall_power.fill(0.0);
+    for (slot, &wall) in near.iter().enumerate() {
         let wall = wall as u32;
-        let w = &plan.walls[wall as usize];
+        let w = &c.walls[wall as usize];
         let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
         let effect_overlap = k.overlap + extra;
         if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
@@ -249,7 +255,8 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
         }
         let params = plan.pair(s.material[i], w.material);
         let arm = k.point - xi;
-        let mut v_rel = c.vel[i];
+        let v_wall = w.velocity_at(k.point);
+        let mut v_rel = c.vel[i] - v_wall;
         if ROT {
             v_rel += c.omega[i].cross(arm);
         }
@@ -260,11 +267,19 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
             slots.keep(&mut sum.springs, key, spring);
         }
         sum.force += f.force;
+        let mut power = f.force.dot(v_wall);
         if ROT {
             sum.torque += arm.cross(f.tangential);
             if params.rolling > 0.0 {
-                sum.torque += rolling_torque(params.rolling, r, f.normal, c.omega[i], s.inv_inertia[i], plan.dt);
+                // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
+                let spin = w.angular_velocity();
+                let roll = rolling_torque(params.rolling, r, f.normal, c.omega[i] - spin, s.inv_inertia[i], plan.dt);
+                sum.torque += roll;
+                power += roll.dot(spin);
             }
+        }
+        if let Some(p) = wall_power.get_mut(slot) {
+            *p = power;
         }
         sum.elastic += f.elastic;
         sum.dissipation += f.dissipation;

@@ -42,7 +42,7 @@ mod step;
 
 pub use forces::ContactSum;
 pub use history::{HistoryOverflow, HistorySlots, WALL_KEY};
-pub use observables::{Observables, TrackRow};
+pub use observables::{DrumProfile, Observables, TrackRow};
 pub use state::State;
 
 use forces::{PairOut, SortedEntry};
@@ -72,6 +72,17 @@ pub struct CpuSimulation {
     step: u64,
     removed: usize,
     threads: usize,
+    /// The walls in their pose at `walls_time` (moving ones updated every step).
+    walls: Vec<tumble_scene::Wall>,
+    moving_walls: bool,
+    walls_time: f64,
+    /// `walls_time` at the last neighbour-list build.
+    walls_built_at: f64,
+    /// F_on_particle · v_wall per wall candidate (parallel to the list's wall entries).
+    candidate_power: Vec<f64>,
+    /// Per wall group: power at the last force pass and work done since t = 0.
+    group_power: Vec<f64>,
+    group_work: Vec<f64>,
 }
 
 impl CpuSimulation {
@@ -84,6 +95,9 @@ impl CpuSimulation {
         // A one-cell placeholder: the first broad phase sizes the real grid to the particles.
         let grid = CellGrid::new(&scene.plan.domain, scene.plan.domain.extent().max_element());
         let neighbours = NeighbourList::new(scene.plan.skin);
+        let walls = scene.plan.walls.clone();
+        let moving_walls = walls.iter().any(|w| w.motion.is_some());
+        let groups = scene.plan.wall_groups.len();
         let mut sim = CpuSimulation {
             plan: scene.plan,
             pool,
@@ -102,6 +116,13 @@ impl CpuSimulation {
             step: 0,
             removed: 0,
             threads,
+            walls,
+            moving_walls,
+            walls_time: 0.0,
+            walls_built_at: 0.0,
+            candidate_power: Vec::new(),
+            group_power: vec![0.0; groups],
+            group_work: vec![0.0; groups],
         };
         sim.broad_phase();
         sim.initial_forces();
@@ -178,6 +199,22 @@ impl CpuSimulation {
             .collect();
         pairs.sort_unstable();
         pairs
+    }
+
+    /// The walls in their current pose.
+    pub fn walls(&self) -> &[tumble_scene::Wall] {
+        &self.walls
+    }
+
+    /// Power delivered to the particles by each wall group at the last force pass,
+    /// Σ F_on_particle · v_wall (positive when the wall drives the particles; zero for static walls).
+    pub fn wall_power(&self) -> &[f64] {
+        &self.group_power
+    }
+
+    /// Work done on the particles by each wall group since t = 0.
+    pub fn wall_work(&self) -> &[f64] {
+        &self.group_work
     }
 
     /// The contact sums of the last force pass, by array index.

@@ -17,6 +17,8 @@ pub struct Observables {
     pub dissipated_energy: f64,
     /// Work done by the fluid on the particles so far (a source or sink).
     pub fluid_work: f64,
+    /// Work done on the particles by moving walls so far (a source).
+    pub wall_work: f64,
     pub contacts: u64,
     pub max_overlap_ratio: f64,
     pub particles: usize,
@@ -29,6 +31,26 @@ impl Observables {
     pub fn mechanical_energy(&self) -> f64 {
         self.kinetic_energy + self.rotational_energy + self.potential_energy + self.elastic_energy
     }
+}
+
+/// The charge of a drum (docs/mill.md, "Charge profile"). Angles in degrees, measured
+/// in the drum's cross-section from straight down (gravity projected on the cross-section),
+/// positive in the direction the shell moves at the bottom, so the rising side is positive.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DrumProfile {
+    /// Movable particles whose centre lies inside the drum (between its ends, within its radius).
+    pub charge_mass: f64,
+    /// Angle of the charge's centre of mass.
+    pub com_angle: f64,
+    /// Distance of the charge's centre of mass from the axis, m.
+    pub com_radius: f64,
+    /// 5th and 95th percentiles of the angles of the shell layer (particles whose surface is
+    /// within half a radius of the shell): where the charge meets the shell at the bottom (toe,
+    /// negative) and where it leaves the shell on the rising side (shoulder, positive).
+    pub toe: f64,
+    pub shoulder: f64,
+    /// Torque-arm estimate of the drive power, M g r_com sin(θ_com) |ω|, W.
+    pub torque_arm_power: f64,
 }
 
 /// One row of tracks.csv.
@@ -60,6 +82,7 @@ impl CpuSimulation {
                 o.fluid_work += s.fluid_work[i];
             }
         }
+        o.wall_work = self.wall_work().iter().sum();
         for c in self.contact_sums() {
             o.elastic_energy += c.elastic;
             o.contacts += c.contacts as u64;
@@ -67,6 +90,59 @@ impl CpuSimulation {
         }
         o.finite &= o.elastic_energy.is_finite() && o.dissipated_energy.is_finite();
         o
+    }
+
+    /// The charge profile of each drum of the plan (NaN angles without gravity across the axis).
+    pub fn drum_profiles(&self) -> Vec<DrumProfile> {
+        let s = self.state();
+        let g = self.plan().gravity;
+        self.plan()
+            .drums
+            .iter()
+            .map(|d| {
+                let g_plane = g - d.axis * g.dot(d.axis);
+                let mut p = DrumProfile { com_angle: f64::NAN, toe: f64::NAN, shoulder: f64::NAN, ..Default::default() };
+                if g_plane.length() <= 1e-12 * g.length().max(1e-300) {
+                    return p;
+                }
+                let down = g_plane.normalize();
+                // Direction of the shell's motion at the bottom.
+                let along = (d.axis * d.omega.signum()).cross(down);
+                let mut com = DVec3::ZERO;
+                let mut shell = Vec::new();
+                for i in 0..s.len() {
+                    if s.inv_mass[i] == 0.0 {
+                        continue;
+                    }
+                    let rel = s.pos[i] - d.point;
+                    let z = rel.dot(d.axis);
+                    let radial = rel - d.axis * z;
+                    let rho = radial.length();
+                    if z < 0.0 || z > d.length || rho > d.radius {
+                        continue;
+                    }
+                    p.charge_mass += s.mass[i];
+                    com += radial * s.mass[i];
+                    if d.radius - rho - s.radius[i] <= 0.5 * s.radius[i] {
+                        shell.push(radial.dot(along).atan2(radial.dot(down)).to_degrees());
+                    }
+                }
+                if p.charge_mass > 0.0 {
+                    com /= p.charge_mass;
+                    p.com_radius = com.length();
+                    let theta = com.dot(along).atan2(com.dot(down));
+                    p.com_angle = theta.to_degrees();
+                    p.torque_arm_power = p.charge_mass * g_plane.length() * p.com_radius * theta.sin() * d.omega.abs();
+                }
+                if !shell.is_empty() {
+                    shell.sort_by(f64::total_cmp);
+                    let pick = |q: f64| shell[((q * (shell.len() - 1) as f64).round() as usize).min(shell.len() - 1)];
+                    p.toe = pick(0.05);
+                    p.shoulder = pick(0.95);
+                }
+                p
+            })
+            .collect()
     }
 
     /// Tracked particles, by id.

@@ -40,7 +40,8 @@ impl CpuSimulation {
     /// particle arrays are re-sorted by cell first.
     pub(crate) fn broad_phase(&mut self) {
         let domain = self.plan.domain;
-        if !self.pool.install(|| self.neighbours.needs_rebuild(&self.state.pos, &domain)) {
+        // Particle moves ≤ skin/2 and wall sweeps ≤ skin/2 keep every listed candidate valid.
+        if !self.walls_moved_too_far() && !self.pool.install(|| self.neighbours.needs_rebuild(&self.state.pos, &domain)) {
             return;
         }
         self.grid = CellGrid::new(&self.grid_bounds(), self.plan.cell_size + self.plan.skin);
@@ -54,11 +55,31 @@ impl CpuSimulation {
         let (pos, reach) = (&self.state.pos, &self.state.reach);
         let order = self.grid.order();
         let sorted = &mut self.sorted;
-        let (grid, state, list, walls) = (&self.grid, &self.state, &mut self.neighbours, &self.plan.walls);
+        let (grid, state, list, walls) = (&self.grid, &self.state, &mut self.neighbours, &self.walls);
         self.pool.install(|| {
             order.par_iter().map(|&i| SortedEntry { pos: pos[i as usize], reach: reach[i as usize] }).collect_into_vec(sorted);
             list.build(grid, sorted, state, &domain, walls);
         });
+        self.walls_built_at = self.walls_time;
+    }
+
+    /// Moves the walls to their pose at time `t`.
+    fn place_walls(&mut self, t: f64) {
+        self.walls_time = t;
+        if !self.moving_walls {
+            return;
+        }
+        for (now, wall) in self.walls.iter_mut().zip(&self.plan.walls) {
+            if wall.motion.is_some() {
+                now.shape = wall.shape_at(t);
+            }
+        }
+    }
+
+    /// True when some wall may have swept more than half the skin since the last list build.
+    fn walls_moved_too_far(&self) -> bool {
+        let elapsed = self.walls_time - self.walls_built_at;
+        self.moving_walls && self.plan.walls.iter().any(|w| w.travel_speed * elapsed > 0.5 * self.plan.skin)
     }
 
     /// The region the grid must cover: the whole domain along periodic axes (cells must tile
@@ -103,14 +124,41 @@ impl CpuSimulation {
             std::mem::swap(&mut self.state.history, &mut self.history_next);
             self.check_history_capacity();
         }
+        if self.moving_walls {
+            // Serial, in array order: the same sums for any thread count.
+            self.group_power.fill(0.0);
+            for (&w, &p) in self.neighbours.wall_entries.iter().zip(&self.candidate_power) {
+                self.group_power[self.plan.walls[w as usize].group as usize] += p;
+            }
+            if commit {
+                let dt = self.plan.dt;
+                for (work, p) in self.group_work.iter_mut().zip(&self.group_power) {
+                    *work += p * dt;
+                }
+            }
+        }
     }
 
     fn contact_pass_with<const ROT: bool, const COH: bool, const PERIODIC: bool, const HIST: bool>(&mut self, use_eval: bool) {
         let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
-        let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega };
+        let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega, walls: &self.walls };
         let n = self.state.len();
         let (list, pair_out, pair_spring, sums) = (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.sums);
         let next = &mut self.history_next;
+        // Each particle's share of the wall-power slots (empty without moving walls).
+        let power = &mut self.candidate_power;
+        power.clear();
+        if self.moving_walls {
+            power.resize(list.wall_entries.len(), 0.0);
+        }
+        let mut chunks: Vec<&mut [f64]> = Vec::with_capacity(n);
+        let mut rest = &mut power[..];
+        for i in 0..n {
+            let len = if rest.is_empty() { 0 } else { (list.wall_start[i + 1] - list.wall_start[i]) as usize };
+            let (mine, tail) = rest.split_at_mut(len);
+            chunks.push(mine);
+            rest = tail;
+        }
         self.pool.install(|| {
             let pairs = list.pairs.par_iter().with_min_len(1024);
             if HIST {
@@ -127,9 +175,10 @@ impl CpuSimulation {
                     .zip(next.key.par_chunks_mut(slots))
                     .zip(next.spring.par_chunks_mut(slots))
                     .zip(next.count.par_iter_mut())
+                    .zip(chunks.into_par_iter())
                     .with_min_len(512)
-                    .map(|(((i, key), spring), count)| {
-                        let sum = gather::<ROT, COH, HIST>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring });
+                    .map(|((((i, key), spring), count), power)| {
+                        let sum = gather::<ROT, COH, HIST>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring }, power);
                         *count = sum.springs.min(slots as u32) as u16;
                         sum
                     })
@@ -140,8 +189,9 @@ impl CpuSimulation {
                     .collect_into_vec(pair_out);
                 (0..n)
                     .into_par_iter()
+                    .zip(chunks.into_par_iter())
                     .with_min_len(512)
-                    .map(|i| gather::<ROT, COH, HIST>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }))
+                    .map(|(i, power)| gather::<ROT, COH, HIST>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }, power))
                     .collect_into_vec(sums);
             }
         });
@@ -189,6 +239,7 @@ impl CpuSimulation {
 
     /// Forces at t = 0, so Verlet's first half kick has an acceleration.
     pub(crate) fn initial_forces(&mut self) {
+        self.place_walls(self.time());
         self.contact_pass(false, false);
         let explicit = !self.plan.integrator.implicit_drag();
         // The t = 0 pass only seeds accelerations: it must not count dissipation or fluid work.
@@ -216,6 +267,8 @@ impl CpuSimulation {
                     });
                 }
                 self.boundaries();
+                // Forces at x_{n+1} see the walls at t_{n+1}.
+                self.place_walls((self.step + 1) as f64 * dt);
                 self.broad_phase();
                 // Velocity-dependent forces see the second-order estimate of v_{n+1}.
                 let s = &self.state;
@@ -238,6 +291,7 @@ impl CpuSimulation {
                 });
             }
             integrator => {
+                self.place_walls(self.step as f64 * dt);
                 self.broad_phase();
                 self.contact_pass(false, true);
                 let implicit = integrator.implicit_drag();

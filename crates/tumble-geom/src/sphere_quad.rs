@@ -53,6 +53,18 @@ impl Quad {
         })
     }
 
+    /// Closest point of the quad to `p`: the foot of the perpendicular, or on an edge.
+    pub fn closest_point(&self, p: DVec3) -> DVec3 {
+        let foot = p - self.normal * self.normal.dot(p - self.corners[0]);
+        if self.foot_inside(foot) {
+            return foot;
+        }
+        (0..4)
+            .map(|k| closest_on_segment(self.corners[k], self.corners[(k + 1) % 4], p))
+            .min_by(|a, b| (*a - p).length_squared().total_cmp(&(*b - p).length_squared()))
+            .unwrap()
+    }
+
     pub fn sphere_proximity(&self, centre: DVec3, radius: f64, reach: f64) -> Option<SurfaceContact> {
         let h = self.normal.dot(centre - self.corners[0]);
         if h.abs() >= radius + reach || (!self.two_sided && h <= -radius) {

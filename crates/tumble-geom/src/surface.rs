@@ -1,4 +1,5 @@
-use crate::{Cylinder, DVec3, Plane, PolyContact, Polyhedron, Pose, Quad};
+use crate::{Cylinder, DVec3, Plane, PolyContact, Polyhedron, Pose, Prism, Quad};
+use glam::DQuat;
 
 /// A sphere touching a world surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -17,6 +18,8 @@ pub enum SurfaceShape {
     Plane(Plane),
     Quad(Quad),
     Cylinder(Cylinder),
+    /// A convex lifter bar (boxed: six quads make it ten times the size of the others).
+    Prism(Box<Prism>),
 }
 
 impl SurfaceShape {
@@ -32,6 +35,27 @@ impl SurfaceShape {
             SurfaceShape::Plane(p) => p.sphere_proximity(centre, radius, reach),
             SurfaceShape::Quad(q) => q.sphere_proximity(centre, radius, reach),
             SurfaceShape::Cylinder(c) => c.sphere_proximity(centre, radius, reach),
+            SurfaceShape::Prism(p) => p.sphere_proximity(centre, radius, reach),
+        }
+    }
+
+    /// The shape moved rigidly: rotated by `rotation` about `pivot`, then shifted by `shift`.
+    pub fn moved(&self, pivot: DVec3, rotation: DQuat, shift: DVec3) -> SurfaceShape {
+        let pt = |p: DVec3| pivot + rotation * (p - pivot) + shift;
+        let dir = |d: DVec3| rotation * d;
+        let quad = |q: &Quad| Quad { corners: q.corners.map(pt), normal: dir(q.normal), two_sided: q.two_sided };
+        match self {
+            SurfaceShape::Plane(p) => SurfaceShape::Plane(Plane { point: pt(p.point), normal: dir(p.normal) }),
+            SurfaceShape::Quad(q) => SurfaceShape::Quad(quad(q)),
+            SurfaceShape::Cylinder(c) => SurfaceShape::Cylinder(Cylinder { point: pt(c.point), axis: dir(c.axis), ..c.clone() }),
+            SurfaceShape::Prism(p) => SurfaceShape::Prism(Box::new(Prism {
+                faces: p.faces.each_ref().map(quad),
+                centre: pt(p.centre),
+                bound: p.bound,
+                axis_point: pt(p.axis_point),
+                axis: dir(p.axis),
+                inner: p.inner,
+            })),
         }
     }
 
@@ -42,6 +66,7 @@ impl SurfaceShape {
             SurfaceShape::Plane(p) => p.polyhedron_contact(poly, pose),
             SurfaceShape::Quad(q) => q.polyhedron_contact(poly, pose),
             SurfaceShape::Cylinder(c) => c.polyhedron_contact(poly, pose),
+            SurfaceShape::Prism(p) => p.polyhedron_contact(poly, pose),
         }
     }
 }

@@ -65,6 +65,12 @@ impl GpuSimulation {
     /// Uploads a compiled scene to the process's GPU and evaluates the initial forces.
     pub fn new(scene: CompiledScene) -> Result<Self, GpuError> {
         // Tangential springs and rolling resistance run on the CPU backend only, so far.
+        let plan = &scene.plan;
+        if plan.walls.iter().any(|w| w.motion.is_some() || matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))) || !plan.flow_planes.is_empty() {
+            return Err(GpuError::Feature(
+                "it has moving walls, lifters or flow planes, which the GPU backend does not run yet; use backend = \"cpu\"".into(),
+            ));
+        }
         if scene.plan.history || scene.plan.rolling {
             return Err(GpuError::Feature(
                 "it uses tangential springs (model \"history\") or rolling_friction, which the GPU backend does not run yet; \

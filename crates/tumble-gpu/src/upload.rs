@@ -200,6 +200,8 @@ pub fn tables(plan: &Plan) -> Vec<[f32; 4]> {
                 entry[2] = dir(c.axis);
                 entry[3] = [c.radius as f32, c.length as f32, 0.0, 0.0];
             }
+            // Refused by GpuSimulation::new before any upload.
+            SurfaceShape::Prism(_) => {}
         }
         t.extend_from_slice(&entry);
     }

@@ -18,6 +18,26 @@ pub struct Scene {
     pub particles: Vec<ParticleGroup>,
     #[serde(default)]
     pub walls: Vec<WallSection>,
+    #[serde(default)]
+    pub output: OutputSection,
+}
+
+/// Extra outputs.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// Planes whose mass flow is reported in observables.csv (`flow_<name>`, `mass_<name>`).
+    #[serde(default)]
+    pub flow_planes: Vec<FlowPlaneSection>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlowPlaneSection {
+    pub name: String,
+    pub point: V3,
+    /// Flow counts positive from the side behind the normal to the side it points to.
+    pub normal: V3,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -383,6 +403,53 @@ pub struct WallSection {
     #[serde(rename = "box")]
     pub box_: Option<BoxSection>,
     pub cylinder: Option<CylinderSection>,
+    pub lifters: Option<LiftersSection>,
+    pub motion: Option<MotionSection>,
+}
+
+/// Lifter bars fixed inside a cylinder wall, moving with it.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LiftersSection {
+    /// Number of rows at equal angular spacing.
+    #[serde(alias = "rows")]
+    pub count: u32,
+    /// Radial height of a bar, m.
+    pub height: f64,
+    /// Width of the top face, m.
+    pub width: f64,
+    /// Angle of each side face from the radial direction, degrees (0 = rectangular, > 0 = trapezoidal).
+    #[serde(default)]
+    pub face_angle: f64,
+    /// Angular position of the first row, degrees from the cylinder's reference direction.
+    #[serde(default)]
+    pub phase: f64,
+    /// Name of the inside cylinder wall they are fixed to.
+    pub on: String,
+}
+
+/// Prescribed wall motion.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MotionSection {
+    Rotate(RotateSection),
+    Translate(TranslateSection),
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotateSection {
+    /// A point on the rotation axis.
+    pub point: V3,
+    pub axis: V3,
+    /// Revolutions per minute, right-handed about `axis` (negative turns the other way).
+    pub rpm: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TranslateSection {
+    pub velocity: V3,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -405,6 +472,8 @@ pub struct QuadSection {
 pub struct BoxSection {
     pub min: V3,
     pub max: V3,
+    /// Width of a square hole centred in the −z face (a flat-bottomed hopper's orifice), m.
+    pub floor_hole: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
