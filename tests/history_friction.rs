@@ -193,3 +193,29 @@ fn plan_warns_when_a_quasi_static_scene_uses_history_free_friction() {
     assert!(scene.plan.history && scene.plan.features.iter().any(|f| f.name == "history" && f.active));
     let _ = Simulation::new(scene, 1);
 }
+
+/// Case 9's falling, settling bed with tangential springs: the energy balance closes,
+/// springs that end with their contact included (their stored energy is booked as dissipated).
+#[test]
+fn energy_balance_closes_with_tangential_springs() {
+    for (label, tangential) in [
+        ("Cundall–Strack", "tangential = { model = \"history\", friction = 0.4 }"),
+        ("Cundall–Strack with rolling resistance", "tangential = { model = \"history\", friction = 0.4 }\nrolling_friction = 0.05"),
+    ] {
+        let text = ENERGY_BALANCE.replace("tangential = { model = \"viscous-coulomb\", friction = 0.4, viscous = 1.0 }", tangential);
+        assert_ne!(text, ENERGY_BALANCE);
+        let mut scene = parse_scene(&text).unwrap();
+        scene.run.duration = 0.25;
+        let compiled = compile(&scene).unwrap();
+        assert!(compiled.plan.history);
+        let steps = compiled.plan.steps;
+        let mut sim = Simulation::new(compiled, 2);
+        let e0 = sim.observables().mechanical_energy();
+        sim.advance(steps);
+        let o = sim.observables();
+        let error = (o.mechanical_energy() + o.dissipated_energy - e0).abs() / e0;
+        assert!(o.dissipated_energy > 0.3 * e0, "{label}: the bed should have settled");
+        println!("{label}: energy balance {error:.3e} of E0, dissipated {:.3} E0", o.dissipated_energy / e0);
+        assert!(error < 2e-3, "{label}: energy balance off by {error:.3e} of E0");
+    }
+}

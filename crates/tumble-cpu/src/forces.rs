@@ -2,7 +2,7 @@
 //! torque. A pair is computed in canonical order (lower id first) and negated
 //! for the other side, so pair forces are exactly equal and opposite.
 
-use crate::history::WALL_KEY;
+use crate::history::{Spring, WALL_KEY};
 use crate::neighbours::NeighbourList;
 use crate::state::State;
 use glam::DVec3;
@@ -72,7 +72,9 @@ struct ContactForce {
 }
 
 /// `spring` holds the contact's tangential spring on entry (zero for a new contact)
-/// and the spring to keep on return (zero when the contact has ended).
+/// and the spring to keep on return (zero when the contact has ended). The dissipation
+/// books the work done on the spring less what it stores now over what it stored at the
+/// last step, so the energy balance closes even as a Mindlin k_t changes with δ.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn contact_force<const COH: bool, const HIST: bool>(
@@ -84,10 +86,10 @@ fn contact_force<const COH: bool, const HIST: bool>(
     m_star: f64,
     r_star: f64,
     dt: f64,
-    spring: &mut DVec3,
+    spring: &mut Spring,
 ) -> ContactForce {
     let mut out = ContactForce { force: DVec3::ZERO, tangential: DVec3::ZERO, normal: 0.0, elastic: 0.0, dissipation: 0.0 };
-    let old_spring = if HIST { std::mem::take(spring) } else { DVec3::ZERO };
+    let old_spring = if HIST { std::mem::take(spring) } else { Spring::default() };
     if COH && p.cohesion > 0.0 && effect_overlap > 0.0 {
         out.force = n * cohesion_force(p.cohesion, effect_overlap);
         out.elastic = cohesion_energy(p.cohesion, effect_overlap);
@@ -100,10 +102,10 @@ fn contact_force<const COH: bool, const HIST: bool>(
         out.normal = applied.abs();
         let (ft, slip_loss) = match p.tangential {
             TangentialLaw::History { friction, spring: law } if HIST => {
-                let h = history_force(&law, friction, out.normal, overlap, r_star, m_star, old_spring, n, vt, dt);
-                *spring = h.spring;
+                let h = history_force(&law, friction, out.normal, overlap, r_star, m_star, old_spring.xi, n, vt, dt);
+                *spring = Spring { xi: h.spring, energy: h.energy };
                 out.elastic += h.energy;
-                (h.force, h.dissipation)
+                (h.force, if dt > 0.0 { -h.force.dot(vt) - (h.energy - old_spring.energy) / dt } else { 0.0 })
             }
             law => {
                 let t_col = match law {
@@ -131,7 +133,7 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
     c: &ContactInputs,
     a: usize,
     b: usize,
-    spring: &mut DVec3,
+    spring: &mut Spring,
 ) -> PairOut {
     let s = c.state;
     let plan = c.plan;
@@ -163,13 +165,16 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
         out.torque_a = g.arm_i.cross(f.tangential);
         out.torque_b = g.arm_j.cross(-f.tangential);
         if params.rolling > 0.0 {
-            let roll = rolling_torque(params.rolling, r_star, f.normal, c.omega[a] - c.omega[b], s.inv_inertia[a] + s.inv_inertia[b], plan.dt);
+            let relative = c.omega[a] - c.omega[b];
+            let roll = rolling_torque(params.rolling, r_star, f.normal, relative, s.inv_inertia[a] + s.inv_inertia[b], plan.dt);
             out.torque_a += roll;
             out.torque_b -= roll;
+            // The couple opposes the relative rolling: all its work is dissipated.
+            out.dissipation -= roll.dot(relative);
         }
     }
-    out.elastic = f.elastic;
-    out.dissipation = f.dissipation;
+    out.elastic += f.elastic;
+    out.dissipation += f.dissipation;
     if g.overlap >= 0.0 {
         out.overlap_ratio = g.overlap / s.radius[a].min(s.radius[b]);
     }
@@ -179,13 +184,13 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
 /// Where a particle writes the springs it keeps this step (empty without history).
 pub struct SpringSlots<'a> {
     pub key: &'a mut [u32],
-    pub spring: &'a mut [DVec3],
+    pub spring: &'a mut [Spring],
 }
 
 impl SpringSlots<'_> {
     /// Stores one spring in slot `*used`, if there is room; counts it either way.
     #[inline(always)]
-    fn keep(&mut self, used: &mut u32, key: u32, spring: DVec3) {
+    fn keep(&mut self, used: &mut u32, key: u32, spring: Spring) {
         if let Some(k) = self.key.get_mut(*used as usize) {
             *k = key;
             self.spring[*used as usize] = spring;
@@ -203,7 +208,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
     c: &ContactInputs,
     list: &NeighbourList,
     pairs: &[PairOut],
-    springs: &[DVec3],
+    springs: &[Spring],
     i: usize,
     mut slots: SpringSlots,
     wall_power: &mut [f64],
@@ -212,10 +217,11 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
     for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
         let k = (e >> 1) as usize;
         let p = &pairs[k];
-        if HIST && springs[k] != DVec3::ZERO {
+        if HIST && springs[k].xi != DVec3::ZERO {
             let [a, b] = list.pairs[k];
-            let (other, xi) = if e & 1 == 0 { (b, springs[k]) } else { (a, -springs[k]) };
-            slots.keep(&mut sum.springs, c.state.id[other as usize], xi);
+            let sp = springs[k];
+            let (other, xi) = if e & 1 == 0 { (b, sp.xi) } else { (a, -sp.xi) };
+            slots.keep(&mut sum.springs, c.state.id[other as usize], Spring { xi, energy: sp.energy });
         }
         if e & 1 == 0 {
             sum.force += p.force;
@@ -238,6 +244,9 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
     let plan = c.plan;
     let near = &list.wall_entries[list.wall_start[i] as usize..list.wall_start[i + 1] as usize];
     if near.is_empty() {
+        if HIST {
+            book_ended_springs(c, i, &slots, &mut sum);
+        }
         return sum;
     }
     // Walls: infinite mass, R* = r_i; a moving wall's velocity at the contact point enters v_rel.
@@ -261,9 +270,9 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
             v_rel += c.omega[i].cross(arm);
         }
         let key = WALL_KEY | wall;
-        let mut spring = if HIST { s.history.find(i, key) } else { DVec3::ZERO };
+        let mut spring = if HIST { s.history.find(i, key) } else { Spring::default() };
         let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, plan.dt, &mut spring);
-        if HIST && spring != DVec3::ZERO {
+        if HIST && spring.xi != DVec3::ZERO {
             slots.keep(&mut sum.springs, key, spring);
         }
         sum.force += f.force;
@@ -276,6 +285,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
                 let roll = rolling_torque(params.rolling, r, f.normal, c.omega[i] - spin, s.inv_inertia[i], plan.dt);
                 sum.torque += roll;
                 power += roll.dot(spin);
+                sum.dissipation -= roll.dot(c.omega[i] - spin);
             }
         }
         if let Some(p) = wall_power.get_mut(slot) {
@@ -288,5 +298,21 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
             sum.max_overlap_ratio = sum.max_overlap_ratio.max(k.overlap / r);
         }
     }
+    if HIST {
+        book_ended_springs(c, i, &slots, &mut sum);
+    }
     sum
+}
+
+/// A contact that ended takes its spring's stored energy with it: book it as dissipated,
+/// once per pair (on the lower id's side; walls on the particle's).
+#[inline(always)]
+fn book_ended_springs(c: &ContactInputs, i: usize, slots: &SpringSlots, sum: &mut ContactSum) {
+    let kept = &slots.key[..(sum.springs as usize).min(slots.key.len())];
+    let me = c.state.id[i];
+    for (key, spring) in c.state.history.of(i) {
+        if (key & WALL_KEY != 0 || me < key) && !kept.contains(&key) {
+            sum.dissipation += spring.energy / c.plan.dt;
+        }
+    }
 }

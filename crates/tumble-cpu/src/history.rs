@@ -8,30 +8,44 @@ use glam::DVec3;
 /// Marks a key as a wall index rather than a particle id.
 pub const WALL_KEY: u32 = 1 << 31;
 
+/// One contact's tangential spring and the energy it stores.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Spring {
+    pub xi: DVec3,
+    /// ½ k_t |ξ|² as booked at the last step: what is dissipated if the contact ends now.
+    pub energy: f64,
+}
+
 /// One generation of spring slots: `slots` per particle, the first `count[i]` in use.
 #[derive(Clone, Debug, Default)]
 pub struct HistorySlots {
     pub slots: usize,
     pub count: Vec<u16>,
     pub key: Vec<u32>,
-    pub spring: Vec<DVec3>,
+    pub spring: Vec<Spring>,
 }
 
 impl HistorySlots {
     /// Empty slots for `n` particles (`slots` = 0 when the plan has no history).
     pub fn new(n: usize, slots: usize) -> Self {
-        HistorySlots { slots, count: vec![0; if slots > 0 { n } else { 0 }], key: vec![0; n * slots], spring: vec![DVec3::ZERO; n * slots] }
+        HistorySlots { slots, count: vec![0; if slots > 0 { n } else { 0 }], key: vec![0; n * slots], spring: vec![Spring::default(); n * slots] }
     }
 
     /// The spring particle `i` holds for `key`, zero when the contact is new.
     #[inline]
-    pub fn find(&self, i: usize, key: u32) -> DVec3 {
+    pub fn find(&self, i: usize, key: u32) -> Spring {
         let base = i * self.slots;
         let used = self.count[i] as usize;
         match self.key[base..base + used].iter().position(|&k| k == key) {
             Some(s) => self.spring[base + s],
-            None => DVec3::ZERO,
+            None => Spring::default(),
         }
+    }
+
+    /// Particle `i`'s springs: (key, spring) in slot order.
+    pub fn of(&self, i: usize) -> impl Iterator<Item = (u32, Spring)> + '_ {
+        let base = i * self.slots;
+        (base..base + self.count[i] as usize).map(|s| (self.key[s], self.spring[s]))
     }
 
     /// Springs held in all, each pair counted from both sides.
@@ -67,7 +81,7 @@ impl HistorySlots {
         if self.slots > 0 {
             self.count.resize(n, 0);
             self.key.resize(n * self.slots, 0);
-            self.spring.resize(n * self.slots, DVec3::ZERO);
+            self.spring.resize(n * self.slots, Spring::default());
         }
     }
 }
@@ -102,14 +116,14 @@ mod tests {
         for i in 0..3 {
             h.count[i] = 1;
             h.key[2 * i] = 10 + i as u32;
-            h.spring[2 * i] = DVec3::splat(i as f64);
+            h.spring[2 * i] = Spring { xi: DVec3::splat(i as f64), energy: i as f64 };
         }
         h.permute(&[2, 0, 1]);
-        assert_eq!(h.find(0, 12), DVec3::splat(2.0));
-        assert_eq!(h.find(1, 10), DVec3::splat(0.0));
-        assert_eq!(h.find(1, 12), DVec3::ZERO);
+        assert_eq!(h.find(0, 12).xi, DVec3::splat(2.0));
+        assert_eq!(h.find(1, 10).xi, DVec3::splat(0.0));
+        assert_eq!(h.find(1, 12), Spring::default());
         h.retain(&[false, true, true]);
         assert_eq!(h.count.len(), 2);
-        assert_eq!(h.find(1, 11), DVec3::splat(1.0));
+        assert_eq!(h.find(1, 11).energy, 1.0);
     }
 }

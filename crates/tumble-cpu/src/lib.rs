@@ -41,7 +41,7 @@ mod state;
 mod step;
 
 pub use forces::ContactSum;
-pub use history::{HistoryOverflow, HistorySlots, WALL_KEY};
+pub use history::{HistoryOverflow, HistorySlots, Spring, WALL_KEY};
 pub use observables::{DrumProfile, Observables, TrackRow};
 pub use state::State;
 
@@ -62,7 +62,7 @@ pub struct CpuSimulation {
     neighbours: NeighbourList,
     pair_out: Vec<PairOut>,
     /// Each listed pair's new spring as its lower id holds it (history only).
-    pair_spring: Vec<DVec3>,
+    pair_spring: Vec<Spring>,
     /// The next generation of spring slots, written by the gather and then swapped in.
     history_next: HistorySlots,
     history_overflow: Option<HistoryOverflow>,
@@ -234,7 +234,7 @@ mod tests {
         let mut map = BTreeMap::new();
         for i in 0..s.len() {
             for k in 0..h.count[i] as usize {
-                map.insert((s.id[i], h.key[i * h.slots + k]), h.spring[i * h.slots + k].to_array().map(f64::to_bits));
+                map.insert((s.id[i], h.key[i * h.slots + k]), h.spring[i * h.slots + k].xi.to_array().map(f64::to_bits));
             }
         }
         map

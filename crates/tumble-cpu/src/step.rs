@@ -2,7 +2,7 @@
 
 use crate::CpuSimulation;
 use crate::forces::{ContactInputs, SortedEntry, SpringSlots, gather, pair_contact};
-use crate::history::HistoryOverflow;
+use crate::history::{HistoryOverflow, Spring};
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
@@ -164,7 +164,7 @@ impl CpuSimulation {
             if HIST {
                 pairs
                     .map(|p| {
-                        let mut spring = DVec3::ZERO;
+                        let mut spring = Spring::default();
                         (pair_contact::<ROT, COH, PERIODIC, HIST>(&inputs, p[0] as usize, p[1] as usize, &mut spring), spring)
                     })
                     .unzip_into_vecs(pair_out, pair_spring);
@@ -185,7 +185,7 @@ impl CpuSimulation {
                     .collect_into_vec(sums);
             } else {
                 pairs
-                    .map(|p| pair_contact::<ROT, COH, PERIODIC, HIST>(&inputs, p[0] as usize, p[1] as usize, &mut DVec3::default()))
+                    .map(|p| pair_contact::<ROT, COH, PERIODIC, HIST>(&inputs, p[0] as usize, p[1] as usize, &mut Spring::default()))
                     .collect_into_vec(pair_out);
                 (0..n)
                     .into_par_iter()
