@@ -221,8 +221,9 @@ fn measurements(b: Backend) -> Vec<Measured> {
     let roll = verify::slide_to_roll_with(b.scene_backend(), Integrator::Verlet, 50.0, Some("{ model = \"history\", friction = 0.5 }"));
     rows.push(exact("slide to roll, history: final speed / v0", roll.final_speed_ratio, 5.0 / 7.0, 2e-3, 2e-3));
     let creep = verify::creep_speed_on(b.scene_backend(), verify::FrictionModel::History, 0.5, 15.0, 0.02);
-    // Over 0.02 s: 5e-6 m/s is 36 times below the viscous-Coulomb creep (f32 keeps a settling transient).
-    rows.push(exact("history incline hold 15°: creep speed [m/s]", creep, 0.0, 1e-9, 5e-6));
+    // Over 0.02 s the normal settling transient is still there (−1.5e-6 m/s on both backends):
+    // 5e-6 m/s is 36 times below the viscous-Coulomb creep m g sinθ / c_t = 1.8e-4 m/s.
+    rows.push(exact("history incline hold 15°: creep speed [m/s]", creep, 0.0, 5e-6, 5e-6));
     let energy = match b {
         Backend::CpuF64 => verify::energy_balance(2).0,
         Backend::GpuF32 => verify::energy_balance_on(BackendName::Gpu).0,
