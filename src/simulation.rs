@@ -83,7 +83,7 @@ impl Simulation {
     pub fn fault(&self) -> Option<String> {
         match &self.backend {
             Backend::Cpu(s) => s.history_overflow().map(|o| o.to_string()),
-            Backend::Gpu(_) => None,
+            Backend::Gpu(s) => s.history_overflow().map(|o| o.to_string()),
         }
     }
 
@@ -165,7 +165,7 @@ impl Simulation {
     pub fn bytes_per_particle(&self) -> u64 {
         match &self.backend {
             Backend::Cpu(s) => s.plan().bytes_per_particle as u64,
-            Backend::Gpu(_) => tumble_gpu::BYTES_PER_PARTICLE,
+            Backend::Gpu(s) => tumble_gpu::bytes_per_particle(s.plan()),
         }
     }
 

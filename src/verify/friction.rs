@@ -4,6 +4,7 @@
 
 use crate::Simulation;
 use glam::DVec3;
+use tumble_scene::schema::BackendName;
 use tumble_scene::{CompiledScene, compile, parse_scene};
 
 /// The tangential models compared.
@@ -150,6 +151,11 @@ pub fn coulomb_impact(angle_deg: f64, friction: f64, restitution: f64) -> (f64, 
 /// A sphere hits the floor at 1 m/s and `angle_deg` from the normal, without gravity
 /// (linear normal law, or Hertz with `hertz`).
 pub fn oblique_impact(model: FrictionModel, hertz: bool, friction: f64, restitution: f64, angle_deg: f64) -> Impact {
+    oblique_impact_on(BackendName::Cpu, model, hertz, friction, restitution, angle_deg)
+}
+
+/// [`oblique_impact`] on a chosen backend.
+pub fn oblique_impact_on(backend: BackendName, model: FrictionModel, hertz: bool, friction: f64, restitution: f64, angle_deg: f64) -> Impact {
     let t = angle_deg.to_radians();
     let speed = 1.0;
     let (vt, vn) = (speed * t.sin(), speed * t.cos());
@@ -170,7 +176,7 @@ pub fn oblique_impact(model: FrictionModel, hertz: bool, friction: f64, restitut
     };
     let compiled = scene.compile();
     let steps = compiled.plan.steps;
-    let mut sim = Simulation::new(compiled, 1);
+    let mut sim = on(backend, compiled);
     sim.advance(steps);
     let r = sim.tracks()[0];
     Impact { angle_deg, tangential: r.velocity.x / vt, spin: 0.5 * DIAMETER * r.angular_velocity.y / vt, normal: r.velocity.z / vn }
@@ -178,17 +184,22 @@ pub fn oblique_impact(model: FrictionModel, hertz: bool, friction: f64, restitut
 
 /// Mean speed down an incline over [duration/2, duration] for a sphere that cannot roll.
 pub fn creep_speed(model: FrictionModel, friction: f64, angle_deg: f64, duration: f64) -> f64 {
+    creep_speed_on(BackendName::Cpu, model, friction, angle_deg, duration)
+}
+
+/// [`creep_speed`] on a chosen backend.
+pub fn creep_speed_on(backend: BackendName, model: FrictionModel, friction: f64, angle_deg: f64, duration: f64) -> f64 {
     let mut scene = FloorScene::incline(model, friction, angle_deg, duration);
     scene.rotation = false;
-    let (x0, x1) = positions_at(scene.compile(), duration);
+    let (x0, x1) = positions_at(backend, scene.compile(), duration);
     (x1 - x0) / (0.5 * duration)
 }
 
 /// x at half the duration and at the end.
-fn positions_at(compiled: CompiledScene, duration: f64) -> (f64, f64) {
+fn positions_at(backend: BackendName, compiled: CompiledScene, duration: f64) -> (f64, f64) {
     let steps = compiled.plan.steps;
     let half = (0.5 * duration / compiled.plan.dt).round() as u64;
-    let mut sim = Simulation::new(compiled, 1);
+    let mut sim = on(backend, compiled);
     sim.advance(half);
     let x0 = sim.tracks()[0].position.x;
     sim.advance(steps - half);
@@ -210,13 +221,25 @@ pub struct InclineMotion {
 
 /// A sphere released at rest on an incline, rotation on, over `duration`.
 pub fn incline_motion(model: FrictionModel, friction: f64, rolling_friction: f64, angle_deg: f64, duration: f64) -> InclineMotion {
+    incline_motion_on(BackendName::Cpu, model, friction, rolling_friction, angle_deg, duration)
+}
+
+/// [`incline_motion`] on a chosen backend.
+pub fn incline_motion_on(
+    backend: BackendName,
+    model: FrictionModel,
+    friction: f64,
+    rolling_friction: f64,
+    angle_deg: f64,
+    duration: f64,
+) -> InclineMotion {
     let mut scene = FloorScene::incline(model, friction, angle_deg, duration);
     scene.rolling_friction = rolling_friction;
     let compiled = scene.compile();
     let steps = compiled.plan.steps;
     let r = 0.5 * DIAMETER;
     let x_start = scene.position.x;
-    let mut sim = Simulation::new(compiled, 1);
+    let mut sim = on(backend, compiled);
     // Skip the first fifth: the contact settles from its equilibrium estimate.
     let first = steps / 5;
     sim.advance(first);
@@ -229,4 +252,9 @@ pub fn incline_motion(model: FrictionModel, friction: f64, rolling_friction: f64
         slip: (b.velocity.x - r * b.angular_velocity.y).abs(),
         distance: b.position.x - x_start,
     }
+}
+
+/// A one-thread simulation on `backend` (panics when the backend cannot run the scene).
+fn on(backend: BackendName, compiled: CompiledScene) -> Simulation {
+    Simulation::on(backend, compiled, 1).unwrap_or_else(|e| panic!("{backend:?}: {e}"))
 }

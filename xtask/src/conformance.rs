@@ -79,6 +79,7 @@ fn last(backend: Backend, text: &str, dt: Option<f64>) -> tumble::TrackRow {
 
 const SETTLING_BED: &str = include_str!("../../scenes/conformance/settling_bed.toml");
 const TAYLOR_GREEN: &str = include_str!("../../scenes/conformance/taylor_green_suspension.toml");
+const SETTLING_BED_HISTORY: &str = include_str!("../../scenes/conformance/settling_bed_history.toml");
 const COHESIVE_CLUSTER: &str = include_str!("../../scenes/conformance/cohesive_cluster.toml");
 
 fn compiled(text: &str) -> CompiledScene {
@@ -100,7 +101,32 @@ fn run_with_outputs(backend: Backend, scene: CompiledScene) -> (Simulation, Vec<
 /// Settling bed: bed height (95th percentile of particle tops), packing fraction below it,
 /// and the kinetic energy at four times as a fraction of its largest sampled value.
 fn settling_bed(backend: Backend) -> Vec<Measured> {
-    let scene = compiled(SETTLING_BED);
+    let m = bed(backend, SETTLING_BED);
+    vec![
+        against_cpu("settling bed: height [m]", m[0], Error::Relative, 2e-2),
+        against_cpu("settling bed: packing fraction", m[1], Error::Relative, 2e-2),
+        against_cpu("settling bed: KE(0.05 s) / KE peak", m[2], Error::Absolute, 2e-2),
+        against_cpu("settling bed: KE(0.10 s) / KE peak", m[3], Error::Absolute, 5e-2),
+        against_cpu("settling bed: KE(0.15 s) / KE peak", m[4], Error::Absolute, 5e-2),
+        against_cpu("settling bed: KE(0.20 s) / KE peak", m[5], Error::Absolute, 5e-2),
+    ]
+}
+
+/// The settling bed with tangential springs (history) and rolling resistance.
+fn settling_bed_history(backend: Backend) -> Vec<Measured> {
+    let m = bed(backend, SETTLING_BED_HISTORY);
+    vec![
+        against_cpu("history bed: height [m]", m[0], Error::Relative, 2e-2),
+        against_cpu("history bed: packing fraction", m[1], Error::Relative, 2e-2),
+        against_cpu("history bed: KE(0.05 s) / KE peak", m[2], Error::Absolute, 2e-2),
+        against_cpu("history bed: KE(0.10 s) / KE peak", m[3], Error::Absolute, 5e-2),
+        against_cpu("history bed: KE(0.20 s) / KE peak", m[5], Error::Absolute, 5e-2),
+    ]
+}
+
+/// Height, packing fraction and KE / KE peak at 0.05, 0.10, 0.15 and 0.20 s of a settling bed.
+fn bed(backend: Backend, text: &str) -> [f64; 6] {
+    let scene = compiled(text);
     let extent = scene.plan.domain.extent();
     let (sim, outputs) = run_with_outputs(backend, scene);
     let s = sim.state();
@@ -111,14 +137,7 @@ fn settling_bed(backend: Backend) -> Vec<Measured> {
     let packing = volume / (extent.x * extent.y * height);
     let peak = outputs.iter().map(|o| o.kinetic_energy).fold(0.0, f64::max);
     let ke_at = |t: f64| outputs.iter().min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs())).unwrap().kinetic_energy / peak;
-    vec![
-        against_cpu("settling bed: height [m]", height, Error::Relative, 2e-2),
-        against_cpu("settling bed: packing fraction", packing, Error::Relative, 2e-2),
-        against_cpu("settling bed: KE(0.05 s) / KE peak", ke_at(0.05), Error::Absolute, 2e-2),
-        against_cpu("settling bed: KE(0.10 s) / KE peak", ke_at(0.10), Error::Absolute, 5e-2),
-        against_cpu("settling bed: KE(0.15 s) / KE peak", ke_at(0.15), Error::Absolute, 5e-2),
-        against_cpu("settling bed: KE(0.20 s) / KE peak", ke_at(0.20), Error::Absolute, 5e-2),
-    ]
+    [height, packing, ke_at(0.05), ke_at(0.10), ke_at(0.15), ke_at(0.20)]
 }
 
 /// Taylor–Green suspension: final mean speed and contacts summed over the output times.
@@ -177,12 +196,20 @@ fn measurements(b: Backend) -> Vec<Measured> {
     rows.push(exact("hertz impact contact time [s]", h.contact_time.0, h.contact_time.1, 1e-2, 1e-2));
     let roll = verify::slide_to_roll_on(b.scene_backend(), Integrator::Verlet, 50.0);
     rows.push(exact("slide to roll final speed / v0", roll.final_speed_ratio, 5.0 / 7.0, 1e-4, 2e-4));
+    // Tangential springs with history (Cundall–Strack): case 8 and a sphere held on a 15° incline.
+    let roll = verify::slide_to_roll_with(b.scene_backend(), Integrator::Verlet, 50.0, Some("{ model = \"history\", friction = 0.5 }"));
+    rows.push(exact("slide to roll, history: final speed / v0", roll.final_speed_ratio, 5.0 / 7.0, 2e-3, 2e-3));
+    let creep = verify::creep_speed_on(b.scene_backend(), verify::FrictionModel::History, 0.5, 15.0, 0.02);
+    // Over 0.02 s the normal settling transient is still there (−1.5e-6 m/s on both backends):
+    // 5e-6 m/s is 36 times below the viscous-Coulomb creep m g sinθ / c_t = 1.8e-4 m/s.
+    rows.push(exact("history incline hold 15°: creep speed [m/s]", creep, 0.0, 5e-6, 5e-6));
     let energy = match b {
         Backend::CpuF64 => verify::energy_balance(2).0,
         Backend::GpuF32 => verify::energy_balance_on(BackendName::Gpu).0,
     };
     rows.push(exact("energy balance |ΔE| / E0 (2,016 spheres)", energy, 0.0, 1e-2, 2e-2));
     rows.extend(settling_bed(b));
+    rows.extend(settling_bed_history(b));
     rows.extend(taylor_green(b));
     rows.extend(cohesive_cluster(b));
     rows

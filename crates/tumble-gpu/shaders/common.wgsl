@@ -15,6 +15,9 @@ override LINEAR: bool = true;
 override HERTZ: bool = true;
 override TANGENTIAL: bool = true;
 override WALLS: bool = true;
+// Tangential springs with history and rolling resistance (history.wgsl).
+override HISTORY: bool = false;
+override ROLLING: bool = false;
 // 0: no fluid, 1: Stokes drag, 2: quadratic drag.
 override DRAG: u32 = 0u;
 override TAYLOR_GREEN: bool = false;
@@ -32,7 +35,7 @@ struct Params {
     counts: vec4<u32>,
     // Cells per axis; w: threads per dispatch row (x groups * WORKGROUP).
     dims: vec4<u32>,
-    // 1 where the axis is periodic; w unused.
+    // 1 where the axis is periodic; w: contact-history slots per particle (0 without history).
     periodic: vec4<u32>,
     // Inverse cell widths per axis; w: Δt.
     inv_cell: vec4<f32>,

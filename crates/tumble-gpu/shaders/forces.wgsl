@@ -8,7 +8,8 @@
 // Pair table entry k = a * materials + b (3 vec4):
 //   t0 = (normal: 0 linear, 1 Hertz; k_n or E*; damping ratio or β; √(π² + ln² e))
 //   t1 = (tangential: 0 none, 1 viscous-Coulomb, 2 stick-limited, 3 dynamic-only; μ; c_t or k_f; 1 when k_f)
-//   t2 = (k_c, 1 when attraction is clamped, unused, unused)
+//        or (4 history linear, 5 history Mindlin; μ; k_t or G*; damping ratio or β) (history.wgsl)
+//   t2 = (k_c, 1 when attraction is clamped, rolling friction μ_r, linear history damping η)
 // Walls follow the pair table (geometry.wgsl).
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -51,10 +52,14 @@ struct ContactForce {
     tangential: vec3<f32>,
     elastic: f32,
     dissipation: f32,
+    // |F_n| applied (rolling resistance) and the spring to keep (history; zero when none).
+    normal: f32,
+    spring: vec3<f32>,
 }
 
-fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_rel: vec3<f32>, m_star: f32, r_star: f32) -> ContactForce {
-    var out = ContactForce(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0);
+// `old_spring`: the contact's tangential spring from the last step (history only, else zero).
+fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_rel: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec3<f32>) -> ContactForce {
+    var out = ContactForce(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, vec3<f32>(0.0));
     let t0 = tables[3u * pair];
     let t1 = tables[3u * pair + 1u];
     let t2 = tables[3u * pair + 2u];
@@ -87,8 +92,16 @@ fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_r
             applied = max(applied, 0.0);
         }
         let vt = v_rel - n * vn;
+        out.normal = abs(applied);
         var ft = vec3<f32>(0.0);
-        if TANGENTIAL && t1.x != 0.0 {
+        var slip_loss = 0.0;
+        if HISTORY && t1.x >= 4.0 {
+            let h = history_force(t1, t2, out.normal, overlap, r_star, m_star, old_spring, n, vt);
+            ft = h.force;
+            out.spring = h.spring;
+            energy += h.energy;
+            slip_loss = h.dissipation + dot(ft, vt);
+        } else if TANGENTIAL && t1.x != 0.0 {
             let speed = length(vt);
             if speed > 0.0 {
                 var magnitude = t1.y * abs(applied);
@@ -108,7 +121,7 @@ fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_r
         out.force += n * applied + ft;
         out.tangential = ft;
         out.elastic += energy;
-        out.dissipation = -((applied - spring) * vn + dot(ft, vt));
+        out.dissipation = slip_loss - ((applied - spring) * vn + dot(ft, vt));
     }
     return out;
 }
@@ -122,11 +135,13 @@ struct PairOut {
     dissipation: f32,
     // δ / min(r_a, r_b), or negative when the bodies do not touch.
     ratio: f32,
+    // The pair's new spring as a holds it (history).
+    spring: vec3<f32>,
 }
 
 // The contact of slots a and b, a holding the lower id.
 fn pair_contact(a: u32, b: u32) -> PairOut {
-    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0);
+    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec3<f32>(0.0));
     var d = pos[a].xyz - pos[b].xyz;
     if PERIODIC {
         d = minimum_image(d);
@@ -159,11 +174,23 @@ fn pair_contact(a: u32, b: u32) -> PairOut {
     }
     let m_star = 1.0 / (vel[a].w + vel[b].w);
     let r_star = ra * rb / (ra + rb);
-    let f = contact_force(props[a].y * params.counts.w + props[b].y, n, overlap, effect_overlap, v_rel, m_star, r_star);
+    var old_spring = vec3<f32>(0.0);
+    if HISTORY {
+        // Both sides read a's copy.
+        old_spring = find_spring(props[a].z, props[b].z);
+    }
+    let pair = props[a].y * params.counts.w + props[b].y;
+    let f = contact_force(pair, n, overlap, effect_overlap, v_rel, m_star, r_star, old_spring);
     out.force = f.force;
+    out.spring = f.spring;
     if ROTATION {
         out.torque_a = cross(arm_a, f.tangential);
         out.torque_b = cross(arm_b, -f.tangential);
+        if ROLLING {
+            let roll = rolling_torque(tables[3u * pair + 2u].z, r_star, f.normal, seen_spin(a) - seen_spin(b), omega[a].w + omega[b].w);
+            out.torque_a += roll;
+            out.torque_b -= roll;
+        }
     }
     out.elastic = f.elastic;
     out.dissipation = f.dissipation;
@@ -204,6 +231,8 @@ struct Sum {
     dissipation: f32,
     contacts: u32,
     ratio: f32,
+    // Springs kept (history; may exceed the slots: then the host stops the run).
+    springs: u32,
 }
 
 fn add_pair(s: ptr<function, Sum>, i: u32, j: u32) {
@@ -216,6 +245,14 @@ fn add_pair(s: ptr<function, Sum>, i: u32, j: u32) {
         b = j;
     }
     let p = pair_contact(a, b);
+    if HISTORY {
+        // a keeps +ξ keyed by b, b keeps −ξ keyed by a.
+        var xi = -p.spring;
+        if mine {
+            xi = p.spring;
+        }
+        (*s).springs = keep_spring(props[i].z, (*s).springs, props[j].z, xi);
+    }
     (*s).ratio = max((*s).ratio, p.ratio);
     if mine {
         (*s).force += p.force;
@@ -255,10 +292,21 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
         if ROTATION {
             v_rel += cross(w, arm);
         }
-        let f = contact_force(props[i].y * params.counts.w + u32(tables[base].y), p.normal, p.overlap, effect_overlap, v_rel, mass, r);
+        let pair = props[i].y * params.counts.w + u32(tables[base].y);
+        var old_spring = vec3<f32>(0.0);
+        if HISTORY {
+            old_spring = find_spring(props[i].z, WALL_KEY | k);
+        }
+        let f = contact_force(pair, p.normal, p.overlap, effect_overlap, v_rel, mass, r, old_spring);
+        if HISTORY {
+            (*s).springs = keep_spring(props[i].z, (*s).springs, WALL_KEY | k, f.spring);
+        }
         (*s).force += f.force;
         if ROTATION {
             (*s).torque += cross(arm, f.tangential);
+            if ROLLING {
+                (*s).torque += rolling_torque(tables[3u * pair + 2u].z, r, f.normal, w, omega[i].w);
+            }
         }
         (*s).elastic += f.elastic;
         (*s).dissipation += f.dissipation;
@@ -275,7 +323,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     if i >= params.counts.x {
         return;
     }
-    var s = Sum(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0u, 0.0);
+    var s = Sum(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0u, 0.0, 0u);
     let flags = props[i].w;
     if (flags & FLAG_DEAD) == 0u {
         let fixed_i = (flags & FLAG_FIXED) != 0u;
@@ -331,4 +379,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     force_out[i] = vec4<f32>(s.force, s.elastic);
     torque_out[i] = vec4<f32>(s.torque, s.dissipation);
     stats_out[i] = vec2<u32>(s.contacts, bitcast<u32>(s.ratio));
+    if HISTORY {
+        close_springs(props[i].z, s.springs);
+    }
 }

@@ -10,13 +10,24 @@ use wgpu::util::DeviceExt;
 /// 4 bytes each of cell index and cell list.
 pub const BYTES_PER_PARTICLE: u64 = 10 * 16 + 8 + 4 + 4;
 
+/// Device bytes per particle of contact history with `slots` slots: two
+/// generations of `slots` 16-byte slots (spring, key) and one 16-byte count entry.
+pub fn history_bytes_per_particle(slots: usize) -> u64 {
+    2 * 16 * (slots as u64 + 1) * u64::from(slots > 0)
+}
+
+/// Device bytes per particle of a plan (history slots included).
+pub fn bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
+    BYTES_PER_PARTICLE + history_bytes_per_particle(crate::upload::history_slots(plan))
+}
+
 /// Device bytes per grid cell: counts, cursors and starts (u32 each).
 pub const BYTES_PER_CELL: u64 = 3 * 4;
 
-/// Device memory of a scene with `particles` particles on `grid`, bytes.
-pub fn memory_bytes(particles: u64, grid: &Grid) -> u64 {
+/// Device memory of a scene with `particles` particles on `grid` and `history_slots` history slots each, bytes.
+pub fn memory_bytes(particles: u64, grid: &Grid, history_slots: usize) -> u64 {
     let cells = grid.cells() as u64 + 2;
-    particles * BYTES_PER_PARTICLE + cells * BYTES_PER_CELL + cells.div_ceil(SCAN_BLOCK as u64) * 4 * 2
+    particles * (BYTES_PER_PARTICLE + history_bytes_per_particle(history_slots)) + cells * BYTES_PER_CELL + cells.div_ceil(SCAN_BLOCK as u64) * 4 * 2
 }
 
 /// Every buffer of one simulation.
@@ -39,6 +50,8 @@ pub struct Buffers {
     pub cursor: wgpu::Buffer,
     pub cell_start: wgpu::Buffer,
     pub tables: wgpu::Buffer,
+    /// The two generations of contact-history slots (history.wgsl; 16 bytes each without history).
+    pub history: [wgpu::Buffer; 2],
     /// Block sums of the scan, one buffer per level above the cell starts.
     pub scan_levels: Vec<wgpu::Buffer>,
     /// Values at each scan level (level 0: the cell starts).
@@ -67,13 +80,26 @@ fn zeroed(gpu: &Gpu, label: &str, bytes: u64) -> wgpu::Buffer {
 
 impl Buffers {
     /// Checks that the scene fits, then uploads it.
-    pub fn new(gpu: &Gpu, arrays: &ParticleArrays, tables: &[[f32; 4]], params: &crate::upload::Params, grid: &Grid) -> Result<Buffers, GpuError> {
+    pub fn new(
+        gpu: &Gpu,
+        arrays: &ParticleArrays,
+        tables: &[[f32; 4]],
+        params: &crate::upload::Params,
+        grid: &Grid,
+        history_slots: usize,
+    ) -> Result<Buffers, GpuError> {
         let n = arrays.pos.len() as u64;
         let cells = grid.cells() as u64 + 2;
-        let largest = (16 * n).max(4 * cells).max(16 * tables.len() as u64);
+        let history_bytes = if history_slots > 0 { 16 * n * (history_slots as u64 + 1) } else { 0 };
+        let largest = (16 * n).max(4 * cells).max(16 * tables.len() as u64).max(history_bytes);
         let available = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         if largest > available || cells > u32::MAX as u64 / 2 || n > u32::MAX as u64 / 2 {
-            return Err(GpuError::TooLarge { needed: memory_bytes(n, grid), largest_array: largest, available, adapter: gpu.adapter.name.clone() });
+            return Err(GpuError::TooLarge {
+                needed: memory_bytes(n, grid, history_slots),
+                largest_array: largest,
+                available,
+                adapter: gpu.adapter.name.clone(),
+            });
         }
         let b = |x: &[[f32; 4]]| bytemuck::cast_slice::<[f32; 4], u8>(x).to_vec();
         let mut scan_sizes = vec![cells as u32];
@@ -105,6 +131,8 @@ impl Buffers {
             cursor: zeroed(gpu, "cursor", 4 * cells),
             cell_start,
             tables: init(gpu, "tables", &b(tables)),
+            // Zeroed: no particle holds a spring at t = 0.
+            history: [zeroed(gpu, "history a", history_bytes), zeroed(gpu, "history b", history_bytes)],
             scan_levels,
             scan_sizes,
         })

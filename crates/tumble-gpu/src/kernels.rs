@@ -48,7 +48,8 @@ fn bind(gpu: &Gpu, label: &str, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu
 pub struct Kernels {
     pub pipelines: HashMap<&'static str, wgpu::ComputePipeline>,
     pub broad: wgpu::BindGroup,
-    pub forces: wgpu::BindGroup,
+    /// The contact pass reading history generation 0 and writing 1, and the swapped pair.
+    pub forces: [wgpu::BindGroup; 2],
     pub integrate: wgpu::BindGroup,
     /// One per per-particle array, in `Buffers::particle_arrays` order.
     pub reorder: Vec<wgpu::BindGroup>,
@@ -65,7 +66,10 @@ impl Kernels {
             ("broad", layout(gpu, "broad", &[Uniform, Read, Read, Write, Write, Read, Write, Write])),
             ("scan", layout(gpu, "scan", &[Uniform, Write, Write])),
             ("reorder", layout(gpu, "reorder", &[Uniform, Read, Read, Write])),
-            ("forces", layout(gpu, "forces", &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write])),
+            (
+                "forces",
+                layout(gpu, "forces", &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write, Read, Write]),
+            ),
             ("integrate", layout(gpu, "integrate", &[Uniform, Write, Write, Write, Write, Write, Write, Read, Read, Write])),
         ]
         .into_iter()
@@ -76,27 +80,31 @@ impl Kernels {
         }
         let b = buffers;
         let broad = bind(gpu, "broad", &layouts["broad"], &[&b.params, &b.pos, &b.props, &b.cell, &b.count, &b.cell_start, &b.cursor, &b.cell_list]);
-        let forces = bind(
-            gpu,
-            "forces",
-            &layouts["forces"],
-            &[
-                &b.params,
-                &b.pos,
-                &b.vel,
-                &b.omega,
-                &b.acc,
-                &b.alpha,
-                &b.props,
-                &b.cell,
-                &b.cell_start,
-                &b.cell_list,
-                &b.tables,
-                &b.force,
-                &b.torque,
-                &b.stats,
-            ],
-        );
+        let forces = [0, 1].map(|g| {
+            bind(
+                gpu,
+                "forces",
+                &layouts["forces"],
+                &[
+                    &b.params,
+                    &b.pos,
+                    &b.vel,
+                    &b.omega,
+                    &b.acc,
+                    &b.alpha,
+                    &b.props,
+                    &b.cell,
+                    &b.cell_start,
+                    &b.cell_list,
+                    &b.tables,
+                    &b.force,
+                    &b.torque,
+                    &b.stats,
+                    &b.history[g],
+                    &b.history[1 - g],
+                ],
+            )
+        });
         let integrate = bind(
             gpu,
             "integrate",

@@ -22,6 +22,7 @@
 
 mod buffers;
 mod context;
+mod history;
 mod kernels;
 pub mod profile;
 mod readback;
@@ -29,7 +30,7 @@ pub mod shaders;
 mod step;
 mod upload;
 
-pub use buffers::{BYTES_PER_CELL, BYTES_PER_PARTICLE, memory_bytes};
+pub use buffers::{BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, history_bytes_per_particle, memory_bytes};
 pub use context::{AdapterDescription, GpuError, available, gpu};
 pub use upload::Grid;
 
@@ -57,6 +58,10 @@ pub struct GpuSimulation {
     track: Vec<bool>,
     step: u64,
     last_resort: Option<u64>,
+    /// Committed contact passes: history generation `generation % 2` is the one read next.
+    generation: u64,
+    /// The first contact-history overflow found (the run stops there).
+    overflow: Cell<Option<tumble_cpu::HistoryOverflow>>,
     /// Particles still in the domain, when known since the last step.
     alive: Cell<Option<usize>>,
 }
@@ -64,18 +69,10 @@ pub struct GpuSimulation {
 impl GpuSimulation {
     /// Uploads a compiled scene to the process's GPU and evaluates the initial forces.
     pub fn new(scene: CompiledScene) -> Result<Self, GpuError> {
-        // Tangential springs and rolling resistance run on the CPU backend only, so far.
         let plan = &scene.plan;
         if plan.walls.iter().any(|w| w.motion.is_some() || matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))) || !plan.flow_planes.is_empty() {
             return Err(GpuError::Feature(
                 "it has moving walls, lifters or flow planes, which the GPU backend does not run yet; use backend = \"cpu\"".into(),
-            ));
-        }
-        if scene.plan.history || scene.plan.rolling {
-            return Err(GpuError::Feature(
-                "it uses tangential springs (model \"history\") or rolling_friction, which the GPU backend does not run yet; \
-                 use backend = \"cpu\""
-                    .into(),
             ));
         }
         let gpu = context::gpu()?;
@@ -85,7 +82,7 @@ impl GpuSimulation {
         let slots = arrays.pos.len() as u32;
         let grid = upload::Grid::new(&plan, arrays.pos.len());
         let params = upload::params(&plan, &grid, slots);
-        let buffers = Buffers::new(&gpu, &arrays, &upload::tables(&plan), &params, &grid)?;
+        let buffers = Buffers::new(&gpu, &arrays, &upload::tables(&plan), &params, &grid, upload::history_slots(&plan))?;
         let kernels = Kernels::new(&gpu, &buffers, &shaders::Switches::from_plan(&plan));
         let mut sim = GpuSimulation {
             group: state.group.clone(),
@@ -98,6 +95,8 @@ impl GpuSimulation {
             slots,
             step: 0,
             last_resort: None,
+            generation: 0,
+            overflow: Cell::new(None),
             alive: Cell::new(Some(slots as usize)),
         };
         let mut r = sim.recorder();
@@ -129,7 +128,7 @@ impl GpuSimulation {
 
     /// Device memory this simulation holds, bytes.
     pub fn memory_bytes(&self) -> u64 {
-        memory_bytes(self.slots as u64, &self.grid)
+        memory_bytes(self.slots as u64, &self.grid, upload::history_slots(&self.plan))
     }
 
     /// Steps taken so far.
@@ -143,10 +142,16 @@ impl GpuSimulation {
     }
 
     /// Advances `steps` steps (recorded in batches; returns once the device is done).
+    /// With contact history the slot counts are checked every 256 steps and at the end, and
+    /// the run stops at the first overflow (see [`GpuSimulation::history_overflow`]).
     pub fn advance(&mut self, steps: u64) {
         let mut left = steps;
         let mut previous = None;
+        let mut batches = 0u64;
         while left > 0 {
+            if self.plan.history && self.history_overflow().is_some() {
+                break;
+            }
             let batch = left.min(STEPS_PER_SUBMIT);
             let mut r = self.recorder();
             for _ in 0..batch {
@@ -158,6 +163,11 @@ impl GpuSimulation {
                 let _ = self.gpu.device.poll(wgpu::PollType::Wait { submission_index: Some(p), timeout: None });
             }
             left -= batch;
+            batches += 1;
+            // Every 16 batches (256 steps) and at the end: a small readback that waits for the device.
+            if self.plan.history && (batches % 16 == 0 || left == 0) {
+                self.check_history();
+            }
         }
         self.wait();
         if steps > 0 && self.plan.domain.periodic.iter().any(|&p| !p) {

@@ -21,6 +21,8 @@ pub const SCAN: &str = include_str!("../shaders/scan.wgsl");
 pub const REORDER: &str = include_str!("../shaders/reorder.wgsl");
 /// The gather-style contact pass.
 pub const FORCES: &str = include_str!("../shaders/forces.wgsl");
+/// Contact history slots, the tangential spring and rolling resistance (used by the contact pass).
+pub const HISTORY: &str = include_str!("../shaders/history.wgsl");
 /// Body forces and the integrators.
 pub const INTEGRATE: &str = include_str!("../shaders/integrate.wgsl");
 
@@ -46,7 +48,7 @@ pub fn sources() -> Vec<ShaderSource> {
         with_common("broad", BROAD, &[COMMON], &["bin", "scatter", "order_cells"]),
         with_common("scan", SCAN, &[], &["reduce", "scan_block"]),
         with_common("reorder", REORDER, &[COMMON], &["permute"]),
-        with_common("forces", FORCES, &[COMMON, GEOMETRY], &["forces"]),
+        with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY], &["forces"]),
         with_common("integrate", INTEGRATE, &[COMMON], &["initial", "kick_drift", "finish"]),
     ]
 }
@@ -61,6 +63,10 @@ pub struct Switches {
     pub hertz: bool,
     pub tangential: bool,
     pub walls: bool,
+    /// Tangential springs with history (the slots are bound and used).
+    pub history: bool,
+    /// Rolling resistance.
+    pub rolling: bool,
     /// 0: no fluid, 1: Stokes, 2: quadratic.
     pub drag: u32,
     pub taylor_green: bool,
@@ -90,6 +96,8 @@ impl Switches {
             hertz: plan.pairs.iter().any(|p| matches!(p.normal, NormalLaw::Hertz { .. })),
             tangential: plan.pairs.iter().any(|p| p.tangential != TangentialLaw::None),
             walls: !plan.walls.is_empty(),
+            history: plan.history,
+            rolling: plan.rolling && plan.rotation,
             drag: match plan.fluid.map(|f| f.drag) {
                 None => 0,
                 Some(Drag::Stokes { .. }) => 1,
@@ -103,8 +111,12 @@ impl Switches {
     /// Every combination a plan can produce (Taylor–Green only with Stokes drag).
     pub fn all() -> Vec<Switches> {
         let mut out = Vec::new();
-        for bits in 0..128u32 {
+        for bits in 0..512u32 {
             let b = |k: u32| bits & (1 << k) != 0;
+            // History is a tangential law; rolling resistance needs rotation.
+            if (b(7) && !b(5)) || (b(8) && !b(0)) {
+                continue;
+            }
             for (drag, taylor_green) in [(0, false), (1, false), (1, true), (2, false)] {
                 for integrator in Integrator::ALL {
                     out.push(Switches {
@@ -115,6 +127,8 @@ impl Switches {
                         hertz: b(4),
                         tangential: b(5),
                         walls: b(6),
+                        history: b(7),
+                        rolling: b(8),
                         drag,
                         taylor_green,
                         integrator,
@@ -126,7 +140,7 @@ impl Switches {
     }
 
     /// All override values by name.
-    pub fn constants(&self) -> [(&'static str, f64); 10] {
+    pub fn constants(&self) -> [(&'static str, f64); 12] {
         let f = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("ROTATION", f(self.rotation)),
@@ -136,6 +150,8 @@ impl Switches {
             ("HERTZ", f(self.hertz)),
             ("TANGENTIAL", f(self.tangential)),
             ("WALLS", f(self.walls)),
+            ("HISTORY", f(self.history)),
+            ("ROLLING", f(self.rolling)),
             ("DRAG", self.drag as f64),
             ("TAYLOR_GREEN", f(self.taylor_green)),
             ("INTEGRATOR", integrator_code(self.integrator) as f64),

@@ -73,8 +73,9 @@ impl GpuSimulation {
         }
     }
 
+    /// The contact pass; with history it reads generation `self.generation % 2` and writes the other.
     pub(crate) fn record_forces(&self, r: &mut Recorder) {
-        r.pass(self, "forces", &self.kernels.forces, self.particle_groups());
+        r.pass(self, "forces", &self.kernels.forces[(self.generation % 2) as usize], self.particle_groups());
     }
 
     /// The forces at t = 0, so Verlet's first half kick has an acceleration.
@@ -91,6 +92,8 @@ impl GpuSimulation {
         }
         self.record_broad_phase(r);
         self.record_forces(r);
+        // The springs just written become the ones read next step (the t = 0 pass commits none).
+        self.generation += 1;
         r.pass(self, "finish", &self.kernels.integrate, self.particle_groups());
         self.step += 1;
     }

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
-use tumble_contact::{FlowField, NormalLaw, TangentialLaw, ViscousParameter};
+use tumble_contact::{FlowField, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter};
 use tumble_cpu::State;
 use tumble_geom::SurfaceShape;
 use tumble_scene::Plan;
@@ -91,13 +91,18 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32) -> Params {
     Params {
         counts: [slots, grid.cells(), plan.walls.len() as u32, plan.materials.len() as u32],
         dims: [grid.dims[0], grid.dims[1], grid.dims[2], MAX_GROUPS_X * WORKGROUP],
-        periodic: [plan.domain.periodic[0] as u32, plan.domain.periodic[1] as u32, plan.domain.periodic[2] as u32, 0],
+        periodic: [plan.domain.periodic[0] as u32, plan.domain.periodic[1] as u32, plan.domain.periodic[2] as u32, history_slots(plan) as u32],
         inv_cell: [grid.inv_width[0] as f32, grid.inv_width[1] as f32, grid.inv_width[2] as f32, plan.dt as f32],
         extent: f4(e, 0.0),
         gravity: f4(plan.gravity, 0.0),
         flow,
         origin: f4(centre(plan), 0.0),
     }
+}
+
+/// Contact-history slots per particle on the device (0 without history).
+pub fn history_slots(plan: &Plan) -> usize {
+    if plan.history { plan.history_slots } else { 0 }
 }
 
 /// The domain's centre: device positions are relative to it (f32 precision is best near 0).
@@ -167,10 +172,16 @@ pub fn tables(plan: &Plan) -> Vec<[f32; 4]> {
             TangentialLaw::ViscousCoulomb { friction, viscous: ViscousParameter::Stiffness(k) } => [1.0, friction as f32, k as f32, 1.0],
             TangentialLaw::StickLimited { friction } => [2.0, friction as f32, 0.0, 0.0],
             TangentialLaw::DynamicOnly { friction } => [3.0, friction as f32, 0.0, 0.0],
-            // Refused by GpuSimulation::new before any upload.
-            TangentialLaw::History { .. } => [0.0; 4],
+            TangentialLaw::History { friction, spring: SpringLaw::Linear { stiffness, damping_ratio, .. } } => {
+                [4.0, friction as f32, stiffness as f32, damping_ratio as f32]
+            }
+            TangentialLaw::History { friction, spring: SpringLaw::Mindlin { g_star, beta } } => [5.0, friction as f32, g_star as f32, beta as f32],
         });
-        t.push([p.cohesion as f32, if p.no_attraction { 1.0 } else { 0.0 }, 0.0, 0.0]);
+        let history_damping = match p.tangential {
+            TangentialLaw::History { spring: SpringLaw::Linear { damping, .. }, .. } => damping,
+            _ => 0.0,
+        };
+        t.push([p.cohesion as f32, if p.no_attraction { 1.0 } else { 0.0 }, p.rolling as f32, history_damping as f32]);
     }
     let origin = centre(plan);
     let rel = |p: DVec3| {

@@ -269,3 +269,103 @@ lattice = { min = [0.002, 0.002, 0.002], max = [0.998, 0.998, 0.998], spacing = 
         assert!(seen.iter().all(|&s| s));
     });
 }
+
+/// The conformance settling bed with tangential springs (Cundall–Strack) and rolling resistance.
+fn bed_with_history() -> String {
+    example_scene("conformance/settling_bed_history.toml")
+}
+
+/// Two Hertz spheres colliding obliquely with Hertz–Mindlin springs and rolling resistance.
+fn oblique_mindlin_pair() -> String {
+    verify_scene("07_hertz_impact.toml")
+        .replace("restitution = 1.0", "restitution = 0.8\ntangential = { model = \"history\", friction = 0.3 }\nrolling_friction = 0.05")
+        .replace("velocity = [0.5, 0.0, 0.0]", "velocity = [0.5, 0.3, 0.0]")
+        .replace("velocity = [-0.5, 0.0, 0.0]", "velocity = [-0.5, -0.2, 0.1]")
+}
+
+#[test]
+fn falling_bed_with_history_and_rolling_resistance_agrees() {
+    on_gpu("falling_bed_with_history_and_rolling_resistance_agrees", || {
+        let scene = short(&bed_with_history(), 1000.0);
+        assert!(scene.plan.history && scene.plan.rolling);
+        let (_, g) = compare_observables(scene, 1000, 2e-3);
+        assert!(g.contacts > 0);
+    });
+}
+
+#[test]
+fn oblique_mindlin_collision_agrees() {
+    on_gpu("oblique_mindlin_collision_agrees", || {
+        let (c, g) = both(scene(&oblique_mindlin_pair()));
+        for (a, b) in c.iter().zip(&g) {
+            println!("cpu v {:?} ω {:?}\ngpu v {:?} ω {:?}", a.velocity, a.angular_velocity, b.velocity, b.angular_velocity);
+            assert!((a.velocity - b.velocity).length() < 1e-4, "velocity: cpu {:?} gpu {:?}", a.velocity, b.velocity);
+            assert!((a.angular_velocity - b.angular_velocity).length() < 1e-2, "spin: cpu {:?} gpu {:?}", a.angular_velocity, b.angular_velocity);
+        }
+        // The tangential spring acted: the spheres spin after the collision.
+        assert!(c[0].angular_velocity.length() > 1.0, "{:?}", c[0].angular_velocity);
+    });
+}
+
+#[test]
+fn history_runs_give_bit_identical_states_and_springs() {
+    on_gpu("history_runs_give_bit_identical_states_and_springs", || {
+        let scene = short(&bed_with_history(), 1000.0);
+        let run = || {
+            let mut gpu = GpuSimulation::new(scene.clone()).unwrap();
+            gpu.advance(1000);
+            assert!(gpu.history_overflow().is_none());
+            (gpu.device_arrays(), gpu.springs())
+        };
+        let ((a, sa), (b, sb)) = (run(), run());
+        let bits = |v: &Vec<[f32; 4]>| v.iter().flat_map(|x| x.map(f32::to_bits)).collect::<Vec<u32>>();
+        assert_eq!(bits(&a.pos), bits(&b.pos));
+        assert_eq!(bits(&a.vel), bits(&b.vel));
+        assert_eq!(bits(&a.omega), bits(&b.omega));
+        assert_eq!(bits(&a.force), bits(&b.force));
+        assert_eq!(bits(&a.torque), bits(&b.torque));
+        assert_eq!(sa, sb);
+        assert!(sa.len() > 20, "springs held: {}", sa.len());
+        // Both sides of a pair hold the same spring with opposite sign (exactly).
+        for (&(owner, key), xi) in &sa {
+            if key & tumble_cpu::WALL_KEY == 0 {
+                let other = sb.get(&(key, owner)).unwrap_or_else(|| panic!("{owner} holds a spring for {key} but not the reverse"));
+                assert_eq!(xi.map(|x| -f32::from_bits(x)), other.map(f32::from_bits));
+            }
+        }
+    });
+}
+
+#[test]
+fn history_pair_forces_are_exactly_equal_and_opposite_and_the_spring_ends_with_the_contact() {
+    on_gpu("history_pair_forces_are_exactly_equal_and_opposite_and_the_spring_ends_with_the_contact", || {
+        let scene = scene(&oblique_mindlin_pair());
+        let steps = scene.plan.steps;
+        let mut gpu = GpuSimulation::new(scene).unwrap();
+        let (mut touching, mut held) = (0, 0);
+        for _ in 0..steps.min(400) {
+            gpu.advance(1);
+            let (a, b) = (gpu.contact_force(0).unwrap(), gpu.contact_force(1).unwrap());
+            assert_eq!(a, -b);
+            touching += usize::from(a != glam::DVec3::ZERO);
+            held = held.max(gpu.springs().len());
+        }
+        gpu.advance(steps.saturating_sub(400));
+        assert!(touching > 10);
+        assert_eq!(held, 2, "each side of the one contact holds the spring");
+        assert!(gpu.springs().is_empty(), "the spring must go with the contact");
+    });
+}
+
+#[test]
+fn history_slot_overflow_is_reported() {
+    on_gpu("history_slot_overflow_is_reported", || {
+        let text = bed_with_history().replace("rolling_friction = 0.05", "rolling_friction = 0.05\nhistory_slots = 1");
+        let mut gpu = GpuSimulation::new(short(&text, 1000.0)).unwrap();
+        gpu.advance(1000);
+        let o = gpu.history_overflow().expect("a bed overflows one slot per particle");
+        assert!(o.contacts > 1 && o.slots == 1 && o.step <= 1000, "{o:?}");
+        assert!(o.to_string().contains("contact.history_slots = 1"), "{o}");
+        assert_eq!(gpu.steps(), o.step, "the run stops at the batch where it overflowed");
+    });
+}

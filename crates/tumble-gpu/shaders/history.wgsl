@@ -1,0 +1,127 @@
+// Contact history on the device (CPU: tumble_contact::history_force and
+// tumble_cpu::history): tangential springs per contact and rolling resistance.
+//
+// Slots are indexed by the particle's ORIGINAL id (props.z), never by its
+// array slot, so the periodic re-sort by cell never moves them. One generation
+// holds, per id, `params.periodic.w` slots of vec4<u32> (spring xyz as f32 bits,
+// key: the neighbour's id, or WALL_KEY | wall), then after all n * slots entries
+// one count entry per id: (slots in use, springs needed this step, most ever
+// needed, unused). The last two let the host report an overflow without atomics.
+// Two generations: the pass reads `hist_old` and writes `hist_new`; the host
+// swaps the two bind groups after every committed pass (not the t = 0 one).
+// Each invocation writes only its own particle's slots and count.
+
+@group(0) @binding(14) var<storage, read> hist_old: array<vec4<u32>>;
+@group(0) @binding(15) var<storage, read_write> hist_new: array<vec4<u32>>;
+
+const WALL_KEY: u32 = 0x80000000u;
+
+// Index of id `owner`'s count entry.
+fn history_count_index(owner: u32) -> u32 {
+    return params.counts.x * params.periodic.w + owner;
+}
+
+// The spring particle `owner` held for `key` last step, zero when the contact is new.
+fn find_spring(owner: u32, key: u32) -> vec3<f32> {
+    let slots = params.periodic.w;
+    let base = owner * slots;
+    let used = min(hist_old[history_count_index(owner)].x, slots);
+    for (var k = 0u; k < used; k++) {
+        let e = hist_old[base + k];
+        if e.w == key {
+            return bitcast<vec3<f32>>(e.xyz);
+        }
+    }
+    return vec3<f32>(0.0);
+}
+
+// Stores one spring of `owner` in slot `used` if there is room and returns the
+// springs counted (a zero spring is neither stored nor counted).
+fn keep_spring(owner: u32, used: u32, key: u32, xi: vec3<f32>) -> u32 {
+    if all(xi == vec3<f32>(0.0)) {
+        return used;
+    }
+    let slots = params.periodic.w;
+    if used < slots {
+        hist_new[owner * slots + used] = vec4<u32>(bitcast<vec3<u32>>(xi), key);
+    }
+    return used + 1u;
+}
+
+// Closes `owner`'s slots for this pass.
+fn close_springs(owner: u32, used: u32) {
+    let c = history_count_index(owner);
+    let most = max(hist_old[c].z, used);
+    hist_new[c] = vec4<u32>(min(used, params.periodic.w), used, most, 0u);
+}
+
+struct Spring {
+    force: vec3<f32>,
+    spring: vec3<f32>,
+    energy: f32,
+    dissipation: f32,
+}
+
+// One step of a history contact (pair table t1 = (4 linear / 5 Mindlin, μ,
+// k_t or G*, damping ratio or β), t2.w = linear damping η [N s/m]): the old
+// spring rotated into the tangent plane keeping its length, ξ += v_t Δt,
+// F_t = −k_t ξ − η_t v_t, capped at μ|F_n| with ξ reset to −(F_t + η_t v_t)/k_t.
+fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star: f32, m_star: f32, old: vec3<f32>, n: vec3<f32>, vt: vec3<f32>) -> Spring {
+    var k_t = t1.z;
+    var eta_t = t2.w;
+    if t1.x == 4.0 {
+        if t1.w > 0.0 {
+            eta_t = t2.w + 2.0 * t1.w * sqrt(m_star * k_t);
+        }
+    } else {
+        k_t = 8.0 * t1.z * sqrt(r_star * overlap);
+        eta_t = -2.0 * sqrt(5.0 / 6.0) * t1.w * sqrt(k_t * m_star);
+    }
+    let dt = params.inv_cell.w;
+    let old_len2 = dot(old, old);
+    var xi = old - n * dot(n, old);
+    if old_len2 > 0.0 {
+        let len2 = dot(xi, xi);
+        if len2 > 0.0 {
+            xi *= sqrt(old_len2 / len2);
+        }
+    }
+    let rotated = 0.5 * k_t * dot(xi, xi);
+    xi += vt * dt;
+    var force = -k_t * xi - eta_t * vt;
+    let limit = t1.y * normal;
+    let magnitude = length(force);
+    if magnitude > limit {
+        if magnitude > 0.0 {
+            force *= limit / magnitude;
+        } else {
+            force = vec3<f32>(0.0);
+        }
+        if k_t > 0.0 {
+            xi = -(force + eta_t * vt) / k_t;
+        } else {
+            xi = vec3<f32>(0.0);
+        }
+    }
+    let energy = 0.5 * k_t * dot(xi, xi);
+    var dissipation = 0.0;
+    if dt > 0.0 {
+        dissipation = -dot(force, vt) - (energy - rotated) / dt;
+    }
+    return Spring(force, xi, energy, dissipation);
+}
+
+// Rolling resistance on i: −μ_r R* |F_n| ω̂_rel, capped so that alone it would
+// not reverse ω_rel within the step (`inv_inertia_sum` = 1/I_i + 1/I_j).
+fn rolling_torque(mu_r: f32, r_star: f32, normal: f32, w_rel: vec3<f32>, inv_inertia_sum: f32) -> vec3<f32> {
+    let w = length(w_rel);
+    if w == 0.0 || mu_r == 0.0 {
+        return vec3<f32>(0.0);
+    }
+    var torque = mu_r * r_star * normal;
+    let dt = params.inv_cell.w;
+    if inv_inertia_sum > 0.0 && dt > 0.0 {
+        torque = min(torque, w / (inv_inertia_sum * dt));
+    }
+    return w_rel * (-torque / w);
+}

@@ -1,0 +1,61 @@
+//! Contact history on the host side: the overflow check and reading the springs
+//! back (history.wgsl holds the layout: slots per ORIGINAL id, two generations).
+
+use crate::GpuSimulation;
+use crate::upload::history_slots;
+use std::collections::BTreeMap;
+use tumble_cpu::HistoryOverflow;
+
+impl GpuSimulation {
+    /// The generation the last committed contact pass wrote (the one read next).
+    fn latest_history(&self) -> &wgpu::Buffer {
+        &self.buffers.history[(self.generation % 2) as usize]
+    }
+
+    /// The count entries (in use, needed this step, most ever needed, unused) by id.
+    fn history_counts(&self) -> Vec<[u32; 4]> {
+        let n = self.slots as usize;
+        let slots = history_slots(&self.plan);
+        let all: Vec<[u32; 4]> = self.read(self.latest_history(), n * (slots + 1));
+        all[n * slots..].to_vec()
+    }
+
+    /// Reads the slot counts; records the first overflow (the run then stops).
+    pub(crate) fn check_history(&self) {
+        if self.overflow.get().is_some() || !self.plan.history {
+            return;
+        }
+        let slots = history_slots(&self.plan);
+        let counts = self.history_counts();
+        // The particle (lowest id) that needed the most slots.
+        if let Some((id, c)) = counts.iter().enumerate().filter(|(_, c)| c[2] as usize > slots).max_by_key(|(id, c)| (c[2], std::cmp::Reverse(*id))) {
+            self.overflow.set(Some(HistoryOverflow { id: id as u32, contacts: c[2] as usize, slots, step: self.step }));
+        }
+    }
+
+    /// A particle had more contacts with a tangential spring than `contact.history_slots`.
+    /// The device records it every pass; the host reads the record every 256 steps and at
+    /// the end of `advance`, so `step` is where it was found (at most 256 steps late).
+    pub fn history_overflow(&self) -> Option<HistoryOverflow> {
+        self.overflow.get()
+    }
+
+    /// Every stored spring as the device holds it: (owner id, key) → ξ (f32 bits),
+    /// key = the neighbour's id or `WALL_KEY | wall`. Empty without history.
+    pub fn springs(&self) -> BTreeMap<(u32, u32), [u32; 3]> {
+        let mut out = BTreeMap::new();
+        if !self.plan.history {
+            return out;
+        }
+        let n = self.slots as usize;
+        let slots = history_slots(&self.plan);
+        let all: Vec<[u32; 4]> = self.read(self.latest_history(), n * (slots + 1));
+        for id in 0..n {
+            let used = (all[n * slots + id][0] as usize).min(slots);
+            for e in &all[id * slots..id * slots + used] {
+                out.insert((id as u32, e[3]), [e[0], e[1], e[2]]);
+            }
+        }
+        out
+    }
+}
