@@ -200,7 +200,9 @@ impl CpuSimulation {
     /// Stops the run (see `advance`) when a particle kept more springs than it has slots.
     fn check_history_capacity(&mut self) {
         let slots = self.history_next.slots;
-        if let Some(i) = self.sums.iter().position(|s| s.springs as usize > slots) {
+        // In parallel: this runs every step; position_first keeps the answer independent of threads.
+        let sums = &self.sums;
+        if let Some(i) = self.pool.install(|| sums.par_iter().with_min_len(4096).position_first(|s| s.springs as usize > slots)) {
             self.history_overflow = Some(HistoryOverflow { id: self.state.id[i], contacts: self.sums[i].springs as usize, slots, step: self.step });
         }
     }
