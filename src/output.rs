@@ -75,21 +75,31 @@ impl ObservablesCsv {
 }
 
 /// tracks.csv, one row per tracked particle per output interval.
-pub struct TracksCsv(BufWriter<File>);
+/// Scenes with polyhedra append the orientation quaternion `qw,qx,qy,qz`.
+pub struct TracksCsv {
+    w: BufWriter<File>,
+    orientation: bool,
+}
 
 impl TracksCsv {
-    pub fn create(dir: &Path) -> std::io::Result<Self> {
+    pub fn create(dir: &Path, plan: &tumble_scene::Plan) -> std::io::Result<Self> {
         let mut w = BufWriter::new(File::create(dir.join("tracks.csv"))?);
-        writeln!(w, "t,id,x,y,z,vx,vy,vz,wx,wy,wz")?;
-        Ok(TracksCsv(w))
+        let orientation = plan.polyhedra;
+        writeln!(w, "t,id,x,y,z,vx,vy,vz,wx,wy,wz{}", if orientation { ",qw,qx,qy,qz" } else { "" })?;
+        Ok(TracksCsv { w, orientation })
     }
 
     pub fn rows(&mut self, t: f64, rows: &[TrackRow]) -> std::io::Result<()> {
         for r in rows {
             let (x, v, w) = (r.position, r.velocity, r.angular_velocity);
-            writeln!(self.0, "{t},{},{},{},{},{},{},{},{},{},{}", r.id, x.x, x.y, x.z, v.x, v.y, v.z, w.x, w.y, w.z)?;
+            write!(self.w, "{t},{},{},{},{},{},{},{},{},{},{}", r.id, x.x, x.y, x.z, v.x, v.y, v.z, w.x, w.y, w.z)?;
+            if self.orientation {
+                let q = r.orientation;
+                write!(self.w, ",{},{},{},{}", q.w, q.x, q.y, q.z)?;
+            }
+            writeln!(self.w)?;
         }
-        self.0.flush()
+        self.w.flush()
     }
 }
 

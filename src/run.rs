@@ -125,7 +125,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let fluid = sim.plan().fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, sim.plan()))?;
     let mut extra = ExtraRows::new(&sim);
-    let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir))?;
+    let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir, sim.plan()))?;
     let mut agglo_csv = match sim.plan().agglomerates {
         true => Some(io(&out_dir, AgglomeratesCsv::create(&out_dir, sim.particles()))?),
         false => None,

@@ -13,6 +13,7 @@ pub struct SnapshotWriter {
     entries: Vec<(f64, String)>,
     moving_walls: bool,
     wall_entries: Vec<(f64, String)>,
+    body_entries: Vec<(f64, String)>,
 }
 
 fn pvd(entries: &[(f64, String)]) -> String {
@@ -32,7 +33,7 @@ impl SnapshotWriter {
         if !plan.walls.is_empty() && !moving_walls {
             std::fs::write(out_dir.join("walls.vtp"), walls_vtp(plan, &plan.walls))?;
         }
-        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), entries: Vec::new(), moving_walls, wall_entries: Vec::new() })
+        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), entries: Vec::new(), moving_walls, wall_entries: Vec::new(), body_entries: Vec::new() })
     }
 
     /// Writes snapshot `index` of the current state and rewrites particles.pvd.
@@ -41,6 +42,12 @@ impl SnapshotWriter {
         std::fs::write(self.out_dir.join(&name), particles_vtp(sim))?;
         self.entries.push((sim.time(), name));
         std::fs::write(self.out_dir.join("particles.pvd"), pvd(&self.entries))?;
+        if sim.plan().polyhedra {
+            let name = format!("snapshots/bodies_{index:06}.vtp");
+            std::fs::write(self.out_dir.join(&name), bodies_vtp(sim))?;
+            self.body_entries.push((sim.time(), name));
+            std::fs::write(self.out_dir.join("bodies.pvd"), pvd(&self.body_entries))?;
+        }
         if self.moving_walls {
             let name = format!("snapshots/walls_{index:06}.vtp");
             std::fs::write(self.out_dir.join(&name), walls_vtp(sim.plan(), sim.cpu().walls()))?;
@@ -49,6 +56,51 @@ impl SnapshotWriter {
         }
         Ok(())
     }
+}
+
+/// The polyhedral particles' surfaces as VTK XML PolyData polygons (sorted by id), with the
+/// particle's id, group and speed as cell data: what ParaView shows as the bodies themselves.
+pub fn bodies_vtp(sim: &Simulation) -> String {
+    let s = sim.state();
+    let shapes = &sim.plan().shapes;
+    let mut order: Vec<usize> = (0..s.len()).filter(|&i| s.shape[i] != tumble_scene::SPHERE).collect();
+    order.sort_by_key(|&i| s.id[i]);
+    let mut points = Vec::new();
+    let (mut connectivity, mut offsets, mut cell_of) = (Vec::new(), Vec::new(), Vec::new());
+    for &i in &order {
+        let body = &shapes[s.shape[i] as usize].body;
+        let base = points.len();
+        points.extend(body.vertices().iter().map(|v| s.pos[i] + s.orient[i] * *v));
+        for f in body.faces() {
+            connectivity.extend(f.vertices.iter().map(|&k| base + k as usize));
+            offsets.push(connectivity.len());
+            cell_of.push(i);
+        }
+    }
+    let mut out = String::with_capacity(64 * points.len() + 1024);
+    let _ = writeln!(out, "<?xml version=\"1.0\"?>");
+    let _ = writeln!(out, "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">");
+    let _ = writeln!(out, "  <PolyData>");
+    let _ = writeln!(
+        out,
+        "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"{}\">",
+        points.len(),
+        offsets.len()
+    );
+    let _ = writeln!(out, "      <CellData Scalars=\"id\">");
+    array(&mut out, "Int64", "id", 1, cell_of.iter().map(|&i| s.id[i].to_string()));
+    array(&mut out, "Int32", "group", 1, cell_of.iter().map(|&i| s.group[i].to_string()));
+    array(&mut out, "Float64", "speed", 1, cell_of.iter().map(|&i| s.vel[i].length().to_string()));
+    let _ = writeln!(out, "      </CellData>");
+    let _ = writeln!(out, "      <Points>");
+    array(&mut out, "Float64", "position", 3, points.iter().flat_map(|p: &glam::DVec3| p.to_array()).map(|v| v.to_string()));
+    let _ = writeln!(out, "      </Points>");
+    let _ = writeln!(out, "      <Polys>");
+    array(&mut out, "Int64", "connectivity", 1, connectivity.iter().map(|k| k.to_string()));
+    array(&mut out, "Int64", "offsets", 1, offsets.iter().map(|k| k.to_string()));
+    let _ = writeln!(out, "      </Polys>");
+    let _ = writeln!(out, "    </Piece>\n  </PolyData>\n</VTKFile>");
+    out
 }
 
 /// The particles as VTK XML PolyData (one vertex per particle, sorted by id).
@@ -70,6 +122,22 @@ pub fn particles_vtp(sim: &Simulation) -> String {
     array(&mut out, "Int32", "material", 1, order.iter().map(|&i| s.material[i].to_string()));
     array(&mut out, "Int32", "group", 1, order.iter().map(|&i| s.group[i].to_string()));
     array(&mut out, "Int64", "id", 1, order.iter().map(|&i| s.id[i].to_string()));
+    if !s.orient.is_empty() {
+        array(
+            &mut out,
+            "Int32",
+            "shape",
+            1,
+            order.iter().map(|&i| if s.shape[i] == tumble_scene::SPHERE { -1 } else { s.shape[i] as i32 }.to_string()),
+        );
+        array(
+            &mut out,
+            "Float64",
+            "orientation",
+            4,
+            order.iter().flat_map(|&i| [s.orient[i].w, s.orient[i].x, s.orient[i].y, s.orient[i].z]).map(|v| v.to_string()),
+        );
+    }
     let _ = writeln!(out, "      </PointData>");
     let _ = writeln!(out, "      <Points>");
     array(&mut out, "Float64", "position", 3, order.iter().flat_map(|&i| s.pos[i].to_array()).map(|v| v.to_string()));

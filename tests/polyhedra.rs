@@ -222,7 +222,7 @@ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
         q.w, q.x, q.y, q.z
     );
     let mut s = sim(&text);
-    s.advance((1.0 / s.plan().dt) as u64);
+    s.advance((1.25 / s.plan().dt) as u64);
     let (x1, q1) = (s.cpu().state().pos[0], s.cpu().state().orient[0]);
     s.advance(s.plan().steps - s.steps());
     let st = s.cpu().state();
@@ -235,7 +235,121 @@ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
         st.omega[0].length()
     );
     assert!(up > 1.0 - 1e-9, "not flat on a face: {up}");
-    assert!((st.pos[0] - x1).length() < 1e-9, "creeps by {:e} m in 0.5 s", (st.pos[0] - x1).length());
-    assert!(st.orient[0].angle_between(q1) < 1e-6, "turns by {:e} rad in 0.5 s", st.orient[0].angle_between(q1));
+    assert!((st.pos[0] - x1).length() < 1e-9, "creeps by {:e} m in 0.25 s", (st.pos[0] - x1).length());
+    assert!(st.orient[0].angle_between(q1) < 1e-8, "turns by {:e} rad in 0.25 s", st.orient[0].angle_between(q1));
     assert!(st.omega[0].length() < 1e-7 && st.vel[0].length() < 1e-7, "still moving: v {}, ω {}", st.vel[0], st.omega[0]);
+}
+
+/// A box of cubes, dodecahedra and spheres (randomly turned) poured onto a floor, with springs.
+fn mixed_bed(duration: f64) -> String {
+    format!(
+        r#"
+name = "mixed-bed"
+[run]
+duration = {duration}
+integrator = "verlet"
+[domain]
+min = [-0.05, -0.05, 0.0]
+max = [0.05, 0.05, 0.2]
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[[materials]]
+name = "glass"
+density = 2500.0
+[contact]
+normal = {{ model = "linear", stiffness = 2.0e3 }}
+restitution = 0.5
+tangential = {{ model = "history", friction = 0.4 }}
+[[particles]]
+material = "glass"
+shape = {{ cube = {{ edge = 0.008 }} }}
+orientation = "random"
+lattice = {{ min = [-0.045, -0.045, 0.01], max = [0.045, 0.045, 0.04], spacing = 0.015, jitter = 0.05 }}
+velocity = {{ random = {{ mean_speed = 0.2, std = 0.05 }} }}
+[[particles]]
+material = "glass"
+shape = {{ platonic = {{ kind = "dodecahedron", radius = 0.006 }} }}
+orientation = "random"
+lattice = {{ min = [-0.045, -0.045, 0.05], max = [0.045, 0.045, 0.08], spacing = 0.015, jitter = 0.05 }}
+[[particles]]
+material = "glass"
+shape = {{ sphere = {{ diameter = 0.01 }} }}
+lattice = {{ min = [-0.045, -0.045, 0.09], max = [0.045, 0.045, 0.12], spacing = 0.015, jitter = 0.05 }}
+[[walls]]
+name = "box"
+material = "glass"
+box = {{ min = [-0.05, -0.05, 0.0], max = [0.05, 0.05, 0.2] }}
+"#
+    )
+}
+
+/// Initial mechanical energy and |ΔE| / E0 after `duration` (dissipation counted).
+fn energy_balance(text: &str) -> (usize, f64, tumble::Observables) {
+    let mut s = sim(text);
+    let e0 = s.observables().mechanical_energy();
+    s.advance(s.plan().steps);
+    let o = s.observables();
+    (s.particles(), (o.mechanical_energy() + o.dissipated_energy - e0).abs() / e0.abs(), o)
+}
+
+/// The mixed bed with only its cubes (the first group).
+fn cube_bed(duration: f64) -> String {
+    let text = mixed_bed(duration);
+    let start = text.find("[[particles]]\nmaterial = \"glass\"\nshape = { platonic").unwrap();
+    let end = text.find("[[walls]]").unwrap();
+    format!("{}{}", &text[..start], &text[end..])
+}
+
+#[test]
+fn a_frictional_bed_of_cubes_balances_its_energy() {
+    let (n, balance, o) = energy_balance(&cube_bed(0.2));
+    eprintln!("cube bed: {n} cubes, |ΔE|/E0 = {balance:.3e}, dissipated {:.3e} J, contacts {}", o.dissipated_energy, o.contacts);
+    assert!(o.contacts > 40 && o.dissipated_energy > 0.0, "the cubes should have landed");
+    assert!(balance < 2e-2, "energy balance off by {balance:e} of E0");
+}
+
+/// Known gap (issue 6 notes): the manifold's normal springs jump when the contact feature changes
+/// (an edge–edge point becomes a two- or four-point face contact), which creates energy in
+/// elastic collisions and in beds of dodecahedra; this measures it.
+#[test]
+#[ignore = "known gap: polyhedra contacts are not energy-conserving across feature changes (~17 % here)"]
+fn a_mixed_bed_of_polyhedra_and_spheres_balances_its_energy() {
+    let (n, balance, o) = energy_balance(&mixed_bed(0.4));
+    eprintln!("mixed bed: {n} particles, |ΔE|/E0 = {balance:.3e}, contacts {}", o.contacts);
+    assert!(balance < 1e-2, "energy balance off by {balance:e} of E0");
+}
+
+#[test]
+fn polyhedra_results_are_bit_identical_for_1_2_and_4_threads() {
+    let run = |threads: usize| {
+        let mut s = Simulation::new(compile(&parse_scene(&mixed_bed(0.05)).unwrap()).unwrap(), threads);
+        s.advance(s.plan().steps);
+        let st = s.cpu().state();
+        let mut rows: Vec<(u32, [u64; 13])> = (0..st.len())
+            .map(|i| {
+                let q = st.orient[i];
+                let bits = [
+                    st.pos[i].x,
+                    st.pos[i].y,
+                    st.pos[i].z,
+                    st.vel[i].x,
+                    st.vel[i].y,
+                    st.vel[i].z,
+                    st.omega[i].x,
+                    st.omega[i].y,
+                    st.omega[i].z,
+                    q.w,
+                    q.x,
+                    q.y,
+                    q.z,
+                ];
+                (st.id[i], bits.map(f64::to_bits))
+            })
+            .collect();
+        rows.sort_unstable_by_key(|r| r.0);
+        rows
+    };
+    let one = run(1);
+    assert_eq!(one, run(2));
+    assert_eq!(one, run(4));
 }

@@ -99,32 +99,58 @@ pub(crate) fn contact_force<const COH: bool, const HIST: bool>(
         let vn = v_rel.dot(n);
         let nf = normal_force(&p.normal, overlap, vn, m_star, r_star);
         let applied = if p.no_attraction { nf.total().max(0.0) } else { nf.total() };
-        let vt = v_rel - n * vn;
         out.normal = applied.abs();
-        let (ft, slip_loss) = match p.tangential {
-            TangentialLaw::History { friction, spring: law } if HIST => {
-                let h = history_force(&law, friction, out.normal, overlap, r_star, m_star, old_spring.xi, n, vt, dt);
-                *spring = Spring { xi: h.spring, energy: h.energy };
-                out.elastic += h.energy;
-                (h.force, if dt > 0.0 { -h.force.dot(vt) - (h.energy - old_spring.energy) / dt } else { 0.0 })
-            }
-            law => {
-                let t_col = match law {
-                    TangentialLaw::ViscousCoulomb { viscous: ViscousParameter::Stiffness(_), .. } => {
-                        collision_time(nf.stiffness, m_star, p.normal.restitution())
-                    }
-                    _ => 0.0,
-                };
-                let ft = tangential_force(&law, out.normal, vt, m_star, dt, t_col);
-                (ft, -ft.dot(vt))
-            }
-        };
-        out.force += n * applied + ft;
-        out.tangential = ft;
-        out.elastic += nf.energy;
-        out.dissipation = -(applied - nf.elastic) * vn + slip_loss;
+        let t = tangential_part::<HIST>(p, out.normal, nf.stiffness, overlap, r_star, m_star, n, v_rel - n * vn, dt, old_spring, spring);
+        out.force += n * applied + t.force;
+        out.tangential = t.force;
+        out.elastic += nf.energy + t.energy;
+        out.dissipation = -(applied - nf.elastic) * vn + t.loss;
     }
     out
+}
+
+/// The tangential force of one contact: its force, the energy its spring stores and the power it dissipates.
+pub(crate) struct TangentialPart {
+    pub force: DVec3,
+    pub energy: f64,
+    pub loss: f64,
+}
+
+/// The tangential law of `p` for a contact pressed by `normal` (|F_n|) with tangent slip velocity `vt`;
+/// `stiffness` is the normal law's tangent stiffness (for laws whose time scale is t_col).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn tangential_part<const HIST: bool>(
+    p: &PairParams,
+    normal: f64,
+    stiffness: f64,
+    overlap: f64,
+    r_star: f64,
+    m_star: f64,
+    n: DVec3,
+    vt: DVec3,
+    dt: f64,
+    old_spring: Spring,
+    spring: &mut Spring,
+) -> TangentialPart {
+    match p.tangential {
+        TangentialLaw::History { friction, spring: law } if HIST => {
+            let h = history_force(&law, friction, normal, overlap, r_star, m_star, old_spring.xi, n, vt, dt);
+            *spring = Spring { xi: h.spring, energy: h.energy };
+            let loss = if dt > 0.0 { -h.force.dot(vt) - (h.energy - old_spring.energy) / dt } else { 0.0 };
+            TangentialPart { force: h.force, energy: h.energy, loss }
+        }
+        law => {
+            let t_col = match law {
+                TangentialLaw::ViscousCoulomb { viscous: ViscousParameter::Stiffness(_), .. } => {
+                    collision_time(stiffness, m_star, p.normal.restitution())
+                }
+                _ => 0.0,
+            };
+            let ft = tangential_force(&law, normal, vt, m_star, dt, t_col);
+            TangentialPart { force: ft, energy: 0.0, loss: -ft.dot(vt) }
+        }
+    }
 }
 
 /// The contact of pair (a, b), a with the lower id; zero when out of range.

@@ -60,6 +60,8 @@ pub struct TrackRow {
     pub position: DVec3,
     pub velocity: DVec3,
     pub angular_velocity: DVec3,
+    /// Body-to-world rotation (identity for spheres).
+    pub orientation: glam::DQuat,
 }
 
 impl CpuSimulation {
@@ -155,6 +157,7 @@ impl CpuSimulation {
                 position: s.pos[i],
                 velocity: s.vel[i],
                 angular_velocity: if s.omega.is_empty() { DVec3::ZERO } else { s.omega[i] },
+                orientation: if s.orient.is_empty() { glam::DQuat::IDENTITY } else { s.orient[i] },
             })
             .collect();
         rows.sort_by_key(|r| r.id);

@@ -1,13 +1,16 @@
-//! Contacts of polyhedral particles: one contact per pair (normal, depth and the depth-weighted
-//! point of the manifold), the same force laws as spheres, and the torque of the whole force
-//! about each centre (a normal force on a polyhedron need not pass through its centre).
+//! Contacts of polyhedral particles. The normal law acts at every point of the contact manifold
+//! with that point's own depth (so the force derives from Σ ½ k δ_k² and a face contact resists
+//! rocking); the tangential law acts once per pair at the depth-weighted point, pressed by the
+//! summed normal force; twisting friction acts over the manifold. Torques are those of the whole
+//! force about each centre (a normal force on a polyhedron need not pass through its centre).
 
-use crate::forces::{ContactForce, ContactInputs, PairOut, contact_force};
+use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
 use crate::history::Spring;
 use glam::DVec3;
-use tumble_contact::rolling_torque;
+use tumble_contact::{normal_force, rolling_torque};
 use tumble_geom::{PolyContact, Polyhedron, Pose, polyhedron_polyhedron, sphere_polyhedron};
 use tumble_integrate::world_inverse_inertia_times;
+use tumble_scene::PairParams;
 use tumble_scene::{SPHERE, Wall};
 
 /// Particle `i`'s polyhedron and pose, when it is one.
@@ -48,6 +51,50 @@ fn twisting_torque(k: &PolyContact, friction: f64, normal: f64, spin_rel: DVec3,
     rolling_torque(friction, spread, normal, k.normal * spin_rel.dot(k.normal), inv_inertia_sum, dt)
 }
 
+/// The force of a polyhedron contact on body A (at `xa`), with its torque about `xa` and, when B is
+/// a body, about `xb`. `v_at(p)` is the velocity of A relative to B at the point p.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn manifold_force<const HIST: bool>(
+    params: &PairParams,
+    k: &PolyContact,
+    v_at: impl Fn(DVec3) -> DVec3,
+    xa: DVec3,
+    xb: DVec3,
+    m_star: f64,
+    r_star: f64,
+    dt: f64,
+    spring: &mut Spring,
+) -> (ContactForce, DVec3, DVec3) {
+    let n = k.normal;
+    let old_spring = if HIST { std::mem::take(spring) } else { Spring::default() };
+    let mut out = ContactForce { force: DVec3::ZERO, tangential: DVec3::ZERO, normal: 0.0, elastic: 0.0, dissipation: 0.0 };
+    let (mut torque_a, mut torque_b) = (DVec3::ZERO, DVec3::ZERO);
+    let mut stiffness = 0.0f64;
+    for m in k.manifold() {
+        let vn = v_at(m.point).dot(n);
+        let nf = normal_force(&params.normal, m.depth, vn, m_star, r_star);
+        let applied = if params.no_attraction { nf.total().max(0.0) } else { nf.total() };
+        let f = n * applied;
+        out.force += f;
+        torque_a += (m.point - xa).cross(f);
+        torque_b -= (m.point - xb).cross(f);
+        out.normal += applied.abs();
+        out.elastic += nf.energy;
+        out.dissipation -= (applied - nf.elastic) * vn;
+        stiffness = stiffness.max(nf.stiffness);
+    }
+    let v = v_at(k.point);
+    let t = tangential_part::<HIST>(params, out.normal, stiffness, k.depth, r_star, m_star, n, v - n * v.dot(n), dt, old_spring, spring);
+    out.force += t.force;
+    out.tangential = t.force;
+    torque_a += (k.point - xa).cross(t.force);
+    torque_b -= (k.point - xb).cross(t.force);
+    out.elastic += t.energy;
+    out.dissipation += t.loss;
+    (out, torque_a, torque_b)
+}
+
 /// Pair (a, b), a with the lower id, at least one a polyhedron; `d` = x_a − x_b (minimum image).
 #[inline(always)]
 pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: usize, d: DVec3, spring: &mut Spring) -> PairOut {
@@ -61,8 +108,7 @@ pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: 
         (None, None) => unreachable!("sphere pairs take the sphere path"),
     };
     let Some(k) = contact else { return out };
-    let (arm_a, arm_b) = (k.point - xa, k.point - xb);
-    let v_rel = c.vel[a] + c.omega[a].cross(arm_a) - c.vel[b] - c.omega[b].cross(arm_b);
+    let v_at = |p: DVec3| c.vel[a] + c.omega[a].cross(p - xa) - c.vel[b] - c.omega[b].cross(p - xb);
     let params = c.plan.pair(s.material[a], s.material[b]);
     let m_star = 1.0 / (s.inv_mass[a] + s.inv_mass[b]);
     let (ra, rb) = (equivalent_radius(c, a), equivalent_radius(c, b));
@@ -70,10 +116,10 @@ pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: 
     if HIST {
         *spring = s.history.find(a, s.id[b]);
     }
-    let f = contact_force::<false, HIST>(params, k.normal, k.depth, 0.0, v_rel, m_star, r_star, c.plan.dt, spring);
+    let (f, torque_a, torque_b) = manifold_force::<HIST>(params, &k, v_at, xa, xb, m_star, r_star, c.plan.dt, spring);
     out.force = f.force;
-    out.torque_a = arm_a.cross(f.force);
-    out.torque_b = arm_b.cross(-f.force);
+    out.torque_a = torque_a;
+    out.torque_b = torque_b;
     let spin = c.omega[a] - c.omega[b];
     let inv_n = inverse_inertia_about(c, a, k.normal) + inverse_inertia_about(c, b, k.normal);
     let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inv_n, c.plan.dt);
@@ -105,14 +151,13 @@ pub(crate) fn polyhedron_wall<const HIST: bool>(
     let s = c.state;
     let (poly, pose) = body(c, i, s.pos[i])?;
     let k = w.shape.polyhedron_contact(poly, &pose)?;
-    let arm = k.point - s.pos[i];
-    let v_rel = c.vel[i] + c.omega[i].cross(arm) - w.velocity_at(k.point);
+    let xi = s.pos[i];
+    let v_at = |p: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.velocity_at(p);
     let params = c.plan.pair(s.material[i], w.material);
-    let mut f = contact_force::<false, HIST>(params, k.normal, k.depth, 0.0, v_rel, s.mass[i], equivalent_radius(c, i), c.plan.dt, spring);
+    let (mut f, torque, _) = manifold_force::<HIST>(params, &k, v_at, xi, xi, s.mass[i], equivalent_radius(c, i), c.plan.dt, spring);
     let wall_spin = w.angular_velocity();
     let spin = c.omega[i] - wall_spin;
     let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inverse_inertia_about(c, i, k.normal), c.plan.dt);
     f.dissipation -= twist.dot(spin);
-    let torque = arm.cross(f.force) + twist;
-    Some((k, f, torque, twist.dot(wall_spin)))
+    Some((k, f, torque + twist, twist.dot(wall_spin)))
 }

@@ -193,6 +193,7 @@ impl GpuSimulation {
                 position: v3(pos[i]) + origin,
                 velocity: v3(vel[i]),
                 angular_velocity: if self.plan.rotation { v3(omega[i]) } else { DVec3::ZERO },
+                orientation: glam::DQuat::IDENTITY,
             })
             .collect();
         rows.sort_by_key(|r| r.id);
