@@ -11,7 +11,10 @@
 //! sum is fixed, so a run gives bit-identical results every time on one device.
 //!
 //! The plan's features are WGSL override constants: a scene without rotation,
-//! cohesion, walls, drag or periodic axes builds pipelines without that code.
+//! cohesion, walls, moving walls, lifters, drag or periodic axes builds pipelines
+//! without that code. Moving walls get their pose at each contact pass's force
+//! time from the host, and their power per wall group is summed on the host in
+//! id order ([`GpuSimulation::wall_power`], [`GpuSimulation::wall_work`]).
 //!
 //! ```no_run
 //! let scene = tumble_scene::read_scene("scenes/box_settle.toml".as_ref()).unwrap();
