@@ -168,8 +168,9 @@ fn cohesive_cluster(backend: Backend) -> Vec<Measured> {
 /// power of the drive (all wall groups), of the lifters and of the shell, and the mean charge
 /// centre-of-mass angle, over the second half of the run; and the wall work against the energy
 /// the charge gained and dissipated over the whole run. The charge's motion is chaotic: two CPU
-/// runs whose Δt differ by 1 % differ by ~5 % in lifter power (up to 15 % against the f32 run in a single CLI window), ~0.15 W in shell power and ~3° in
-/// angle, so the f32 tolerances are set at that spread.
+/// runs whose Δt differ by 1 % differ by ~5 % in lifter power (the f32 run by up to 15 % over a
+/// slightly different window), ~0.15 W in shell power and ~3° in angle, so the f32 tolerances
+/// are set at that spread.
 fn small_mill(backend: Backend) -> Vec<Measured> {
     let scene = compiled(SMALL_MILL);
     let steps = scene.plan.steps;
