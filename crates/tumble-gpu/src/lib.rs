@@ -34,7 +34,7 @@ mod step;
 mod upload;
 mod walls;
 
-pub use buffers::{BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, history_bytes_per_particle, memory_bytes};
+pub use buffers::{BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, history_bytes_per_particle, memory_bytes, wall_bytes_per_particle};
 pub use context::{AdapterDescription, GpuError, available, gpu};
 pub use upload::Grid;
 
