@@ -252,19 +252,22 @@ impl ExtraRows {
 
     fn row(&mut self, sim: &Simulation) -> ExtraColumns {
         let plan = sim.plan();
-        // Nothing to add (and the GPU backend refuses moving walls, drums and flow planes so far).
+        // Nothing to add.
         if self.moving.is_empty() && plan.drums.is_empty() && self.flow.is_none() {
             return ExtraColumns::default();
         }
-        let (t, work) = (sim.time(), sim.cpu().wall_work().to_vec());
+        let (t, work) = (sim.time(), sim.wall_work());
         let power = match &self.last {
             // Mean power since the last row: Δ(work) / Δt.
             Some((t0, w0)) if t > *t0 => self.moving.iter().map(|&g| (work[g] - w0[g]) / (t - t0)).collect(),
             // The first row: the power of the initial force pass.
-            _ => self.moving.iter().map(|&g| sim.cpu().wall_power()[g]).collect(),
+            _ => {
+                let power = sim.wall_power();
+                self.moving.iter().map(|&g| power[g]).collect()
+            }
         };
         self.last = Some((t, work));
-        ExtraColumns { power, drums: sim.cpu().drum_profiles(), flow: self.flow.as_mut().map_or(Vec::new(), |f| f.update(sim)) }
+        ExtraColumns { power, drums: sim.drum_profiles(), flow: self.flow.as_mut().map_or(Vec::new(), |f| f.update(sim)) }
     }
 }
 

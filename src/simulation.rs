@@ -137,6 +137,38 @@ impl Simulation {
         }
     }
 
+    /// Power delivered to the particles by each wall group at the last force pass (zero for static walls).
+    pub fn wall_power(&self) -> Vec<f64> {
+        match &self.backend {
+            Backend::Cpu(s) => s.wall_power().to_vec(),
+            Backend::Gpu(s) => s.wall_power(),
+        }
+    }
+
+    /// Work done on the particles by each wall group since t = 0.
+    pub fn wall_work(&self) -> Vec<f64> {
+        match &self.backend {
+            Backend::Cpu(s) => s.wall_work().to_vec(),
+            Backend::Gpu(s) => s.wall_work(),
+        }
+    }
+
+    /// The charge profile of each drum of the plan.
+    pub fn drum_profiles(&self) -> Vec<tumble_cpu::DrumProfile> {
+        match &self.backend {
+            Backend::Cpu(s) => s.drum_profiles(),
+            Backend::Gpu(s) => s.drum_profiles(),
+        }
+    }
+
+    /// The walls in their current pose.
+    pub fn walls(&self) -> Cow<'_, [tumble_scene::Wall]> {
+        match &self.backend {
+            Backend::Cpu(s) => Cow::Borrowed(s.walls()),
+            Backend::Gpu(s) => Cow::Owned(s.walls()),
+        }
+    }
+
     /// Contact force on the particle with id `id` in the last force pass.
     pub fn contact_force(&self, id: u32) -> Option<DVec3> {
         match &self.backend {

@@ -50,7 +50,7 @@ impl SnapshotWriter {
         }
         if self.moving_walls {
             let name = format!("snapshots/walls_{index:06}.vtp");
-            std::fs::write(self.out_dir.join(&name), walls_vtp(sim.plan(), sim.cpu().walls()))?;
+            std::fs::write(self.out_dir.join(&name), walls_vtp(sim.plan(), &sim.walls()))?;
             self.wall_entries.push((sim.time(), name));
             std::fs::write(self.out_dir.join("walls.pvd"), pvd(&self.wall_entries))?;
         }

@@ -262,6 +262,19 @@ fn the_moving_geometry_step_limit_is_applied_and_reported() {
 
 #[test]
 fn flow_planes_count_the_mass_through_and_moving_walls_write_a_series() {
+    flow_planes_and_wall_series(tumble_scene::schema::BackendName::Cpu, None);
+}
+
+#[test]
+fn flow_planes_and_moving_walls_run_on_the_gpu_backend() {
+    match tumble_gpu::gpu() {
+        Ok(_) => flow_planes_and_wall_series(tumble_scene::schema::BackendName::Gpu, Some(2.0e-4)),
+        Err(e) => println!("skipped flow_planes_and_moving_walls_run_on_the_gpu_backend: no GPU adapter ({e})"),
+    }
+}
+
+/// `dt`: a longer step than the plan's t_col/50 (still t_col/6) keeps the software GPU adapter quick.
+fn flow_planes_and_wall_series(backend: tumble_scene::schema::BackendName, dt: Option<f64>) {
     let text = format!(
         r#"
 name = "flow"
@@ -292,16 +305,21 @@ motion = {{ rotate = {{ point = [0.0, 0.0, 0.9], axis = [0.0, 0.0, 1.0], rpm = 6
 flow_planes = [{{ name = "outlet", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, -1.0] }}]
 "#
     );
-    let out = std::env::temp_dir().join(format!("tumble-flow-{}", std::process::id()));
+    let text = match dt {
+        Some(dt) => text.replace("duration = 0.4", &format!("duration = 0.4\ndt = {dt:e}")),
+        None => text,
+    };
+    let out = std::env::temp_dir().join(format!("tumble-flow-{backend:?}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     let compiled = compile(&parse_scene(&text).unwrap()).unwrap();
-    run_compiled(compiled, &RunOptions { out_dir: Some(out.clone()), threads: 1, ..Default::default() }).unwrap();
+    run_compiled(compiled, &RunOptions { out_dir: Some(out.clone()), threads: 1, backend: Some(backend), ..Default::default() }).unwrap();
     let csv = std::fs::read_to_string(out.join("observables.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name} in {header:?}"));
     let last: Vec<f64> = csv.lines().last().unwrap().split(',').map(|x| x.parse().unwrap()).collect();
     let mass = 5.0 * 7800.0 * std::f64::consts::PI / 6.0 * 0.02f64.powi(3);
-    assert!((last[col("mass_outlet")] - mass).abs() < 1e-12, "{} vs {mass}", last[col("mass_outlet")]);
+    // The GPU reads its f32 masses back.
+    assert!((last[col("mass_outlet")] - mass).abs() < 1e-6 * mass, "{} vs {mass}", last[col("mass_outlet")]);
     // A wall that never touches anything does no work.
     assert_eq!(last[col("power_paddle")], 0.0);
     assert!(out.join("walls.pvd").exists() && out.join("snapshots/walls_000004.vtp").exists());

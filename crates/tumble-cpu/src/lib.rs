@@ -43,7 +43,7 @@ mod step;
 
 pub use forces::ContactSum;
 pub use history::{HistoryOverflow, HistorySlots, Spring, WALL_KEY};
-pub use observables::{DrumProfile, Observables, TrackRow};
+pub use observables::{DrumProfile, Observables, TrackRow, drum_profiles};
 pub use state::State;
 
 use forces::{PairOut, SortedEntry};

@@ -96,55 +96,7 @@ impl CpuSimulation {
 
     /// The charge profile of each drum of the plan (NaN angles without gravity across the axis).
     pub fn drum_profiles(&self) -> Vec<DrumProfile> {
-        let s = self.state();
-        let g = self.plan().gravity;
-        self.plan()
-            .drums
-            .iter()
-            .map(|d| {
-                let g_plane = g - d.axis * g.dot(d.axis);
-                let mut p = DrumProfile { com_angle: f64::NAN, toe: f64::NAN, shoulder: f64::NAN, ..Default::default() };
-                if g_plane.length() <= 1e-12 * g.length().max(1e-300) {
-                    return p;
-                }
-                let down = g_plane.normalize();
-                // Direction of the shell's motion at the bottom.
-                let along = (d.axis * d.omega.signum()).cross(down);
-                let mut com = DVec3::ZERO;
-                let mut shell = Vec::new();
-                for i in 0..s.len() {
-                    if s.inv_mass[i] == 0.0 {
-                        continue;
-                    }
-                    let rel = s.pos[i] - d.point;
-                    let z = rel.dot(d.axis);
-                    let radial = rel - d.axis * z;
-                    let rho = radial.length();
-                    if z < 0.0 || z > d.length || rho > d.radius {
-                        continue;
-                    }
-                    p.charge_mass += s.mass[i];
-                    com += radial * s.mass[i];
-                    if d.radius - rho - s.radius[i] <= 0.5 * s.radius[i] {
-                        shell.push(radial.dot(along).atan2(radial.dot(down)).to_degrees());
-                    }
-                }
-                if p.charge_mass > 0.0 {
-                    com /= p.charge_mass;
-                    p.com_radius = com.length();
-                    let theta = com.dot(along).atan2(com.dot(down));
-                    p.com_angle = theta.to_degrees();
-                    p.torque_arm_power = p.charge_mass * g_plane.length() * p.com_radius * theta.sin() * d.omega.abs();
-                }
-                if !shell.is_empty() {
-                    shell.sort_by(f64::total_cmp);
-                    let pick = |q: f64| shell[((q * (shell.len() - 1) as f64).round() as usize).min(shell.len() - 1)];
-                    p.toe = pick(0.05);
-                    p.shoulder = pick(0.95);
-                }
-                p
-            })
-            .collect()
+        drum_profiles(self.plan(), self.state())
     }
 
     /// Tracked particles, by id.
@@ -163,4 +115,56 @@ impl CpuSimulation {
         rows.sort_by_key(|r| r.id);
         rows
     }
+}
+
+/// The charge profile of each drum of `plan` from any backend's state (NaN angles without gravity
+/// across the axis).
+pub fn drum_profiles(plan: &tumble_scene::Plan, s: &crate::State) -> Vec<DrumProfile> {
+    let g = plan.gravity;
+    plan.drums
+        .iter()
+        .map(|d| {
+            let g_plane = g - d.axis * g.dot(d.axis);
+            let mut p = DrumProfile { com_angle: f64::NAN, toe: f64::NAN, shoulder: f64::NAN, ..Default::default() };
+            if g_plane.length() <= 1e-12 * g.length().max(1e-300) {
+                return p;
+            }
+            let down = g_plane.normalize();
+            // Direction of the shell's motion at the bottom.
+            let along = (d.axis * d.omega.signum()).cross(down);
+            let mut com = DVec3::ZERO;
+            let mut shell = Vec::new();
+            for i in 0..s.len() {
+                if s.inv_mass[i] == 0.0 {
+                    continue;
+                }
+                let rel = s.pos[i] - d.point;
+                let z = rel.dot(d.axis);
+                let radial = rel - d.axis * z;
+                let rho = radial.length();
+                if z < 0.0 || z > d.length || rho > d.radius {
+                    continue;
+                }
+                p.charge_mass += s.mass[i];
+                com += radial * s.mass[i];
+                if d.radius - rho - s.radius[i] <= 0.5 * s.radius[i] {
+                    shell.push(radial.dot(along).atan2(radial.dot(down)).to_degrees());
+                }
+            }
+            if p.charge_mass > 0.0 {
+                com /= p.charge_mass;
+                p.com_radius = com.length();
+                let theta = com.dot(along).atan2(com.dot(down));
+                p.com_angle = theta.to_degrees();
+                p.torque_arm_power = p.charge_mass * g_plane.length() * p.com_radius * theta.sin() * d.omega.abs();
+            }
+            if !shell.is_empty() {
+                shell.sort_by(f64::total_cmp);
+                let pick = |q: f64| shell[((q * (shell.len() - 1) as f64).round() as usize).min(shell.len() - 1)];
+                p.toe = pick(0.05);
+                p.shoulder = pick(0.95);
+            }
+            p
+        })
+        .collect()
 }

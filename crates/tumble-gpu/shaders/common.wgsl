@@ -18,6 +18,9 @@ override WALLS: bool = true;
 // Tangential springs with history and rolling resistance (history.wgsl).
 override HISTORY: bool = false;
 override ROLLING: bool = false;
+// Moving walls (velocities, per-step poses, wall power) and lifter prisms (walls_moving.wgsl).
+override MOVING: bool = false;
+override PRISMS: bool = false;
 // 0: no fluid, 1: Stokes drag, 2: quadratic drag.
 override DRAG: u32 = 0u;
 override TAYLOR_GREEN: bool = false;
@@ -45,7 +48,7 @@ struct Params {
     gravity: vec4<f32>,
     // Uniform flow velocity (xyz), or Taylor–Green amplitude (x) and frequency (y).
     flow: vec4<f32>,
-    // The domain's centre in world coordinates (for the flow field).
+    // The domain's centre in world coordinates (for the flow field); w: wall groups.
     origin: vec4<f32>,
 }
 

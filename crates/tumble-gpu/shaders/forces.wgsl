@@ -190,6 +190,8 @@ fn pair_contact(a: u32, b: u32) -> PairOut {
             let roll = rolling_torque(tables[3u * pair + 2u].z, r_star, f.normal, seen_spin(a) - seen_spin(b), omega[a].w + omega[b].w);
             out.torque_a += roll;
             out.torque_b -= roll;
+            // The couple opposes the relative rolling: all its work is dissipated.
+            out.dissipation -= dot(roll, seen_spin(a) - seen_spin(b));
         }
     }
     out.elastic = f.elastic;
@@ -277,9 +279,25 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
     let w = seen_spin(i);
     let mass = alpha[i].w;
     let walls_base = 3u * params.counts.w * params.counts.w;
+    // Wall power (MOVING): walls come grouped in group order; each group's sum is booked once.
+    var group = 0u;
+    var power = 0.0;
     for (var k = 0u; k < params.counts.z; k++) {
         let base = walls_base + 6u * k;
-        let p = wall_proximity(base, xi, r, extra);
+        if MOVING {
+            let g = wall_group(base);
+            if g != group {
+                book_wall_power(props[i].z, group, power);
+                group = g;
+                power = 0.0;
+            }
+        }
+        var p: Proximity;
+        if PRISMS && tables[base].x == 3.0 {
+            p = prism_proximity(base, xi, r, extra);
+        } else {
+            p = wall_proximity(base, xi, r, extra);
+        }
         if !p.hit {
             continue;
         }
@@ -289,6 +307,12 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
         }
         let arm = p.point - xi;
         var v_rel = v;
+        var v_wall = vec3<f32>(0.0);
+        if MOVING {
+            // A moving wall's velocity at the contact point enters the relative velocity.
+            v_wall = wall_velocity(base, p.point);
+            v_rel -= v_wall;
+        }
         if ROTATION {
             v_rel += cross(w, arm);
         }
@@ -302,10 +326,23 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
             (*s).springs = keep_spring(props[i].z, (*s).springs, WALL_KEY | k, f.spring);
         }
         (*s).force += f.force;
+        if MOVING {
+            power += dot(f.force, v_wall);
+        }
         if ROTATION {
             (*s).torque += cross(arm, f.tangential);
             if ROLLING {
-                (*s).torque += rolling_torque(tables[3u * pair + 2u].z, r, f.normal, w, omega[i].w);
+                // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
+                var spin = vec3<f32>(0.0);
+                if MOVING {
+                    spin = wall_spin(base);
+                }
+                let roll = rolling_torque(tables[3u * pair + 2u].z, r, f.normal, w - spin, omega[i].w);
+                (*s).torque += roll;
+                (*s).dissipation -= dot(roll, w - spin);
+                if MOVING {
+                    power += dot(roll, spin);
+                }
             }
         }
         (*s).elastic += f.elastic;
@@ -314,6 +351,9 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
             (*s).contacts += 1u;
             (*s).ratio = max((*s).ratio, p.overlap / r);
         }
+    }
+    if MOVING && params.counts.z > 0u {
+        book_wall_power(props[i].z, group, power);
     }
 }
 
@@ -325,6 +365,12 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var s = Sum(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0u, 0.0, 0u);
     let flags = props[i].w;
+    if MOVING && (flags & (FLAG_DEAD | FLAG_FIXED)) != 0u {
+        // No wall contacts: no wall power.
+        for (var g = 0u; g < wall_groups(); g++) {
+            wall_power[props[i].z * wall_groups() + g] = 0.0;
+        }
+    }
     if (flags & FLAG_DEAD) == 0u {
         let fixed_i = (flags & FLAG_FIXED) != 0u;
         let xi = pos[i].xyz;

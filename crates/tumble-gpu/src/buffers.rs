@@ -18,7 +18,7 @@ pub fn history_bytes_per_particle(slots: usize) -> u64 {
 
 /// Device bytes per particle of a plan (history slots included).
 pub fn bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
-    BYTES_PER_PARTICLE + history_bytes_per_particle(crate::upload::history_slots(plan))
+    BYTES_PER_PARTICLE + history_bytes_per_particle(crate::upload::history_slots(plan)) + wall_bytes_per_particle(plan)
 }
 
 /// Device bytes per grid cell: counts, cursors and starts (u32 each).
@@ -28,6 +28,20 @@ pub const BYTES_PER_CELL: u64 = 3 * 4;
 pub fn memory_bytes(particles: u64, grid: &Grid, history_slots: usize) -> u64 {
     let cells = grid.cells() as u64 + 2;
     particles * (BYTES_PER_PARTICLE + history_bytes_per_particle(history_slots)) + cells * BYTES_PER_CELL + cells.div_ceil(SCAN_BLOCK as u64) * 4 * 2
+}
+
+/// Sizes of the moving-wall buffers (zero without moving walls).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WallBuffers {
+    /// Wall groups with power booked per particle.
+    pub groups: u64,
+    /// Bytes of the per-step wall tables of one batch.
+    pub stage_bytes: u64,
+}
+
+/// Device bytes per particle for the wall power and work of `groups` wall groups (moving walls only).
+pub fn wall_bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
+    if crate::upload::moving_walls(plan) { 12 * plan.wall_groups.len() as u64 } else { 0 }
 }
 
 /// Every buffer of one simulation.
@@ -52,6 +66,12 @@ pub struct Buffers {
     pub tables: wgpu::Buffer,
     /// The two generations of contact-history slots (history.wgsl; 16 bytes each without history).
     pub history: [wgpu::Buffer; 2],
+    /// Moving walls: power of the last pass per particle id and wall group (f32), and the
+    /// work since t = 0 (Kahan pairs); 16 bytes each without moving walls.
+    pub wall_power: wgpu::Buffer,
+    pub wall_work: wgpu::Buffer,
+    /// Moving walls: the wall tables of each step of a batch, copied into `tables` before its contact pass.
+    pub wall_stage: wgpu::Buffer,
     /// Block sums of the scan, one buffer per level above the cell starts.
     pub scan_levels: Vec<wgpu::Buffer>,
     /// Values at each scan level (level 0: the cell starts).
@@ -87,11 +107,12 @@ impl Buffers {
         params: &crate::upload::Params,
         grid: &Grid,
         history_slots: usize,
+        walls: WallBuffers,
     ) -> Result<Buffers, GpuError> {
         let n = arrays.pos.len() as u64;
         let cells = grid.cells() as u64 + 2;
         let history_bytes = if history_slots > 0 { 16 * n * (history_slots as u64 + 1) } else { 0 };
-        let largest = (16 * n).max(4 * cells).max(16 * tables.len() as u64).max(history_bytes);
+        let largest = (16 * n).max(4 * cells).max(16 * tables.len() as u64).max(history_bytes).max(8 * n * walls.groups);
         let available = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         if largest > available || cells > u32::MAX as u64 / 2 || n > u32::MAX as u64 / 2 {
             return Err(GpuError::TooLarge {
@@ -133,6 +154,9 @@ impl Buffers {
             tables: init(gpu, "tables", &b(tables)),
             // Zeroed: no particle holds a spring at t = 0.
             history: [zeroed(gpu, "history a", history_bytes), zeroed(gpu, "history b", history_bytes)],
+            wall_power: zeroed(gpu, "wall power", 4 * n * walls.groups),
+            wall_work: zeroed(gpu, "wall work", 8 * n * walls.groups),
+            wall_stage: zeroed(gpu, "wall stage", walls.stage_bytes),
             scan_levels,
             scan_sizes,
         })

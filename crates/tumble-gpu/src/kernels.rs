@@ -68,7 +68,11 @@ impl Kernels {
             ("reorder", layout(gpu, "reorder", &[Uniform, Read, Read, Write])),
             (
                 "forces",
-                layout(gpu, "forces", &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write, Read, Write]),
+                layout(
+                    gpu,
+                    "forces",
+                    &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write, Read, Write, Write, Write],
+                ),
             ),
             ("integrate", layout(gpu, "integrate", &[Uniform, Write, Write, Write, Write, Write, Write, Read, Read, Write])),
         ]
@@ -102,6 +106,8 @@ impl Kernels {
                     &b.stats,
                     &b.history[g],
                     &b.history[1 - g],
+                    &b.wall_power,
+                    &b.wall_work,
                 ],
             )
         });

@@ -11,7 +11,10 @@
 //! sum is fixed, so a run gives bit-identical results every time on one device.
 //!
 //! The plan's features are WGSL override constants: a scene without rotation,
-//! cohesion, walls, drag or periodic axes builds pipelines without that code.
+//! cohesion, walls, moving walls, lifters, drag or periodic axes builds pipelines
+//! without that code. Moving walls get their pose at each contact pass's force
+//! time from the host, and their power per wall group is summed on the host in
+//! id order ([`GpuSimulation::wall_power`], [`GpuSimulation::wall_work`]).
 //!
 //! ```no_run
 //! let scene = tumble_scene::read_scene("scenes/box_settle.toml".as_ref()).unwrap();
@@ -29,8 +32,9 @@ mod readback;
 pub mod shaders;
 mod step;
 mod upload;
+mod walls;
 
-pub use buffers::{BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, history_bytes_per_particle, memory_bytes};
+pub use buffers::{BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, history_bytes_per_particle, memory_bytes, wall_bytes_per_particle};
 pub use context::{AdapterDescription, GpuError, available, gpu};
 pub use upload::Grid;
 
@@ -42,7 +46,7 @@ use std::sync::Arc;
 use tumble_scene::{CompiledScene, Plan};
 
 /// Command buffers are submitted every this many steps.
-const STEPS_PER_SUBMIT: u64 = 16;
+pub(crate) const STEPS_PER_SUBMIT: u64 = 16;
 
 /// A running GPU simulation.
 pub struct GpuSimulation {
@@ -64,16 +68,21 @@ pub struct GpuSimulation {
     overflow: Cell<Option<tumble_cpu::HistoryOverflow>>,
     /// Particles still in the domain, when known since the last step.
     alive: Cell<Option<usize>>,
+    /// Some wall moves: its pose is uploaded before every contact pass.
+    moving: bool,
+    /// Entries (vec4) of the wall section of the table (moving walls only).
+    wall_entries: usize,
+    /// The wall tables of the steps recorded since the last submission (moving walls only).
+    pending_walls: Vec<[f32; 4]>,
+    /// The time of the walls' pose in the last recorded contact pass.
+    wall_time: f64,
 }
 
 impl GpuSimulation {
     /// Uploads a compiled scene to the process's GPU and evaluates the initial forces.
     pub fn new(scene: CompiledScene) -> Result<Self, GpuError> {
-        let plan = &scene.plan;
-        if plan.walls.iter().any(|w| w.motion.is_some() || matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))) || !plan.flow_planes.is_empty() {
-            return Err(GpuError::Feature(
-                "it has moving walls, lifters or flow planes, which the GPU backend does not run yet; use backend = \"cpu\"".into(),
-            ));
+        if let Some(why) = upload::unsupported_walls(&scene.plan) {
+            return Err(GpuError::Feature(format!("{why}; use backend = \"cpu\"")));
         }
         if plan.polyhedra {
             return Err(GpuError::Feature("it has polyhedral particles, which the GPU backend does not run yet; use backend = \"cpu\"".into()));
@@ -85,7 +94,14 @@ impl GpuSimulation {
         let slots = arrays.pos.len() as u32;
         let grid = upload::Grid::new(&plan, arrays.pos.len());
         let params = upload::params(&plan, &grid, slots);
-        let buffers = Buffers::new(&gpu, &arrays, &upload::tables(&plan), &params, &grid, upload::history_slots(&plan))?;
+        let moving = upload::moving_walls(&plan);
+        let tables = upload::tables(&plan);
+        let wall_entries = if moving { tables.len() - 3 * plan.pairs.len() } else { 0 };
+        let walls = buffers::WallBuffers {
+            groups: if moving { plan.wall_groups.len() as u64 } else { 0 },
+            stage_bytes: 16 * (wall_entries as u64) * STEPS_PER_SUBMIT,
+        };
+        let buffers = Buffers::new(&gpu, &arrays, &tables, &params, &grid, upload::history_slots(&plan), walls)?;
         let kernels = Kernels::new(&gpu, &buffers, &shaders::Switches::from_plan(&plan));
         let mut sim = GpuSimulation {
             group: state.group.clone(),
@@ -101,10 +117,14 @@ impl GpuSimulation {
             generation: 0,
             overflow: Cell::new(None),
             alive: Cell::new(Some(slots as usize)),
+            moving,
+            wall_entries,
+            pending_walls: Vec::new(),
+            wall_time: 0.0,
         };
         let mut r = sim.recorder();
         sim.record_initial(&mut r);
-        sim.gpu.queue.submit([r.encoder.finish()]);
+        sim.submit(r.encoder);
         Ok(sim)
     }
 
@@ -132,6 +152,17 @@ impl GpuSimulation {
     /// Device memory this simulation holds, bytes.
     pub fn memory_bytes(&self) -> u64 {
         memory_bytes(self.slots as u64, &self.grid, upload::history_slots(&self.plan))
+            + self.slots as u64 * buffers::wall_bytes_per_particle(&self.plan)
+    }
+
+    /// Submits recorded steps, with the wall poses they copy from the stage (moving walls).
+    pub(crate) fn submit(&mut self, encoder: wgpu::CommandEncoder) -> wgpu::SubmissionIndex {
+        if !self.pending_walls.is_empty() {
+            // Queue writes run before the command buffers submitted after them and after those before.
+            self.gpu.queue.write_buffer(&self.buffers.wall_stage, 0, bytemuck::cast_slice(&self.pending_walls));
+            self.pending_walls.clear();
+        }
+        self.gpu.queue.submit([encoder.finish()])
     }
 
     /// Steps taken so far.
@@ -160,7 +191,7 @@ impl GpuSimulation {
             for _ in 0..batch {
                 self.record_step(&mut r);
             }
-            let index = self.gpu.queue.submit([r.encoder.finish()]);
+            let index = self.submit(r.encoder);
             // Keep at most two batches in flight.
             if let Some(p) = previous.replace(index) {
                 let _ = self.gpu.device.poll(wgpu::PollType::Wait { submission_index: Some(p), timeout: None });

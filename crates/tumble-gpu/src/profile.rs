@@ -36,12 +36,20 @@ impl GpuSimulation {
             mapped_at_creation: false,
         });
         let mut names = Vec::new();
-        let encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("profiled steps") });
-        let mut r = crate::step::Recorder { encoder, timing: Some((&set, &mut names)) };
-        for _ in 0..steps {
-            self.record_step(&mut r);
+        // In batches, so the wall poses of moving walls fit their stage.
+        let mut left = steps;
+        while left > 0 {
+            let batch = left.min(crate::STEPS_PER_SUBMIT);
+            let encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("profiled steps") });
+            let mut r = crate::step::Recorder { encoder, timing: Some((&set, &mut names)) };
+            for _ in 0..batch {
+                self.record_step(&mut r);
+            }
+            let crate::step::Recorder { encoder, .. } = r;
+            self.submit(encoder);
+            left -= batch;
         }
-        let crate::step::Recorder { mut encoder, .. } = r;
+        let mut encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("timestamps") });
         let used = 2 * names.len() as u32;
         if used > 0 {
             encoder.resolve_query_set(&set, 0..used, &resolve, 0);

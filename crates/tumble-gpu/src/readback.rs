@@ -173,6 +173,7 @@ impl GpuSimulation {
             o.contacts += a.stats[i][0] as u64;
             o.max_overlap_ratio = o.max_overlap_ratio.max(f32::from_bits(a.stats[i][1]) as f64);
         }
+        o.wall_work = self.wall_work().iter().sum();
         o.finite &= o.elastic_energy.is_finite() && o.dissipated_energy.is_finite();
         o
     }

@@ -23,6 +23,8 @@ pub const REORDER: &str = include_str!("../shaders/reorder.wgsl");
 pub const FORCES: &str = include_str!("../shaders/forces.wgsl");
 /// Contact history slots, the tangential spring and rolling resistance (used by the contact pass).
 pub const HISTORY: &str = include_str!("../shaders/history.wgsl");
+/// Moving world geometry: wall velocities, wall power and lifter prisms (used by the contact pass).
+pub const WALLS_MOVING: &str = include_str!("../shaders/walls_moving.wgsl");
 /// Body forces and the integrators.
 pub const INTEGRATE: &str = include_str!("../shaders/integrate.wgsl");
 
@@ -48,7 +50,7 @@ pub fn sources() -> Vec<ShaderSource> {
         with_common("broad", BROAD, &[COMMON], &["bin", "scatter", "order_cells"]),
         with_common("scan", SCAN, &[], &["reduce", "scan_block"]),
         with_common("reorder", REORDER, &[COMMON], &["permute"]),
-        with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY], &["forces"]),
+        with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY, WALLS_MOVING], &["forces"]),
         with_common("integrate", INTEGRATE, &[COMMON], &["initial", "kick_drift", "finish"]),
     ]
 }
@@ -67,6 +69,10 @@ pub struct Switches {
     pub history: bool,
     /// Rolling resistance.
     pub rolling: bool,
+    /// Moving walls: wall velocities in the contact laws, poses uploaded every step, wall power.
+    pub moving: bool,
+    /// Lifter bars (sphere–prism contacts).
+    pub prisms: bool,
     /// 0: no fluid, 1: Stokes, 2: quadratic.
     pub drag: u32,
     pub taylor_green: bool,
@@ -98,6 +104,8 @@ impl Switches {
             walls: !plan.walls.is_empty(),
             history: plan.history,
             rolling: plan.rolling && plan.rotation,
+            moving: crate::upload::moving_walls(plan),
+            prisms: plan.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))),
             drag: match plan.fluid.map(|f| f.drag) {
                 None => 0,
                 Some(Drag::Stokes { .. }) => 1,
@@ -111,10 +119,10 @@ impl Switches {
     /// Every combination a plan can produce (Taylor–Green only with Stokes drag).
     pub fn all() -> Vec<Switches> {
         let mut out = Vec::new();
-        for bits in 0..512u32 {
+        for bits in 0..2048u32 {
             let b = |k: u32| bits & (1 << k) != 0;
-            // History is a tangential law; rolling resistance needs rotation.
-            if (b(7) && !b(5)) || (b(8) && !b(0)) {
+            // History is a tangential law; rolling resistance needs rotation; moving walls and prisms are walls.
+            if (b(7) && !b(5)) || (b(8) && !b(0)) || ((b(9) || b(10)) && !b(6)) {
                 continue;
             }
             for (drag, taylor_green) in [(0, false), (1, false), (1, true), (2, false)] {
@@ -129,6 +137,8 @@ impl Switches {
                         walls: b(6),
                         history: b(7),
                         rolling: b(8),
+                        moving: b(9),
+                        prisms: b(10),
                         drag,
                         taylor_green,
                         integrator,
@@ -140,7 +150,7 @@ impl Switches {
     }
 
     /// All override values by name.
-    pub fn constants(&self) -> [(&'static str, f64); 12] {
+    pub fn constants(&self) -> [(&'static str, f64); 14] {
         let f = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("ROTATION", f(self.rotation)),
@@ -152,6 +162,8 @@ impl Switches {
             ("WALLS", f(self.walls)),
             ("HISTORY", f(self.history)),
             ("ROLLING", f(self.rolling)),
+            ("MOVING", f(self.moving)),
+            ("PRISMS", f(self.prisms)),
             ("DRAG", self.drag as f64),
             ("TAYLOR_GREEN", f(self.taylor_green)),
             ("INTEGRATOR", integrator_code(self.integrator) as f64),

@@ -82,13 +82,36 @@ impl GpuSimulation {
     pub(crate) fn record_initial(&mut self, r: &mut Recorder) {
         self.record_broad_phase(r);
         self.record_forces(r);
+        if self.moving {
+            // The t = 0 pass only seeds forces (its power is reported, its work is not booked).
+            r.encoder.clear_buffer(&self.buffers.wall_work, 0, None);
+        }
         r.pass(self, "initial", &self.kernels.integrate, self.particle_groups());
+    }
+
+    /// Moving walls: the walls at time `t` go into the table before the next contact pass
+    /// (staged on the host, written to the device at the batch's submission).
+    fn record_walls(&mut self, r: &mut Recorder, t: f64) {
+        if !self.moving {
+            return;
+        }
+        let bytes = 16 * self.wall_entries as u64;
+        let offset = 16 * self.pending_walls.len() as u64;
+        assert!(offset + bytes <= self.buffers.wall_stage.size(), "more steps recorded than one batch holds");
+        self.pending_walls.extend(crate::upload::wall_table(&self.plan, t));
+        r.encoder.copy_buffer_to_buffer(&self.buffers.wall_stage, offset, &self.buffers.tables, 16 * 3 * self.plan.pairs.len() as u64, bytes);
+        self.wall_time = t;
     }
 
     /// One time step with the plan's integrator.
     pub(crate) fn record_step(&mut self, r: &mut Recorder) {
+        let dt = self.plan.dt;
         if self.plan.integrator == Integrator::Verlet {
             r.pass(self, "kick_drift", &self.kernels.integrate, self.particle_groups());
+            // Forces at x_{n+1} see the walls at t_{n+1}.
+            self.record_walls(r, (self.step + 1) as f64 * dt);
+        } else {
+            self.record_walls(r, self.step as f64 * dt);
         }
         self.record_broad_phase(r);
         self.record_forces(r);

@@ -96,7 +96,8 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32) -> Params {
         extent: f4(e, 0.0),
         gravity: f4(plan.gravity, 0.0),
         flow,
-        origin: f4(centre(plan), 0.0),
+        // w: wall groups (walls_moving.wgsl).
+        origin: f4(centre(plan), plan.wall_groups.len() as f64),
     }
 }
 
@@ -156,8 +157,18 @@ impl ParticleArrays {
     }
 }
 
-/// The pair table (3 vec4 per material pair) followed by the walls (6 vec4 each); see forces.wgsl.
+/// The pair table (3 vec4 per material pair) followed by the walls at t = 0 (see [`wall_table`]).
 pub fn tables(plan: &Plan) -> Vec<[f32; 4]> {
+    let mut t = pair_table(plan);
+    t.extend(wall_table(plan, 0.0));
+    if t.is_empty() {
+        t.push([0.0; 4]);
+    }
+    t
+}
+
+/// The pair table: 3 vec4 per material pair (forces.wgsl).
+pub fn pair_table(plan: &Plan) -> Vec<[f32; 4]> {
     let mut t = Vec::new();
     for p in &plan.pairs {
         let e = p.normal.restitution();
@@ -183,43 +194,90 @@ pub fn tables(plan: &Plan) -> Vec<[f32; 4]> {
         };
         t.push([p.cohesion as f32, if p.no_attraction { 1.0 } else { 0.0 }, p.rolling as f32, history_damping as f32]);
     }
+    t
+}
+
+/// True when some wall moves (the MOVING switch: wall velocities, poses uploaded every step, wall power).
+pub fn moving_walls(plan: &Plan) -> bool {
+    plan.walls.iter().any(|w| w.motion.is_some())
+}
+
+/// The wall section of the table (it follows the pair table, at `3 · materials²`) with every
+/// wall in its pose at time `t`: 6 vec4 per wall (geometry.wgsl), then each wall's extras
+/// (walls_moving.wgsl: its motion when some wall moves, a prism's faces), whose first index
+/// is the entry's w0.w.
+pub fn wall_table(plan: &Plan, t: f64) -> Vec<[f32; 4]> {
+    let walls_base = 3 * plan.pairs.len();
+    let moving = moving_walls(plan);
     let origin = centre(plan);
     let rel = |p: DVec3| {
         let x = p - origin;
         [x.x as f32, x.y as f32, x.z as f32, 0.0]
     };
     let dir = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+    let mut main = Vec::with_capacity(6 * plan.walls.len());
+    let mut extras = Vec::new();
     for w in &plan.walls {
         let m = w.material as f32;
         let mut entry = [[0.0f32; 4]; 6];
-        match &w.shape {
+        let extra = (walls_base + 6 * plan.walls.len() + extras.len()) as f32;
+        if moving {
+            // ω and the velocity at the domain's centre: v(x) = ω × (x − centre) + v(centre).
+            let spin = w.angular_velocity();
+            extras.push([spin.x as f32, spin.y as f32, spin.z as f32, w.group as f32]);
+            extras.push(dir(w.velocity_at(origin)));
+        }
+        let shape = if w.motion.is_some() { std::borrow::Cow::Owned(w.shape_at(t)) } else { std::borrow::Cow::Borrowed(&w.shape) };
+        match shape.as_ref() {
             SurfaceShape::Plane(p) => {
-                entry[0] = [0.0, m, 0.0, 0.0];
+                entry[0] = [0.0, m, 0.0, extra];
                 entry[1] = rel(p.point);
                 entry[5] = dir(p.normal);
             }
             SurfaceShape::Quad(q) => {
-                entry[0] = [1.0, m, if q.two_sided { 1.0 } else { 0.0 }, 0.0];
+                entry[0] = [1.0, m, if q.two_sided { 1.0 } else { 0.0 }, extra];
                 for k in 0..4 {
                     entry[1 + k] = rel(q.corners[k]);
                 }
                 entry[5] = dir(q.normal);
             }
             SurfaceShape::Cylinder(c) => {
-                entry[0] = [2.0, m, if c.inside { 1.0 } else { 0.0 }, 0.0];
+                entry[0] = [2.0, m, if c.inside { 1.0 } else { 0.0 }, extra];
                 entry[1] = rel(c.point);
                 entry[2] = dir(c.axis);
                 entry[3] = [c.radius as f32, c.length as f32, 0.0, 0.0];
             }
-            // Refused by GpuSimulation::new before any upload.
-            SurfaceShape::Prism(_) => {}
+            SurfaceShape::Prism(p) => {
+                entry[0] = [3.0, m, 0.0, extra];
+                let centre = rel(p.centre);
+                extras.push([centre[0], centre[1], centre[2], p.bound as f32]);
+                let axis_point = rel(p.axis_point);
+                extras.push([axis_point[0], axis_point[1], axis_point[2], p.inner as f32]);
+                extras.push(dir(p.axis));
+                for f in &p.faces {
+                    extras.extend(f.corners.map(rel));
+                    extras.push(dir(f.normal));
+                }
+            }
         }
-        t.extend_from_slice(&entry);
+        main.extend_from_slice(&entry);
     }
-    if t.is_empty() {
-        t.push([0.0; 4]);
+    main.extend(extras);
+    main
+}
+
+/// Why the GPU backend cannot run the plan's walls, if it cannot.
+pub fn unsupported_walls(plan: &Plan) -> Option<String> {
+    // The contact pass books each group's power once, walking the walls in group order.
+    if moving_walls(plan) && plan.walls.windows(2).any(|w| w[1].group < w[0].group) {
+        return Some("its wall surfaces are not in wall-group order".into());
     }
-    t
+    // Table indices are stored as f32 (exact below 2^24).
+    let entries = 3 * plan.pairs.len() + wall_table(plan, 0.0).len();
+    if entries >= 1 << 24 {
+        return Some(format!("its pair and wall tables have {entries} entries (at most 2^24)"));
+    }
+    None
 }
 
 #[cfg(test)]

@@ -44,3 +44,24 @@ fn every_shader_variant_validates() {
     println!("{checked} shader variants validated");
     assert!(checked > 100);
 }
+
+#[test]
+fn moving_wall_and_lifter_variants_are_validated_and_static_scenes_compile_none_of_them() {
+    let forces = sources().into_iter().find(|s| s.name == "forces").unwrap();
+    let variants: BTreeSet<Vec<(&str, u64)>> =
+        Switches::all().iter().map(|s| s.constants_for(&forces).into_iter().map(|(k, v)| (k, v.to_bits())).collect()).collect();
+    // The contact pass is specialised on both switches, alone and together (every_shader_variant_validates checks each).
+    for (moving, prisms) in [(false, false), (true, false), (false, true), (true, true)] {
+        let on = |set: &Vec<(&str, u64)>, name: &str| set.iter().any(|(k, v)| *k == name && f64::from_bits(*v) == 1.0);
+        assert!(variants.iter().any(|v| on(v, "MOVING") == moving && on(v, "PRISMS") == prisms), "MOVING {moving} PRISMS {prisms}");
+    }
+    // A static box compiles without either; the ball mill needs both.
+    let scene = |path: &str| {
+        let text = std::fs::read_to_string(format!("{}/../../{path}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+        tumble_scene::compile(&tumble_scene::parse_scene(&text).unwrap()).unwrap()
+    };
+    let settle = Switches::from_plan(&scene("scenes/box_settle.toml").plan);
+    assert!(settle.walls && !settle.moving && !settle.prisms, "{settle:?}");
+    let mill = Switches::from_plan(&scene("scenes/ball_mill.toml").plan);
+    assert!(mill.moving && mill.prisms, "{mill:?}");
+}

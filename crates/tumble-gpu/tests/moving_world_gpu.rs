@@ -1,0 +1,335 @@
+//! Moving world geometry on the GPU backend against the CPU reference: a small ball mill
+//! with lifters (charge profile and wall power), a sphere on a belt, the drive power of a
+//! drum as torque × ω, and run-to-run determinism with moving walls. Without an adapter
+//! every test prints one skip line and passes. Tests share one device and run one at a time.
+
+use glam::DVec3;
+use std::sync::Mutex;
+use tumble_cpu::CpuSimulation;
+use tumble_gpu::GpuSimulation;
+use tumble_scene::{CompiledScene, compile, parse_scene};
+
+static SERIAL: Mutex<()> = Mutex::new(());
+
+/// Runs `f` on the GPU, or prints one skip line when there is no adapter.
+fn on_gpu(name: &str, f: impl FnOnce()) {
+    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    match tumble_gpu::gpu() {
+        Ok(_) => f(),
+        Err(e) => println!("skipped {name}: no GPU adapter ({e})"),
+    }
+}
+
+fn scene(text: &str) -> CompiledScene {
+    compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+const SMALL_MILL: &str = include_str!("../../../scenes/conformance/small_mill.toml");
+
+/// Either backend, seen through the same few calls.
+trait Backend {
+    fn advance(&mut self, steps: u64);
+    fn time(&self) -> f64;
+    fn work(&self) -> Vec<f64>;
+    fn profile(&self) -> tumble_cpu::DrumProfile;
+    fn observables(&self) -> tumble_cpu::Observables;
+}
+
+impl Backend for CpuSimulation {
+    fn advance(&mut self, steps: u64) {
+        CpuSimulation::advance(self, steps)
+    }
+    fn time(&self) -> f64 {
+        CpuSimulation::time(self)
+    }
+    fn work(&self) -> Vec<f64> {
+        self.wall_work().to_vec()
+    }
+    fn profile(&self) -> tumble_cpu::DrumProfile {
+        self.drum_profiles()[0]
+    }
+    fn observables(&self) -> tumble_cpu::Observables {
+        CpuSimulation::observables(self)
+    }
+}
+
+impl Backend for GpuSimulation {
+    fn advance(&mut self, steps: u64) {
+        GpuSimulation::advance(self, steps)
+    }
+    fn time(&self) -> f64 {
+        GpuSimulation::time(self)
+    }
+    fn work(&self) -> Vec<f64> {
+        self.wall_work()
+    }
+    fn profile(&self) -> tumble_cpu::DrumProfile {
+        self.drum_profiles()[0]
+    }
+    fn observables(&self) -> tumble_cpu::Observables {
+        GpuSimulation::observables(self)
+    }
+}
+
+/// Mill observables averaged over the second half of the run: mean power per wall group
+/// (Δwork / Δt), and the mean charge centre-of-mass angle, toe, shoulder and torque-arm power.
+#[derive(Debug)]
+struct MillMeans {
+    power: Vec<f64>,
+    com_angle: f64,
+    toe: f64,
+    shoulder: f64,
+    torque_arm: f64,
+    /// Wall work and Δ(mechanical + dissipated) over the whole run.
+    work: f64,
+    gain: f64,
+}
+
+fn mill_means(sim: &mut dyn Backend, steps: u64) -> MillMeans {
+    let e0 = sim.observables();
+    let samples = 15;
+    let every = steps / (2 * samples);
+    sim.advance(steps - samples * every);
+    let (w0, t0) = (sim.work(), sim.time());
+    let mut m = MillMeans { power: Vec::new(), com_angle: 0.0, toe: 0.0, shoulder: 0.0, torque_arm: 0.0, work: 0.0, gain: 0.0 };
+    for _ in 0..samples {
+        sim.advance(every);
+        let p = sim.profile();
+        m.com_angle += p.com_angle / samples as f64;
+        m.toe += p.toe / samples as f64;
+        m.shoulder += p.shoulder / samples as f64;
+        m.torque_arm += p.torque_arm_power / samples as f64;
+    }
+    let (w1, t1) = (sim.work(), sim.time());
+    m.power = w1.iter().zip(&w0).map(|(a, b)| (a - b) / (t1 - t0)).collect();
+    let o = sim.observables();
+    m.work = o.wall_work;
+    m.gain = o.mechanical_energy() + o.dissipated_energy - e0.mechanical_energy() - e0.dissipated_energy;
+    m
+}
+
+#[test]
+fn a_small_mill_with_lifters_agrees_with_the_cpu() {
+    on_gpu("a_small_mill_with_lifters_agrees_with_the_cpu", || {
+        let s = scene(SMALL_MILL);
+        let steps = s.plan.steps;
+        let mut cpu = CpuSimulation::new(s.clone(), 2);
+        let mut gpu = GpuSimulation::new(s).unwrap();
+        let start = std::time::Instant::now();
+        let c = mill_means(&mut cpu, steps);
+        let cpu_seconds = start.elapsed().as_secs_f64();
+        let start = std::time::Instant::now();
+        let g = mill_means(&mut gpu, steps);
+        let gpu_seconds = start.elapsed().as_secs_f64();
+        println!("{} particles, {steps} steps: cpu {cpu_seconds:.1} s, gpu {gpu_seconds:.1} s on {}", gpu.particles(), gpu.adapter());
+        println!("cpu {c:?}\ngpu {g:?}");
+        // The charge is lifted on the rising side (+) and the drum drives it.
+        assert!(c.com_angle > 10.0 && c.power[0] + c.power[1] > 0.0, "{c:?}");
+        assert!((c.com_angle - g.com_angle).abs() < 3.0, "com angle: cpu {} gpu {}", c.com_angle, g.com_angle);
+        assert!((c.toe - g.toe).abs() < 6.0, "toe: cpu {} gpu {}", c.toe, g.toe);
+        assert!((c.shoulder - g.shoulder).abs() < 6.0, "shoulder: cpu {} gpu {}", c.shoulder, g.shoulder);
+        let total = |m: &MillMeans| m.power.iter().sum::<f64>();
+        let scale = total(&c).abs();
+        for (k, name) in ["shell", "lifters", "back", "front"].iter().enumerate() {
+            assert!((c.power[k] - g.power[k]).abs() < 0.1 * scale, "{name} power: cpu {} gpu {} (total {scale})", c.power[k], g.power[k]);
+        }
+        assert!((total(&c) - total(&g)).abs() < 0.1 * scale, "total power: cpu {} gpu {}", total(&c), total(&g));
+        // The GPU books the walls' work as the CPU does: it is what the charge gained and dissipated.
+        assert!((g.work - g.gain).abs() < 0.03 * g.work.abs(), "gpu wall work {} vs Δ(E + dissipated) {}", g.work, g.gain);
+    });
+}
+
+fn belt(rotation: &str, balls: &str) -> String {
+    format!(
+        r#"
+name = "belt"
+[run]
+duration = 0.5
+integrator = "verlet"
+rotation = "{rotation}"
+[domain]
+min = [-2.0, -1.0, -1.0]
+max = [2.0, 1.0, 1.0]
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[[materials]]
+name = "steel"
+density = 7800.0
+[contact]
+normal = {{ model = "linear", stiffness = 1.0e5 }}
+restitution = 0.5
+tangential = {{ model = "history", friction = 0.5 }}
+[[particles]]
+material = "steel"
+shape = {{ sphere = {{ diameter = 0.1 }} }}
+positions = [{balls}]
+[[walls]]
+name = "belt"
+material = "steel"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
+motion = {{ translate = {{ velocity = [0.5, 0.0, 0.0] }} }}
+"#
+    )
+}
+
+#[test]
+fn spheres_on_a_belt_are_dragged_as_on_the_cpu() {
+    on_gpu("spheres_on_a_belt_are_dragged_as_on_the_cpu", || {
+        // A rolling sphere ends with its contact point at the belt speed and its centre at 2/7
+        // of it; a second, stacked on a third, is carried along by friction through the first.
+        let s = scene(&belt("on", "[0.0, 0.0, 0.05], [1.0, 0.0, 0.05], [1.0, 0.0, 0.1505]"));
+        let steps = s.plan.steps;
+        let mut cpu = CpuSimulation::new(s.clone(), 1);
+        let mut gpu = GpuSimulation::new(s).unwrap();
+        let (p0c, p0g) = (cpu.wall_power()[0], gpu.wall_power()[0]);
+        cpu.advance(steps);
+        gpu.advance(steps);
+        let st = gpu.state();
+        let contact = st.vel[0] + st.omega[0].cross(DVec3::new(0.0, 0.0, -0.05));
+        println!("belt: contact point {contact}, centre {}", st.vel[0]);
+        assert!((contact.x - 0.5).abs() < 2e-3, "contact point {contact}");
+        assert!((st.vel[0].x - 0.5 * 2.0 / 7.0).abs() < 2e-3, "centre {}", st.vel[0]);
+        let cs = cpu.state();
+        assert_eq!(cs.len(), st.len());
+        for (k, &id) in st.id.iter().enumerate() {
+            let i = cpu.index_of(id).unwrap();
+            let (x, v, w) = (cs.pos[i], cs.vel[i], cs.omega[i]);
+            println!("  id {id}: cpu x {x} v {v} ω {w} | gpu x {} v {} ω {}", st.pos[k], st.vel[k], st.omega[k]);
+            assert!((x - st.pos[k]).length() < 1e-3 && (v - st.vel[k]).length() < 2e-3 && (w - st.omega[k]).length() < 4e-2, "id {id}");
+        }
+        let (wc, wg) = (cpu.wall_work()[0], gpu.wall_work()[0]);
+        println!("belt work: cpu {wc} gpu {wg}; initial power: cpu {p0c} gpu {p0g}");
+        assert!(wc > 0.0 && (wc - wg).abs() < 5e-3 * wc, "belt work: cpu {wc} gpu {wg}");
+        assert!((p0c - p0g).abs() <= 1e-5 * (p0c.abs() + 1e-9), "initial power: cpu {p0c} gpu {p0g}");
+        // The work is the energy given to the spheres plus what the contacts dissipated.
+        let o = gpu.observables();
+        let gain =
+            o.mechanical_energy() + o.dissipated_energy - cpu_initial_energy(&belt("on", "[0.0, 0.0, 0.05], [1.0, 0.0, 0.05], [1.0, 0.0, 0.1505]"));
+        assert!((o.wall_work - gain).abs() < 0.02 * o.wall_work, "work {} vs gain {gain}", o.wall_work);
+    });
+}
+
+fn cpu_initial_energy(text: &str) -> f64 {
+    let o = CpuSimulation::new(scene(text), 1).observables();
+    o.mechanical_energy() + o.dissipated_energy
+}
+
+#[test]
+fn a_drum_drive_power_is_torque_times_omega_on_the_gpu() {
+    on_gpu("a_drum_drive_power_is_torque_times_omega_on_the_gpu", || {
+        // One ball in a turning drum with rolling resistance: the shell's power is ω times the
+        // torque about the axis of the wall forces on the ball, (x − a) × F + I α.
+        let text = format!(
+            r#"
+name = "drum"
+[run]
+duration = 1.0
+integrator = "verlet"
+[domain]
+min = [-0.35, -0.35, -0.1]
+max = [0.35, 0.35, 0.3]
+[gravity]
+acceleration = [0.0, -9.81, 0.0]
+[[materials]]
+name = "steel"
+density = 7800.0
+[contact]
+normal = {{ model = "linear", stiffness = 1.0e5 }}
+restitution = 0.5
+tangential = {{ model = "history", friction = 0.5 }}
+rolling_friction = 0.1
+[[particles]]
+material = "steel"
+shape = {{ sphere = {{ diameter = 0.04 }} }}
+positions = [[0.0, -0.28, 0.1]]
+[[walls]]
+name = "shell"
+material = "steel"
+cylinder = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.3, length = 0.2, inside = true }}
+motion = {{ rotate = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 10.0 }} }}
+"#
+        );
+        let s = scene(&text);
+        let steps = s.plan.steps;
+        let mut gpu = GpuSimulation::new(s).unwrap();
+        let omega = 10.0 * std::f64::consts::TAU / 60.0;
+        let g = DVec3::new(0.0, -9.81, 0.0);
+        let mut checked = 0;
+        for _ in 0..20 {
+            gpu.advance(steps / 20);
+            let st = gpu.state();
+            let f = (st.acc[0] - g) * st.mass[0];
+            let torque = (st.pos[0].cross(f) + st.alpha[0] / st.inv_inertia[0]).z;
+            let power = gpu.wall_power()[0];
+            assert!((power - torque * omega).abs() <= 2e-3 * power.abs() + 1e-6, "power {power} vs torque × ω {}", torque * omega);
+            checked += (power.abs() > 1e-4) as usize;
+        }
+        assert!(checked > 15, "the ball should stay in contact and be driven");
+        let p = gpu.drum_profiles()[0];
+        assert!(p.com_angle > 0.0 && p.torque_arm_power > 0.0, "{p:?}");
+    });
+}
+
+#[test]
+fn moving_wall_runs_are_bit_identical() {
+    on_gpu("moving_wall_runs_are_bit_identical", || {
+        let run = || {
+            let mut gpu = GpuSimulation::new(scene(SMALL_MILL)).unwrap();
+            gpu.advance(600);
+            let a = gpu.device_arrays();
+            let work: Vec<u64> = gpu.wall_work().iter().map(|w| w.to_bits()).collect();
+            let power: Vec<u64> = gpu.wall_power().iter().map(|w| w.to_bits()).collect();
+            (a, work, power, gpu.springs())
+        };
+        let (a, b) = (run(), run());
+        assert!(a.1.iter().any(|&w| f64::from_bits(w) != 0.0), "the walls did work");
+        assert!(a.0 == b.0, "device arrays differ between two runs");
+        assert_eq!(a.1, b.1, "wall work differs");
+        assert_eq!(a.2, b.2, "wall power differs");
+        assert_eq!(a.3, b.3, "springs differ");
+    });
+}
+
+#[test]
+fn lifters_are_one_contact_per_bar_as_on_the_cpu() {
+    on_gpu("lifters_are_one_contact_per_bar_as_on_the_cpu", || {
+        // Spheres pressed into four lifters of the mill, in a face, an edge and a corner region
+        // and with the centre inside the bar: the GPU's sphere–prism contact gives the CPU's force
+        // at t = 0 on each.
+        let prisms: Vec<tumble_geom::Prism> = scene(SMALL_MILL)
+            .plan
+            .walls
+            .iter()
+            .filter_map(|w| match &w.shape {
+                tumble_geom::SurfaceShape::Prism(p) => Some((**p).clone()),
+                _ => None,
+            })
+            .collect();
+        let r = 0.005;
+        let face = &prisms[0].faces[0];
+        let centre = |q: &tumble_geom::Quad| q.corners.iter().copied().sum::<DVec3>() / 4.0;
+        let out = |p: &tumble_geom::Prism, x: DVec3| x + (x - p.centre).normalize() * (r - 0.001);
+        let mut positions = vec![centre(face) + face.normal * (r - 0.001)];
+        let f = &prisms[1].faces[1];
+        positions.push(out(&prisms[1], 0.5 * (f.corners[1] + f.corners[2])));
+        let f = &prisms[2].faces[2];
+        positions.push(out(&prisms[2], f.corners[0]));
+        let f = &prisms[3].faces[3];
+        positions.push(prisms[3].centre + 0.4 * (centre(f) - prisms[3].centre));
+        let list: Vec<String> = positions.iter().map(|x| format!("[{}, {}, {}]", x.x, x.y, x.z)).collect();
+        let text = SMALL_MILL.replace(
+            "lattice = { min = [-0.055, -0.07, 0.0], max = [0.055, 0.0, 0.035], spacing = 0.0105 }",
+            &format!("positions = [{}]", list.join(", ")),
+        );
+        let s = scene(&text);
+        let cpu = CpuSimulation::new(s.clone(), 1);
+        let gpu = GpuSimulation::new(s).unwrap();
+        for id in 0..positions.len() as u32 {
+            let c = cpu.contact_sums()[cpu.index_of(id).unwrap()].force;
+            let g = gpu.contact_force(id).unwrap();
+            println!("  id {id} at {}: cpu {c} gpu {g}", positions[id as usize]);
+            assert!(c.length() > 0.0, "id {id} should touch its lifter");
+            assert!((c - g).length() <= 1e-4 * c.length(), "id {id}: cpu {c} gpu {g}");
+        }
+    });
+}
