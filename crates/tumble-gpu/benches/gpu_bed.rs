@@ -5,6 +5,9 @@
 //!
 //! `TUMBLE_GPU_BENCH_SIZES=10000,100000,1000000` picks the sizes (default 10k and 100k:
 //! a software adapter takes seconds per step at 1M). Without an adapter it prints one line.
+//! `TUMBLE_GPU_BENCH_BODIES=cubes` (or `settling-spheres`) runs the settling bed of
+//! benches/polyhedra_bed.rs instead: lattice spacing 1.25 d, randomly turned cubes of the
+//! sphere's volume (or the spheres themselves), starting apart and settling into contact.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::time::Duration;
@@ -14,9 +17,18 @@ use tumble_gpu::GpuSimulation;
 fn bed(n: usize) -> tumble_scene::CompiledScene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/bench/packed_bed.toml");
     let mut scene = tumble_scene::read_scene(path.as_ref()).unwrap();
+    let bodies = std::env::var("TUMBLE_GPU_BENCH_BODIES").unwrap_or_default();
+    let spacing = if bodies.is_empty() { 0.01 } else { 0.0125 };
+    if bodies == "cubes" {
+        use tumble_scene::schema::{CubeSection, NamedOrientation, OrientationSpec, ShapeSection};
+        scene.particles[0].shape = ShapeSection::Cube(CubeSection { edge: 0.01 * (std::f64::consts::PI / 6.0).cbrt() });
+        scene.particles[0].orientation = Some(OrientationSpec::Named(NamedOrientation::Random));
+    }
     let side = ((n as f64) / 0.8).cbrt().round();
-    let (w, h) = (0.01 * side, 0.01 * (0.8 * side).round());
-    scene.particles[0].lattice.as_mut().unwrap().max = [w, w, h];
+    let (w, h) = (spacing * side, spacing * (0.8 * side).round());
+    let lattice = scene.particles[0].lattice.as_mut().unwrap();
+    lattice.spacing = spacing;
+    lattice.max = [w, w, h];
     scene.domain.max = [w, w, 1.25 * h];
     scene.walls[0].box_.as_mut().unwrap().max = [w, w, 1.25 * h];
     tumble_scene::compile(&scene).unwrap()
@@ -39,7 +51,8 @@ fn gpu_bed(c: &mut Criterion) {
         sim.advance(20);
         let particles = sim.particles();
         group.throughput(Throughput::Elements(particles as u64 * steps));
-        group.bench_function(format!("{particles}_spheres"), |b| b.iter(|| sim.advance(steps)));
+        let label = std::env::var("TUMBLE_GPU_BENCH_BODIES").unwrap_or_else(|_| "spheres".into());
+        group.bench_function(format!("{particles}_{label}"), |b| b.iter(|| sim.advance(steps)));
         if let Some(times) = sim.profile(steps) {
             splits.push((particles, sim.adapter().to_string(), times));
         }

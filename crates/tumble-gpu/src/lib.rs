@@ -84,7 +84,7 @@ impl GpuSimulation {
         if let Some(why) = upload::unsupported_walls(&scene.plan) {
             return Err(GpuError::Feature(format!("{why}; use backend = \"cpu\"")));
         }
-        if plan.polyhedra {
+        if scene.plan.polyhedra {
             return Err(GpuError::Feature("it has polyhedral particles, which the GPU backend does not run yet; use backend = \"cpu\"".into()));
         }
         let gpu = context::gpu()?;
