@@ -1,12 +1,16 @@
-//! `cargo xtask mill` and `cargo xtask hopper`: the studies behind docs/mill.md and
-//! docs/hopper.md, each writing a chart (SVG) and its data (CSV) into docs/charts/.
+//! `cargo xtask mill`, `cargo xtask hopper` and `cargo xtask drum`: the studies behind docs/mill.md,
+//! docs/hopper.md and docs/drum.md, each writing its data (CSV, and a chart for mill and hopper)
+//! into docs/charts/.
 //!
 //! - mill: scenes/ball_mill.toml at 30, 50 and 70 % of the critical speed and 20 and 30 %
 //!   filling: drive power of shell, lifters and end plates (mean over the measuring window),
 //!   the charge profile (toe, shoulder, centre of mass) and the torque-arm estimate
 //!   P = M g r_com sin θ_com ω from the measured centre of mass;
-//! - hopper: scenes/hopper.toml with orifice widths of 3 to 6 particle diameters: discharge
-//!   rate through the outlet plane, with a Beverloo fit W = C ρ_b √g (L − k d)^{5/2}.
+//! - hopper: scenes/hopper.toml (spheres) and scenes/hopper_dodecahedra.toml (dodecahedra of
+//!   equal volume) with orifice widths of 3 to 6 particle diameters: discharge rate through the
+//!   outlet plane, with a Beverloo fit W = C ρ_b √g (L − k d)^{5/2} per shape;
+//! - drum: scenes/drum_cubes.toml with its cubes and with spheres of equal volume: charge
+//!   profile, drive power and the energy balance.
 
 use crate::svg::{Anchor, LinearAxis, Shape, Style, Svg, YAxis, linear_frame};
 use std::fmt::Write as _;
@@ -309,8 +313,10 @@ fn mill_chart(rows: &[MillRow]) -> String {
 const BULK: f64 = 0.6 * 2500.0;
 /// Diameter of the spheres, and of the sphere of equal volume for the dodecahedra.
 const D_SPHERE: f64 = 0.01;
-const HOPPER_T: f64 = 0.7;
-const HOPPER_FROM: f64 = 0.25;
+/// The study as documented (docs/hopper.md): the lowest 6 lattice layers, 0.35 s, rate over 0.15–0.35 s.
+const HOPPER_LAYERS: usize = 6;
+const HOPPER_T: f64 = 0.35;
+const HOPPER_FROM: f64 = 0.15;
 const WIDTHS: [f64; 4] = [0.03, 0.04, 0.05, 0.06];
 
 /// A particle shape of the hopper study and its scene.
@@ -359,11 +365,11 @@ fn beverloo(fit: (f64, f64), l: f64) -> f64 {
     fit.0 * BULK * 9.81f64.sqrt() * (l - fit.1 * D_SPHERE).max(0.0).powf(2.5)
 }
 
-/// `cargo xtask hopper [--shape spheres|dodecahedra|both] [--layers N] [--duration T] [--from T0] [--jobs J]`:
+/// `cargo xtask hopper [--shape spheres|dodecahedra|both] [--layers N (6)] [--duration T (0.35)] [--from T0 (0.15)] [--jobs J (1)]`:
 /// the hopper of scenes/hopper.toml (spheres) and scenes/hopper_dodecahedra.toml (dodecahedra of
 /// the spheres' volume) over orifice widths of 3 to 6 d; `--layers` keeps the lowest N lattice
-/// layers of every scene, `--jobs` runs that many simulations at once (each on `TUMBLE_THREADS`
-/// threads, default 2).
+/// layers of every scene (the full scenes: `--layers 15 --duration 0.7 --from 0.25`), `--jobs`
+/// runs that many simulations at once (each on `TUMBLE_THREADS` threads, default 2).
 pub fn hopper(args: &[String]) -> i32 {
     let start = Instant::now();
     let which: String = arg(args, "--shape").unwrap_or_else(|| "both".into());
@@ -376,7 +382,7 @@ pub fn hopper(args: &[String]) -> i32 {
             return 2;
         }
     };
-    let layers: Option<usize> = arg(args, "--layers");
+    let layers: Option<usize> = Some(arg(args, "--layers").unwrap_or(HOPPER_LAYERS));
     let duration: f64 = arg(args, "--duration").unwrap_or(HOPPER_T);
     let from: f64 = arg(args, "--from").unwrap_or(HOPPER_FROM);
     let jobs: usize = arg(args, "--jobs").unwrap_or(1);
@@ -622,12 +628,12 @@ fn drum_run(label: &'static str, duration: f64) -> DrumRow {
     }
 }
 
-/// `cargo xtask drum [--duration T] [--jobs J]`: scenes/drum_cubes.toml with its cubes and with spheres
+/// `cargo xtask drum [--duration T (2.5)] [--jobs J]`: scenes/drum_cubes.toml with its cubes and with spheres
 /// of equal volume: charge profile and drive power averaged after a 1.5 s spin-up (docs/drum.md),
 /// CSV in docs/charts/drum_cubes.csv.
 pub fn drum(args: &[String]) -> i32 {
     let start = Instant::now();
-    let duration: f64 = arg(args, "--duration").unwrap_or(4.0);
+    let duration: f64 = arg(args, "--duration").unwrap_or(2.5);
     let jobs: usize = arg(args, "--jobs").unwrap_or(1);
     let rows = run_all(&["cubes", "spheres"], jobs, |&label| drum_run(label, duration));
     let mut csv = format!(
