@@ -79,3 +79,27 @@ fn drum_of_cubes_books_its_energy() {
     eprintln!("wall work {:.4} J, unbooked change {:.4} of it", o.wall_work, residual);
     assert!(residual.abs() < 0.02, "the energy balance misses {:.1} % of the wall work", 100.0 * residual);
 }
+
+/// The smallest form of the same failure: the 380 cubes of scenes/drum_cubes.toml dropped into the
+/// drum standing still, with no tangential force at all (normal spring-dashpot only, no moving wall,
+/// no friction of any kind). After 0.6 s the bed rests and kinetic + rotational + potential + elastic
+/// + dissipated energy stands 0.033 J above its initial value, 8 % of the 0.40 J dissipated; most of
+/// it appears during the impacts (0.1–0.2 s). About 90 s in release on a shared 2-core machine: `cargo test --release --test polyhedra_scenes -- --ignored`.
+#[test]
+#[ignore = "known failure: polyhedron normal contacts do not close the energy balance"]
+fn frictionless_cubes_dropped_in_a_static_drum_book_their_energy() {
+    let mut s = scene("drum_cubes.toml");
+    s.run.duration = 0.6;
+    s.contact.tangential = Default::default();
+    for w in &mut s.walls {
+        w.motion = None;
+    }
+    let mut sim = Simulation::new(compile(&s).unwrap_or_else(|e| panic!("{e}")), 2);
+    let o0 = sim.observables();
+    sim.advance(sim.plan().steps);
+    let o = sim.observables();
+    assert_eq!(o.wall_work, 0.0);
+    let gain = o.mechanical_energy() + o.dissipated_energy - (o0.mechanical_energy() + o0.dissipated_energy);
+    eprintln!("dissipated {:.4} J, unbooked gain {:.4e} J", o.dissipated_energy, gain);
+    assert!(gain.abs() < 0.01 * o.dissipated_energy, "the energy balance gains {:.1} % of the dissipated energy", 100.0 * gain / o.dissipated_energy);
+}
