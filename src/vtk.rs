@@ -65,18 +65,26 @@ pub fn bodies_vtp(sim: &Simulation) -> String {
     let shapes = &sim.plan().shapes;
     let mut order: Vec<usize> = (0..s.len()).filter(|&i| s.shape[i] != tumble_scene::SPHERE).collect();
     order.sort_by_key(|&i| s.id[i]);
-    let mut points = Vec::new();
-    let (mut connectivity, mut offsets, mut cell_of) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut points, mut polys, mut cell_of) = (Vec::new(), Vec::new(), Vec::new());
     for &i in &order {
         let body = &shapes[s.shape[i] as usize].body;
         let base = points.len();
         points.extend(body.vertices().iter().map(|v| s.pos[i] + s.orient[i] * *v));
         for f in body.faces() {
-            connectivity.extend(f.vertices.iter().map(|&k| base + k as usize));
-            offsets.push(connectivity.len());
+            polys.push(f.vertices.iter().map(|&k| base + k as usize).collect());
             cell_of.push(i);
         }
     }
+    polygons_vtp(&points, &polys, "id", |out| {
+        array(out, "Int64", "id", 1, cell_of.iter().map(|&i| s.id[i].to_string()));
+        array(out, "Int32", "group", 1, cell_of.iter().map(|&i| s.group[i].to_string()));
+        array(out, "Float64", "speed", 1, cell_of.iter().map(|&i| s.vel[i].length().to_string()));
+    })
+}
+
+/// VTK XML PolyData of polygons (each a list of indices into `points`), with the cell data
+/// arrays `cells` writes (one value per polygon; `scalars` names the default one).
+fn polygons_vtp(points: &[glam::DVec3], polys: &[Vec<usize>], scalars: &str, cells: impl FnOnce(&mut String)) -> String {
     let mut out = String::with_capacity(64 * points.len() + 1024);
     let _ = writeln!(out, "<?xml version=\"1.0\"?>");
     let _ = writeln!(out, "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">");
@@ -85,19 +93,26 @@ pub fn bodies_vtp(sim: &Simulation) -> String {
         out,
         "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"{}\">",
         points.len(),
-        offsets.len()
+        polys.len()
     );
-    let _ = writeln!(out, "      <CellData Scalars=\"id\">");
-    array(&mut out, "Int64", "id", 1, cell_of.iter().map(|&i| s.id[i].to_string()));
-    array(&mut out, "Int32", "group", 1, cell_of.iter().map(|&i| s.group[i].to_string()));
-    array(&mut out, "Float64", "speed", 1, cell_of.iter().map(|&i| s.vel[i].length().to_string()));
+    let _ = writeln!(out, "      <CellData Scalars=\"{scalars}\">");
+    cells(&mut out);
     let _ = writeln!(out, "      </CellData>");
     let _ = writeln!(out, "      <Points>");
-    array(&mut out, "Float64", "position", 3, points.iter().flat_map(|p: &glam::DVec3| p.to_array()).map(|v| v.to_string()));
+    array(&mut out, "Float64", "position", 3, points.iter().flat_map(|p| p.to_array()).map(|v| v.to_string()));
     let _ = writeln!(out, "      </Points>");
     let _ = writeln!(out, "      <Polys>");
-    array(&mut out, "Int64", "connectivity", 1, connectivity.iter().map(|k| k.to_string()));
-    array(&mut out, "Int64", "offsets", 1, offsets.iter().map(|k| k.to_string()));
+    array(&mut out, "Int64", "connectivity", 1, polys.iter().flatten().map(|i| i.to_string()));
+    array(
+        &mut out,
+        "Int64",
+        "offsets",
+        1,
+        polys.iter().scan(0, |n, p| {
+            *n += p.len();
+            Some(n.to_string())
+        }),
+    );
     let _ = writeln!(out, "      </Polys>");
     let _ = writeln!(out, "    </Piece>\n  </PolyData>\n</VTKFile>");
     out
@@ -195,37 +210,9 @@ pub fn walls_vtp(plan: &tumble_scene::Plan, walls: &[tumble_scene::Wall]) -> Str
             SurfaceShape::Prism(p) => p.corners().for_each(&mut quad),
         }
     }
-    let mut out = String::new();
-    let _ = writeln!(out, "<?xml version=\"1.0\"?>");
-    let _ = writeln!(out, "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">");
-    let _ = writeln!(out, "  <PolyData>");
-    let _ = writeln!(
-        out,
-        "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"{}\">",
-        points.len(),
-        polys.len()
-    );
-    let _ = writeln!(out, "      <CellData Scalars=\"wall\">");
-    array(&mut out, "Int32", "wall", 1, wall_of_poly.iter().map(|w| w.to_string()));
-    array(&mut out, "Int32", "material", 1, wall_of_poly.iter().map(|&w| walls[w].material.to_string()));
-    array(&mut out, "Int32", "group", 1, wall_of_poly.iter().map(|&w| walls[w].group.to_string()));
-    let _ = writeln!(out, "      </CellData>");
-    let _ = writeln!(out, "      <Points>");
-    array(&mut out, "Float64", "position", 3, points.iter().flat_map(|p| p.to_array()).map(|v| v.to_string()));
-    let _ = writeln!(out, "      </Points>");
-    let _ = writeln!(out, "      <Polys>");
-    array(&mut out, "Int64", "connectivity", 1, polys.iter().flatten().map(|i| i.to_string()));
-    array(
-        &mut out,
-        "Int64",
-        "offsets",
-        1,
-        polys.iter().scan(0, |n, p| {
-            *n += p.len();
-            Some(n.to_string())
-        }),
-    );
-    let _ = writeln!(out, "      </Polys>");
-    let _ = writeln!(out, "    </Piece>\n  </PolyData>\n</VTKFile>");
-    out
+    polygons_vtp(&points, &polys, "wall", |out| {
+        array(out, "Int32", "wall", 1, wall_of_poly.iter().map(|w| w.to_string()));
+        array(out, "Int32", "material", 1, wall_of_poly.iter().map(|&w| walls[w].material.to_string()));
+        array(out, "Int32", "group", 1, wall_of_poly.iter().map(|&w| walls[w].group.to_string()));
+    })
 }

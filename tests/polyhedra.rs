@@ -143,12 +143,13 @@ fn octahedron_cube_elastic_rebound_within_half_a_percent() {
     assert!(worst < 5e-3, "worst rebound error {worst:e}");
 }
 
-#[test]
-fn a_cube_dropped_on_its_face_settles_without_drift_or_spin() {
-    let text = r#"
+/// A 2 cm steel cube released at `position` with orientation `q` above a floor, history friction.
+fn cube_drop(position: [f64; 3], q: DQuat, restitution: f64, duration: f64) -> String {
+    format!(
+        r#"
 name = "cube-drop"
 [run]
-duration = 1.0
+duration = {duration}
 integrator = "verlet"
 [domain]
 min = [-0.5, -0.5, -0.1]
@@ -159,19 +160,27 @@ acceleration = [0.0, 0.0, -9.81]
 name = "steel"
 density = 7800.0
 [contact]
-normal = { model = "linear", stiffness = 1.0e5 }
-restitution = 0.5
-tangential = { model = "history", friction = 0.5 }
+normal = {{ model = "linear", stiffness = 1.0e5 }}
+restitution = {restitution}
+tangential = {{ model = "history", friction = 0.5 }}
 [[particles]]
 material = "steel"
-shape = { cube = { edge = 0.02 } }
-positions = [[0.01, -0.02, 0.05]]
+shape = {{ cube = {{ edge = 0.02 }} }}
+positions = [[{}, {}, {}]]
+orientation = [{}, {}, {}, {}]
 [[walls]]
 name = "floor"
 material = "steel"
-plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
-"#;
-    let mut s = sim(text);
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
+"#,
+        position[0], position[1], position[2], q.w, q.x, q.y, q.z
+    )
+}
+
+#[test]
+fn a_cube_dropped_on_its_face_settles_without_drift_or_spin() {
+    let text = cube_drop([0.01, -0.02, 0.05], DQuat::IDENTITY, 0.5, 1.0);
+    let mut s = sim(&text);
     s.advance(s.plan().steps);
     let st = s.cpu().state();
     let m = st.mass[0];
@@ -191,36 +200,7 @@ fn a_tilted_cube_lands_on_its_face_and_then_stays_put() {
     // neither creeping (the spring holds it) nor spinning.
     let axis = DVec3::new(1.0, 2.0, 0.0).normalize();
     let q = DQuat::from_axis_angle(axis, 8f64.to_radians());
-    let text = format!(
-        r#"
-name = "cube-tilted"
-[run]
-duration = 1.5
-integrator = "verlet"
-[domain]
-min = [-0.5, -0.5, -0.1]
-max = [0.5, 0.5, 0.5]
-[gravity]
-acceleration = [0.0, 0.0, -9.81]
-[[materials]]
-name = "steel"
-density = 7800.0
-[contact]
-normal = {{ model = "linear", stiffness = 1.0e5 }}
-restitution = 0.3
-tangential = {{ model = "history", friction = 0.5 }}
-[[particles]]
-material = "steel"
-shape = {{ cube = {{ edge = 0.02 }} }}
-positions = [[0.0, 0.0, 0.03]]
-orientation = [{}, {}, {}, {}]
-[[walls]]
-name = "floor"
-material = "steel"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
-"#,
-        q.w, q.x, q.y, q.z
-    );
+    let text = cube_drop([0.0, 0.0, 0.03], q, 0.3, 1.5);
     let mut s = sim(&text);
     s.advance((1.25 / s.plan().dt) as u64);
     let (x1, q1) = (s.cpu().state().pos[0], s.cpu().state().orient[0]);
@@ -352,4 +332,30 @@ fn polyhedra_results_are_bit_identical_for_1_2_and_4_threads() {
     let one = run(1);
     assert_eq!(one, run(2));
     assert_eq!(one, run(4));
+}
+
+#[test]
+fn a_run_with_polyhedra_writes_orientations_and_body_surfaces() {
+    // Two cubes and a sphere falling for a few snapshots: tracks.csv carries the quaternion and
+    // bodies_NNNNNN.vtp holds six quads per cube, at the turned corners.
+    let q = DQuat::from_rotation_z(0.3);
+    let text = cube_drop([0.0, 0.0, 0.05], q, 0.5, 0.02)
+        .replace("[run]", "[run]\noutput_interval = 0.005\nsnapshot_interval = 0.01")
+        .replace("positions = [[0, 0, 0.05]]", "positions = [[0.0, 0.0, 0.05], [0.1, 0.0, 0.05]]\ntrack = true")
+        + "[[particles]]\nmaterial = \"steel\"\nshape = { sphere = { diameter = 0.02 } }\npositions = [[-0.1, 0.0, 0.05]]\n";
+    let out = std::env::temp_dir().join(format!("tumble-bodies-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let compiled = compile(&parse_scene(&text).unwrap()).unwrap();
+    tumble::run_compiled(compiled, &tumble::RunOptions { out_dir: Some(out.clone()), threads: 1, ..Default::default() }).unwrap();
+    let tracks = std::fs::read_to_string(out.join("tracks.csv")).unwrap();
+    let header = tracks.lines().next().unwrap();
+    assert!(header.ends_with(",qw,qx,qy,qz"), "{header}");
+    let first: Vec<f64> = tracks.lines().nth(1).unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    assert!((first[11] - q.w).abs() < 1e-6 && (first[14] - q.z).abs() < 1e-6, "quaternion columns {first:?}");
+    assert!(out.join("bodies.pvd").exists());
+    let vtp = std::fs::read_to_string(out.join("snapshots/bodies_000000.vtp")).unwrap();
+    assert!(vtp.contains("NumberOfPoints=\"16\"") && vtp.contains("NumberOfPolys=\"12\""), "two cubes: 16 corners, 12 faces");
+    let particles = std::fs::read_to_string(out.join("snapshots/particles_000000.vtp")).unwrap();
+    assert!(particles.contains("Name=\"orientation\" NumberOfComponents=\"4\"") && particles.contains("Name=\"shape\""));
+    let _ = std::fs::remove_dir_all(&out);
 }
