@@ -288,25 +288,26 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         let wall = wall as u32;
         let w = &c.walls[wall as usize];
         let key = WALL_KEY | wall;
+        let params = plan.pair(s.material[i], w.material);
         let mut spring = Spring::default();
-        // (contact point, body overlap, force, torque about the centre, R* for the rolling couple)
+        // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the rolling couple)
         let mut power = 0.0;
-        let (point, overlap, f, torque, r_roll) = if POLY && s.shape[i] != SPHERE {
+        let (v_wall, overlap, f, torque, r_roll) = if POLY && s.shape[i] != SPHERE {
             if HIST {
                 spring = s.history.find(i, key);
             }
             let Some((k, f, torque, twist_power)) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
             power = twist_power;
-            (k.point, k.depth, f, torque, equivalent_radius(c, i))
+            (w.velocity_at(k.point), k.depth, f, torque, equivalent_radius(c, i))
         } else {
             let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
             let effect_overlap = k.overlap + extra;
             if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
                 continue;
             }
-            let params = plan.pair(s.material[i], w.material);
             let arm = k.point - xi;
-            let mut v_rel = c.vel[i] - w.velocity_at(k.point);
+            let v_wall = w.velocity_at(k.point);
+            let mut v_rel = c.vel[i] - v_wall;
             if ROT {
                 v_rel += c.omega[i].cross(arm);
             }
@@ -315,16 +316,15 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
             }
             let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, plan.dt, &mut spring);
             let torque = arm.cross(f.tangential);
-            (k.point, k.overlap, f, torque, r)
+            (v_wall, k.overlap, f, torque, r)
         };
         if HIST && spring.xi != DVec3::ZERO {
             slots.keep(&mut sum.springs, key, spring);
         }
         sum.force += f.force;
-        power += f.force.dot(w.velocity_at(point));
+        power += f.force.dot(v_wall);
         if ROT {
             sum.torque += torque;
-            let params = plan.pair(s.material[i], w.material);
             if params.rolling > 0.0 {
                 // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
                 let spin = w.angular_velocity();

@@ -8,7 +8,7 @@ use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
 use crate::history::Spring;
 use glam::DVec3;
 use tumble_contact::{normal_force, rolling_torque};
-use tumble_geom::{ManifoldPoint, PolyContact, Polyhedron, Pose, polyhedron_polyhedron, sphere_polyhedron};
+use tumble_geom::{PolyContact, Polyhedron, Pose, polyhedron_polyhedron, sphere_polyhedron};
 use tumble_integrate::world_inverse_inertia_times;
 use tumble_scene::PairParams;
 use tumble_scene::{SPHERE, Wall};
@@ -52,10 +52,10 @@ fn twisting_torque(k: &PolyContact, friction: f64, normal: f64, spin_rel: DVec3,
 }
 
 /// The force of a polyhedron contact on body A (at `xa`), with its torque about `xa` and, when B is
-/// a body, about `xb`. `v_at(p)` is the velocity of A relative to B at the point p.
+/// a body, about `xb` (one contact point: the manifold's depth-weighted point, the SAT depth). `v_at(p)` is the velocity of A relative to B at the point p.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn manifold_force<const HIST: bool>(
+fn polyhedron_force<const HIST: bool>(
     params: &PairParams,
     k: &PolyContact,
     v_at: impl Fn(DVec3) -> DVec3,
@@ -69,31 +69,24 @@ fn manifold_force<const HIST: bool>(
     let n = k.normal;
     let old_spring = if HIST { std::mem::take(spring) } else { Spring::default() };
     let mut out = ContactForce { force: DVec3::ZERO, tangential: DVec3::ZERO, normal: 0.0, elastic: 0.0, dissipation: 0.0 };
-    let (mut torque_a, mut torque_b) = (DVec3::ZERO, DVec3::ZERO);
-    let mut stiffness = 0.0f64;
     // One normal spring per pair at the depth-weighted point with the SAT depth (spec; a spring per
     // manifold point was tried: its energy jumps when an edge–edge contact becomes a face contact).
-    for m in [ManifoldPoint { point: k.point, depth: k.depth }] {
-        let vn = v_at(m.point).dot(n);
-        let nf = normal_force(&params.normal, m.depth, vn, m_star, r_star);
-        let applied = if params.no_attraction { nf.total().max(0.0) } else { nf.total() };
-        let f = n * applied;
-        out.force += f;
-        torque_a += (m.point - xa).cross(f);
-        torque_b -= (m.point - xb).cross(f);
-        out.normal += applied.abs();
-        out.elastic += nf.energy;
-        out.dissipation -= (applied - nf.elastic) * vn;
-        stiffness = stiffness.max(nf.stiffness);
-    }
     let v = v_at(k.point);
-    let t = tangential_part::<HIST>(params, out.normal, stiffness, k.depth, r_star, m_star, n, v - n * v.dot(n), dt, old_spring, spring);
+    let vn = v.dot(n);
+    let nf = normal_force(&params.normal, k.depth, vn, m_star, r_star);
+    let applied = if params.no_attraction { nf.total().max(0.0) } else { nf.total() };
+    out.force = n * applied;
+    out.normal = applied.abs();
+    out.elastic = nf.energy;
+    out.dissipation = -(applied - nf.elastic) * vn;
+    let stiffness = nf.stiffness;
+    let t = tangential_part::<HIST>(params, out.normal, stiffness, k.depth, r_star, m_star, n, v - n * vn, dt, old_spring, spring);
     out.force += t.force;
     out.tangential = t.force;
-    torque_a += (k.point - xa).cross(t.force);
-    torque_b -= (k.point - xb).cross(t.force);
     out.elastic += t.energy;
     out.dissipation += t.loss;
+    // The whole force acts at the contact point.
+    let (torque_a, torque_b) = ((k.point - xa).cross(out.force), (k.point - xb).cross(-out.force));
     (out, torque_a, torque_b)
 }
 
@@ -118,7 +111,7 @@ pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: 
     if HIST {
         *spring = s.history.find(a, s.id[b]);
     }
-    let (f, torque_a, torque_b) = manifold_force::<HIST>(params, &k, v_at, xa, xb, m_star, r_star, c.plan.dt, spring);
+    let (f, torque_a, torque_b) = polyhedron_force::<HIST>(params, &k, v_at, xa, xb, m_star, r_star, c.plan.dt, spring);
     out.force = f.force;
     out.torque_a = torque_a;
     out.torque_b = torque_b;
@@ -156,7 +149,7 @@ pub(crate) fn polyhedron_wall<const HIST: bool>(
     let xi = s.pos[i];
     let v_at = |p: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.velocity_at(p);
     let params = c.plan.pair(s.material[i], w.material);
-    let (mut f, torque, _) = manifold_force::<HIST>(params, &k, v_at, xi, xi, s.mass[i], equivalent_radius(c, i), c.plan.dt, spring);
+    let (mut f, torque, _) = polyhedron_force::<HIST>(params, &k, v_at, xi, xi, s.mass[i], equivalent_radius(c, i), c.plan.dt, spring);
     let wall_spin = w.angular_velocity();
     let spin = c.omega[i] - wall_spin;
     let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inverse_inertia_about(c, i, k.normal), c.plan.dt);
