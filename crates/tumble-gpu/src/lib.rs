@@ -27,6 +27,7 @@ mod kernels;
 pub mod profile;
 mod readback;
 pub mod shaders;
+pub mod shapes;
 mod step;
 mod upload;
 

@@ -23,6 +23,10 @@ pub const REORDER: &str = include_str!("../shaders/reorder.wgsl");
 pub const FORCES: &str = include_str!("../shaders/forces.wgsl");
 /// Contact history slots, the tangential spring and rolling resistance (used by the contact pass).
 pub const HISTORY: &str = include_str!("../shaders/history.wgsl");
+/// Convex polyhedra: quaternions, the shape table and the narrow phase.
+pub const POLYHEDRA: &str = include_str!("../shaders/polyhedra.wgsl");
+/// The test harness of the polyhedra narrow phase ([`crate::shapes::evaluate`]).
+pub const POLYHEDRA_TEST: &str = include_str!("../shaders/polyhedra_test.wgsl");
 /// Body forces and the integrators.
 pub const INTEGRATE: &str = include_str!("../shaders/integrate.wgsl");
 
@@ -51,6 +55,11 @@ pub fn sources() -> Vec<ShaderSource> {
         with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY], &["forces"]),
         with_common("integrate", INTEGRATE, &[COMMON], &["initial", "kick_drift", "finish"]),
     ]
+}
+
+/// The polyhedra narrow phase with its test harness (entry point `evaluate`; no overrides).
+pub fn polyhedra_test_source() -> String {
+    [POLYHEDRA, POLYHEDRA_TEST].join("\n")
 }
 
 /// The plan's feature switches, one per WGSL `override` in common.wgsl.

@@ -184,42 +184,47 @@ pub fn tables(plan: &Plan) -> Vec<[f32; 4]> {
         t.push([p.cohesion as f32, if p.no_attraction { 1.0 } else { 0.0 }, p.rolling as f32, history_damping as f32]);
     }
     let origin = centre(plan);
-    let rel = |p: DVec3| {
-        let x = p - origin;
-        [x.x as f32, x.y as f32, x.z as f32, 0.0]
-    };
-    let dir = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
     for w in &plan.walls {
-        let m = w.material as f32;
-        let mut entry = [[0.0f32; 4]; 6];
-        match &w.shape {
-            SurfaceShape::Plane(p) => {
-                entry[0] = [0.0, m, 0.0, 0.0];
-                entry[1] = rel(p.point);
-                entry[5] = dir(p.normal);
-            }
-            SurfaceShape::Quad(q) => {
-                entry[0] = [1.0, m, if q.two_sided { 1.0 } else { 0.0 }, 0.0];
-                for k in 0..4 {
-                    entry[1 + k] = rel(q.corners[k]);
-                }
-                entry[5] = dir(q.normal);
-            }
-            SurfaceShape::Cylinder(c) => {
-                entry[0] = [2.0, m, if c.inside { 1.0 } else { 0.0 }, 0.0];
-                entry[1] = rel(c.point);
-                entry[2] = dir(c.axis);
-                entry[3] = [c.radius as f32, c.length as f32, 0.0, 0.0];
-            }
-            // Refused by GpuSimulation::new before any upload.
-            SurfaceShape::Prism(_) => {}
-        }
-        t.extend_from_slice(&entry);
+        t.extend_from_slice(&wall_entry(&w.shape, w.material as usize, origin));
     }
     if t.is_empty() {
         t.push([0.0; 4]);
     }
     t
+}
+
+/// One wall's table entry (6 vec4, geometry.wgsl), coordinates relative to `origin`.
+pub fn wall_entry(shape: &SurfaceShape, material: usize, origin: DVec3) -> [[f32; 4]; 6] {
+    let rel = |p: DVec3| {
+        let x = p - origin;
+        [x.x as f32, x.y as f32, x.z as f32, 0.0]
+    };
+    let dir = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+    let m = material as f32;
+    let mut entry = [[0.0f32; 4]; 6];
+    match shape {
+        SurfaceShape::Plane(p) => {
+            entry[0] = [0.0, m, 0.0, 0.0];
+            entry[1] = rel(p.point);
+            entry[5] = dir(p.normal);
+        }
+        SurfaceShape::Quad(q) => {
+            entry[0] = [1.0, m, if q.two_sided { 1.0 } else { 0.0 }, 0.0];
+            for k in 0..4 {
+                entry[1 + k] = rel(q.corners[k]);
+            }
+            entry[5] = dir(q.normal);
+        }
+        SurfaceShape::Cylinder(c) => {
+            entry[0] = [2.0, m, if c.inside { 1.0 } else { 0.0 }, 0.0];
+            entry[1] = rel(c.point);
+            entry[2] = dir(c.axis);
+            entry[3] = [c.radius as f32, c.length as f32, 0.0, 0.0];
+        }
+        // Refused by GpuSimulation::new before any upload.
+        SurfaceShape::Prism(_) => {}
+    }
+    entry
 }
 
 #[cfg(test)]

@@ -44,3 +44,11 @@ fn every_shader_variant_validates() {
     println!("{checked} shader variants validated");
     assert!(checked > 100);
 }
+
+#[test]
+fn the_polyhedra_module_validates() {
+    let source = tumble_gpu::shaders::polyhedra_test_source();
+    let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("polyhedra: {}", e.emit_to_string(&source)));
+    validator().validate(&module).unwrap_or_else(|e| panic!("polyhedra: {}", e.emit_to_string(&source)));
+    assert!(module.entry_points.iter().any(|e| e.name == "evaluate"));
+}
