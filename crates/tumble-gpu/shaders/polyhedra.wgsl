@@ -31,10 +31,13 @@ struct PolyHit {
     depth: f32,
     // Relative to B's centre for particle pairs, to the walls' origin for walls.
     point: vec3<f32>,
+    // Depth-weighted mean distance of the manifold points from `point` (0 for one point):
+    // the patch radius of twisting friction.
+    spread: f32,
 }
 
 fn no_poly_hit() -> PolyHit {
-    return PolyHit(false, vec3<f32>(0.0), 0.0, vec3<f32>(0.0));
+    return PolyHit(false, vec3<f32>(0.0), 0.0, vec3<f32>(0.0), 0.0);
 }
 
 // ---- Quaternions (x, y, z, w), body to world ----
@@ -135,6 +138,8 @@ fn shape_support(h: ShapeHead, dir: vec3<f32>) -> u32 {
 var<private> poly_ref: array<vec3<f32>, 16>;
 var<private> poly_a: array<vec4<f32>, 32>;
 var<private> poly_b: array<vec4<f32>, 32>;
+// The patch radius of the last manifold (manifold_point).
+var<private> poly_spread: f32;
 
 // Loads face f of shape h, mapped by p ↦ r p + t, into poly_ref (which = 0) or poly_a (which = 1).
 fn load_face(h: ShapeHead, f: u32, r: mat3x3<f32>, t: vec3<f32>, which: u32) -> u32 {
@@ -178,67 +183,80 @@ fn clip_poly_a(n: u32, side: vec3<f32>, off: f32) -> u32 {
 // (xyz, depth): the deepest, the farthest from it, the one making the largest
 // triangle with those, and the largest on the other side (tumble-geom's
 // reduce_to_four, ties resolved the same way); n is the contact plane's normal.
+// Sets poly_spread to the depth-weighted mean distance of those points from the
+// mean (the patch radius of twisting friction; 0 for one point).
 fn manifold_point(m: u32, n: vec3<f32>) -> vec3<f32> {
-    if m <= 4u {
-        var sum = vec3<f32>(0.0);
-        var w = 0.0;
-        for (var k = 0u; k < m; k++) {
-            sum += poly_b[k].xyz * poly_b[k].w;
-            w += poly_b[k].w;
+    var idx = array<u32, 4>(0u, 1u, 2u, 3u);
+    var count = m;
+    if m > 4u {
+        var i0 = 0u;
+        for (var k = 1u; k < m; k++) {
+            if poly_b[k].w >= poly_b[i0].w {
+                i0 = k;
+            }
         }
-        return select(poly_b[0].xyz, sum / w, w > 0.0);
-    }
-    var i0 = 0u;
-    for (var k = 1u; k < m; k++) {
-        if poly_b[k].w >= poly_b[i0].w {
-            i0 = k;
+        let p0 = poly_b[i0].xyz;
+        var i1 = 0u;
+        var far = dot(poly_b[0].xyz - p0, poly_b[0].xyz - p0);
+        for (var k = 1u; k < m; k++) {
+            let d2 = dot(poly_b[k].xyz - p0, poly_b[k].xyz - p0);
+            if d2 >= far {
+                far = d2;
+                i1 = k;
+            }
+        }
+        let e = poly_b[i1].xyz - p0;
+        var i2 = 0u;
+        var big = abs(dot(cross(e, poly_b[0].xyz - p0), n));
+        for (var k = 1u; k < m; k++) {
+            let a = abs(dot(cross(e, poly_b[k].xyz - p0), n));
+            if a >= big {
+                big = a;
+                i2 = k;
+            }
+        }
+        let sgn = select(-1.0, 1.0, dot(cross(e, poly_b[i2].xyz - p0), n) >= 0.0);
+        var i3 = 0u;
+        var low = sgn * dot(cross(e, poly_b[0].xyz - p0), n);
+        for (var k = 1u; k < m; k++) {
+            let a = sgn * dot(cross(e, poly_b[k].xyz - p0), n);
+            if a < low {
+                low = a;
+                i3 = k;
+            }
+        }
+        // The four in order, each once (by position).
+        let chosen = array<u32, 4>(i0, i1, i2, i3);
+        count = 0u;
+        for (var j = 0u; j < 4u; j++) {
+            var seen = false;
+            for (var i = 0u; i < count; i++) {
+                seen = seen || all(poly_b[idx[i]].xyz == poly_b[chosen[j]].xyz);
+            }
+            if !seen {
+                idx[count] = chosen[j];
+                count++;
+            }
         }
     }
-    let p0 = poly_b[i0].xyz;
-    var i1 = 0u;
-    var far = dot(poly_b[0].xyz - p0, poly_b[0].xyz - p0);
-    for (var k = 1u; k < m; k++) {
-        let d2 = dot(poly_b[k].xyz - p0, poly_b[k].xyz - p0);
-        if d2 >= far {
-            far = d2;
-            i1 = k;
-        }
-    }
-    let e = poly_b[i1].xyz - p0;
-    var i2 = 0u;
-    var big = abs(dot(cross(e, poly_b[0].xyz - p0), n));
-    for (var k = 1u; k < m; k++) {
-        let a = abs(dot(cross(e, poly_b[k].xyz - p0), n));
-        if a >= big {
-            big = a;
-            i2 = k;
-        }
-    }
-    let sgn = select(-1.0, 1.0, dot(cross(e, poly_b[i2].xyz - p0), n) >= 0.0);
-    var i3 = 0u;
-    var low = sgn * dot(cross(e, poly_b[0].xyz - p0), n);
-    for (var k = 1u; k < m; k++) {
-        let a = sgn * dot(cross(e, poly_b[k].xyz - p0), n);
-        if a < low {
-            low = a;
-            i3 = k;
-        }
-    }
-    var idx = array<u32, 4>(i0, i1, i2, i3);
     var sum = vec3<f32>(0.0);
     var w = 0.0;
-    for (var j = 0u; j < 4u; j++) {
+    for (var j = 0u; j < count; j++) {
         let pj = poly_b[idx[j]];
-        var seen = false;
-        for (var i = 0u; i < j; i++) {
-            seen = seen || all(poly_b[idx[i]].xyz == pj.xyz);
-        }
-        if !seen {
-            sum += pj.xyz * pj.w;
-            w += pj.w;
-        }
+        sum += pj.xyz * pj.w;
+        w += pj.w;
     }
-    return select(p0, sum / w, w > 0.0);
+    let mean = select(poly_b[idx[0]].xyz, sum / w, w > 0.0);
+    var spread = 0.0;
+    if count > 1u && w > 0.0 {
+        for (var j = 0u; j < count; j++) {
+            let pj = poly_b[idx[j]];
+            spread += pj.w * length(pj.xyz - mean);
+        }
+        spread /= w;
+    }
+    poly_spread = spread;
+    return mean;
 }
 
 // Face contact: the incident polygon (poly_a, n_inc points) clipped by the side
@@ -407,6 +425,7 @@ fn polyhedron_polyhedron(sa: u32, qa: vec4<f32>, sb: u32, qb: vec4<f32>, d: vec3
 
     // Minimum penetration; face contacts win near-ties.
     let tie = 2e-6 * reach;
+    poly_spread = 0.0;
     var normal: vec3<f32>;
     var depth: f32;
     var point: vec3<f32>;
@@ -462,7 +481,7 @@ fn polyhedron_polyhedron(sa: u32, qa: vec4<f32>, sb: u32, qb: vec4<f32>, d: vec3
         depth = -best_a;
         point = face_contact_point(n_ref, n, pl.w + dot(n, t), n_inc, depth, deepest);
     }
-    return PolyHit(true, quat_rotate(qb, normal), depth, quat_rotate(qb, point));
+    return PolyHit(true, quat_rotate(qb, normal), depth, quat_rotate(qb, point), poly_spread);
 }
 
 // ---- Sphere against polyhedron ----
@@ -547,7 +566,7 @@ fn sphere_polyhedron(radius: f32, sb: u32, qb: vec4<f32>, d: vec3<f32>) -> PolyH
     if !(depth > 0.0) {
         return no_poly_hit();
     }
-    return PolyHit(true, quat_rotate(qb, normal), depth, quat_rotate(qb, q - normal * (0.5 * depth)));
+    return PolyHit(true, quat_rotate(qb, normal), depth, quat_rotate(qb, q - normal * (0.5 * depth)), 0.0);
 }
 
 // ---- Polyhedron against walls (coordinates relative to one origin) ----
@@ -574,7 +593,8 @@ fn polyhedron_plane(s: u32, q: vec4<f32>, x: vec3<f32>, point: vec3<f32>, normal
     if m == 0u {
         return no_poly_hit();
     }
-    return PolyHit(true, normal, depth, manifold_point(m, normal));
+    let mean = manifold_point(m, normal);
+    return PolyHit(true, normal, depth, mean, poly_spread);
 }
 
 // Polyhedron s at x (orientation q) against a quad (corners counter-clockwise
@@ -679,7 +699,7 @@ fn polyhedron_quad(s: u32, q: vec4<f32>, x: vec3<f32>, corners_in: array<vec3<f3
             }
         }
     }
-    // A one-sided quad whose front is not the best may still have no allowed axis: the front always is.
+    poly_spread = 0.0;
     var point: vec3<f32>;
     if best_kind == 0u {
         let n = qn * face_sign;
@@ -712,7 +732,7 @@ fn polyhedron_quad(s: u32, q: vec4<f32>, x: vec3<f32>, corners_in: array<vec3<f3
         let ed = shape_edge(h, best_i);
         point = segments_midpoint(shape_vertex(h, ed.x), shape_vertex(h, ed.y), qc[best_k], qc[(best_k + 1u) % 4u]);
     }
-    return PolyHit(true, quat_rotate(q, best_m), best_depth, x + quat_rotate(q, point));
+    return PolyHit(true, quat_rotate(q, best_m), best_depth, x + quat_rotate(q, point), poly_spread);
 }
 
 // Polyhedron s at x (orientation q) against a cylinder (axis from `point` along the
@@ -751,7 +771,8 @@ fn polyhedron_cylinder(s: u32, q: vec4<f32>, x: vec3<f32>, point: vec3<f32>, axi
             return no_poly_hit();
         }
         let normal = normalize(sum);
-        return PolyHit(true, normal, depth, manifold_point(m, normal));
+        let mean = manifold_point(m, normal);
+    return PolyHit(true, normal, depth, mean, poly_spread);
     }
     // Pipe: the polyhedron's shadow across the axis (gift-wrapped, counter-clockwise
     // about the axis) against the circle.
@@ -866,7 +887,7 @@ fn polyhedron_cylinder(s: u32, q: vec4<f32>, x: vec3<f32>, point: vec3<f32>, axi
     let wa = x + quat_rotate(q, shape_vertex(h, ia));
     let wb = x + quat_rotate(q, shape_vertex(h, ib));
     let surface = wa + (wb - wa) * tt;
-    return PolyHit(true, normal, depth, surface + normal * (0.5 * depth));
+    return PolyHit(true, normal, depth, surface + normal * (0.5 * depth), 0.0);
 }
 
 // A wall table entry (geometry.wgsl layout: w0 = (kind, material, flag, _), then points and directions).

@@ -39,6 +39,7 @@ fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
     } else {
         hit = polyhedron_wall(u32(c.head.y), c.quat_a, c.pos_a.xyz, c.wall);
     }
-    answers[2u * i] = vec4<f32>(hit.normal, select(0.0, 1.0, hit.hit));
-    answers[2u * i + 1u] = vec4<f32>(origin + hit.point, hit.depth);
+    answers[3u * i] = vec4<f32>(hit.normal, select(0.0, 1.0, hit.hit));
+    answers[3u * i + 1u] = vec4<f32>(origin + hit.point, hit.depth);
+    answers[3u * i + 2u] = vec4<f32>(hit.spread, 0.0, 0.0, 0.0);
 }

@@ -165,6 +165,8 @@ pub struct ContactAnswer {
     pub normal: [f32; 4],
     /// The contact point relative to the query's origin; w: the depth.
     pub point: [f32; 4],
+    /// (spread: the depth-weighted mean distance of the manifold points from the point, 0, 0, 0).
+    pub extra: [f32; 4],
 }
 
 impl ContactAnswer {
@@ -179,6 +181,10 @@ impl ContactAnswer {
     }
     pub fn point(&self) -> DVec3 {
         DVec3::new(self.point[0] as f64, self.point[1] as f64, self.point[2] as f64)
+    }
+    /// The manifold's patch radius (twisting friction); 0 for a one-point contact.
+    pub fn spread(&self) -> f64 {
+        self.extra[0] as f64
     }
 }
 

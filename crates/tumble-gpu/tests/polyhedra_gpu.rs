@@ -76,15 +76,24 @@ fn solids(scale: f64) -> Vec<Polyhedron> {
     ]
 }
 
-/// A contact as the comparison sees it: (normal, depth, point).
-type Answer = Option<(DVec3, f64, DVec3)>;
+/// A contact as the comparison sees it: (normal, depth, point, spread).
+type Answer = Option<(DVec3, f64, DVec3, f64)>;
+
+/// The depth-weighted mean distance of the manifold points from the contact point (0 for one point).
+fn spread(c: &PolyContact) -> f64 {
+    let m = c.manifold();
+    if m.len() < 2 {
+        return 0.0;
+    }
+    m.iter().map(|p| p.depth * (p.point - c.point).length()).sum::<f64>() / m.iter().map(|p| p.depth).sum::<f64>()
+}
 
 fn of_geom(c: Option<PolyContact>) -> Answer {
-    c.map(|c| (c.normal, c.depth, c.point))
+    c.map(|c| (c.normal, c.depth, c.point, spread(&c)))
 }
 
 fn of_gpu(a: &ContactAnswer) -> Answer {
-    a.hit().then(|| (a.normal(), a.depth(), a.point()))
+    a.hit().then(|| (a.normal(), a.depth(), a.point(), a.spread()))
 }
 
 /// The box around a four-point manifold, when there is one (the reduction may have chosen
@@ -98,13 +107,14 @@ fn four_point_box(c: &Option<PolyContact>) -> Option<(DVec3, DVec3)> {
     })
 }
 
-/// Angle (degrees), depth error and point error of two contacts, relative to `size`; Err when one is missing.
+/// Angle (degrees), depth error and point error (the larger of the point's and the spread's)
+/// of two contacts, relative to `size`; Err when one is missing.
 fn differences(a: &Answer, b: &Answer, size: f64) -> Result<Option<(f64, f64, f64)>, ()> {
     match (a, b) {
         (None, None) => Ok(None),
-        (Some((na, da, pa)), Some((nb, db, pb))) => {
+        (Some((na, da, pa, sa)), Some((nb, db, pb, sb))) => {
             let angle = na.dot(*nb).clamp(-1.0, 1.0).acos().to_degrees();
-            Ok(Some((angle, (da - db).abs() / size, (*pa - *pb).length() / size)))
+            Ok(Some((angle, (da - db).abs() / size, (*pa - *pb).length().max((sa - sb).abs()) / size)))
         }
         _ => Err(()),
     }
@@ -180,7 +190,7 @@ fn compare(name: &str, cases: &[Case], shapes: &[Polyhedron], cpu: impl Fn(usize
             }
             continue;
         }
-        if let (Some((lo, hi)), Ok(Some((a, dd, _))), Some((_, _, p))) = (four_point_box(&full), d, g) {
+        if let (Some((lo, hi)), Ok(Some((a, dd, _))), Some(p)) = (four_point_box(&full), d, g.map(|g| g.2)) {
             let pad = DVec3::splat(MAX_POINT * case.size);
             if a <= MAX_ANGLE && dd <= MAX_DEPTH && p.cmpge(lo - pad).all() && p.cmple(hi + pad).all() {
                 r.ties += 1;
