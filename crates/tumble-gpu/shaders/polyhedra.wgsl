@@ -86,10 +86,17 @@ struct ShapeHead {
     radius: f32,
 }
 
+const SHAPE_HEADER_WORDS: u32 = 3u;
+
 fn shape_head(s: u32) -> ShapeHead {
-    let h0 = shape_word(2u * s);
-    let h1 = shape_word(2u * s + 1u);
+    let h0 = shape_word(SHAPE_HEADER_WORDS * s);
+    let h1 = shape_word(SHAPE_HEADER_WORDS * s + 1u);
     return ShapeHead(u32(h0.x), u32(h0.y), u32(h0.z), u32(h0.w), u32(h1.x), u32(h1.y), h1.z);
+}
+
+// (volume / principal unit inertia: the inverse principal inertia per inverse mass; equivalent radius).
+fn shape_inertia(s: u32) -> vec4<f32> {
+    return shape_word(SHAPE_HEADER_WORDS * s + 2u);
 }
 
 fn shape_vertex(h: ShapeHead, i: u32) -> vec3<f32> {

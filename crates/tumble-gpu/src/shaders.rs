@@ -195,6 +195,7 @@ mod tests {
         assert!(SCAN.contains(&format!("const SCAN_THREADS: u32 = {SCAN_THREADS}u;")));
         assert!(COMMON.contains(&format!("const FLAG_DEAD: u32 = {}u;", crate::upload::FLAG_DEAD)));
         assert!(COMMON.contains(&format!("const FLAG_FIXED: u32 = {}u;", crate::upload::FLAG_FIXED)));
+        assert!(POLYHEDRA.contains(&format!("const SHAPE_HEADER_WORDS: u32 = {}u;", crate::shapes::HEADER_WORDS)));
     }
 
     #[test]

@@ -6,8 +6,10 @@
 //! pattern is ever reinterpreted. For `S` shapes:
 //!
 //! ```text
-//! word 2s     (vertex start, vertex count, face start, face count)      header of shape s
-//! word 2s + 1 (edge start, edge count, bounding radius, unused)
+//! word 3s     (vertex start, vertex count, face start, face count)      header of shape s
+//! word 3s + 1 (edge start, edge count, bounding radius, unused)
+//! word 3s + 2 (volume / principal unit inertia (x, y, z), equivalent radius)
+//!             inverse principal inertia = inverse mass × xyz; radius of the sphere of equal volume
 //! vertices    (x, y, z, 0)                    body frame, one word each
 //! faces       (nx, ny, nz, offset)            plane n · p = offset, then
 //!             (list start, list length, 0, 0) where its vertex loop starts (a word index, see below)
@@ -30,6 +32,14 @@ pub const MAX_FACE_VERTICES: usize = 16;
 /// Most vertices of one shape on the device (a manifold against a wall holds every vertex).
 pub const MAX_VERTICES: usize = 32;
 
+/// Header words per shape.
+pub const HEADER_WORDS: usize = 3;
+
+/// The radius of the sphere of the polyhedron's volume (R* of the contact laws).
+pub fn equivalent_radius(p: &Polyhedron) -> f64 {
+    (3.0 * p.volume() / (4.0 * std::f64::consts::PI)).cbrt()
+}
+
 /// Why a shape cannot go on the device.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShapeError(pub String);
@@ -44,7 +54,7 @@ impl std::error::Error for ShapeError {}
 
 /// The device shape table of a list of polyhedra (see the module documentation).
 pub fn shape_table(shapes: &[Polyhedron]) -> Result<Vec<[f32; 4]>, ShapeError> {
-    let mut words = vec![[0.0f32; 4]; 2 * shapes.len()];
+    let mut words = vec![[0.0f32; 4]; HEADER_WORDS * shapes.len()];
     let mut loops: Vec<u32> = Vec::new();
     let mut loop_fixups: Vec<(usize, usize)> = Vec::new(); // (face info word, component start in `loops`)
     for (s, p) in shapes.iter().enumerate() {
@@ -76,8 +86,10 @@ pub fn shape_table(shapes: &[Polyhedron]) -> Result<Vec<[f32; 4]>, ShapeError> {
         }
         let edge_start = words.len();
         words.extend(p.edges().iter().map(|e| [e.vertices[0] as f32, e.vertices[1] as f32, e.faces[0] as f32, e.faces[1] as f32]));
-        words[2 * s] = [vert_start as f32, p.vertices().len() as f32, face_start as f32, p.faces().len() as f32];
-        words[2 * s + 1] = [edge_start as f32, p.edges().len() as f32, p.bounding_radius() as f32, 0.0];
+        words[HEADER_WORDS * s] = [vert_start as f32, p.vertices().len() as f32, face_start as f32, p.faces().len() as f32];
+        words[HEADER_WORDS * s + 1] = [edge_start as f32, p.edges().len() as f32, p.bounding_radius() as f32, 0.0];
+        let k = p.volume() / p.unit_inertia();
+        words[HEADER_WORDS * s + 2] = [k.x as f32, k.y as f32, k.z as f32, equivalent_radius(p) as f32];
     }
     let loop_start = words.len();
     for (word, component) in loop_fixups {
@@ -275,10 +287,17 @@ mod tests {
         let shapes = [Polyhedron::cube(1.0), Polyhedron::tetrahedron(1.0)];
         let t = shape_table(&shapes).unwrap();
         for (s, p) in shapes.iter().enumerate() {
-            let [vs, nv, fs, nf] = t[2 * s].map(|x| x as usize);
-            let [es, ne] = [t[2 * s + 1][0] as usize, t[2 * s + 1][1] as usize];
+            let [vs, nv, fs, nf] = t[3 * s].map(|x| x as usize);
+            let [es, ne] = [t[3 * s + 1][0] as usize, t[3 * s + 1][1] as usize];
             assert_eq!((nv, nf, ne), (p.vertices().len(), p.faces().len(), p.edges().len()));
-            assert!((t[2 * s + 1][2] as f64 - p.bounding_radius()).abs() < 1e-6);
+            assert!((t[3 * s + 1][2] as f64 - p.bounding_radius()).abs() < 1e-6);
+            // Inverse inertia of a body of density 2: (1 / m) · V / I_unit = 1 / (2 I_unit).
+            let m = p.mass(2.0);
+            for k in 0..3 {
+                let inv = t[3 * s + 2][k] as f64 / m;
+                assert!((inv * p.principal_inertia(2.0)[k] - 1.0).abs() < 1e-6);
+            }
+            assert!((4.0 / 3.0 * std::f64::consts::PI * (t[3 * s + 2][3] as f64).powi(3) / p.volume() - 1.0).abs() < 1e-6);
             for (k, v) in p.vertices().iter().enumerate() {
                 assert_eq!(t[vs + k][..3], [v.x as f32, v.y as f32, v.z as f32]);
             }
