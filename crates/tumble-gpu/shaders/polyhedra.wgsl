@@ -6,7 +6,7 @@
 // against a plane, a quad and a cylinder (drum shell inside, pipe outside).
 // Lifters (prisms) go through polyhedron–polyhedron as table shapes.
 //
-// Every contact is a PolyHit: normal from B (or the wall) to A, depth > 0, and one
+// Needs quaternion.wgsl. Every contact is a PolyHit: normal from B (or the wall) to A, depth > 0, and one
 // point, the depth-weighted mean of the manifold points (each halfway through the
 // overlap), exactly as tumble-geom's PolyContact::point.
 //
@@ -38,40 +38,6 @@ struct PolyHit {
 
 fn no_poly_hit() -> PolyHit {
     return PolyHit(false, vec3<f32>(0.0), 0.0, vec3<f32>(0.0), 0.0);
-}
-
-// ---- Quaternions (x, y, z, w), body to world ----
-
-fn quat_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
-    let t = 2.0 * cross(q.xyz, v);
-    return v + q.w * t + cross(q.xyz, t);
-}
-
-fn quat_conj(q: vec4<f32>) -> vec4<f32> {
-    return vec4<f32>(-q.xyz, q.w);
-}
-
-// a ∘ b (apply b first).
-fn quat_mul(a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
-    return vec4<f32>(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
-}
-
-fn quat_normalize(q: vec4<f32>) -> vec4<f32> {
-    return q * inverseSqrt(dot(q, q));
-}
-
-// The rotation matrix (columns: the body axes in the world).
-fn quat_matrix(q_in: vec4<f32>) -> mat3x3<f32> {
-    let q = quat_normalize(q_in);
-    let x = q.x;
-    let y = q.y;
-    let z = q.z;
-    let w = q.w;
-    return mat3x3<f32>(
-        vec3<f32>(1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y + w * z), 2.0 * (x * z - w * y)),
-        vec3<f32>(2.0 * (x * y - w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z + w * x)),
-        vec3<f32>(2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y)),
-    );
 }
 
 // ---- The shape table ----

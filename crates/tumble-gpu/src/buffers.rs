@@ -50,6 +50,10 @@ pub struct Buffers {
     pub cursor: wgpu::Buffer,
     pub cell_start: wgpu::Buffer,
     pub tables: wgpu::Buffer,
+    /// Orientations (polyhedra scenes; one dummy element otherwise).
+    pub orient: wgpu::Buffer,
+    /// Whether `orient` holds one orientation per particle (and is re-sorted with them).
+    pub oriented: bool,
     /// The two generations of contact-history slots (history.wgsl; 16 bytes each without history).
     pub history: [wgpu::Buffer; 2],
     /// Block sums of the scan, one buffer per level above the cell starts.
@@ -131,6 +135,8 @@ impl Buffers {
             cursor: zeroed(gpu, "cursor", 4 * cells),
             cell_start,
             tables: init(gpu, "tables", &b(tables)),
+            orient: init(gpu, "orient", &b(&arrays.orient)),
+            oriented: !arrays.orient.is_empty(),
             // Zeroed: no particle holds a spring at t = 0.
             history: [zeroed(gpu, "history a", history_bytes), zeroed(gpu, "history b", history_bytes)],
             scan_levels,
@@ -139,7 +145,11 @@ impl Buffers {
     }
 
     /// The per-particle arrays the re-sort moves, in a fixed order.
-    pub fn particle_arrays(&self) -> [&wgpu::Buffer; 7] {
-        [&self.pos, &self.vel, &self.omega, &self.acc, &self.alpha, &self.props, &self.energy]
+    pub fn particle_arrays(&self) -> Vec<&wgpu::Buffer> {
+        let mut arrays = vec![&self.pos, &self.vel, &self.omega, &self.acc, &self.alpha, &self.props, &self.energy];
+        if self.oriented {
+            arrays.push(&self.orient);
+        }
+        arrays
     }
 }

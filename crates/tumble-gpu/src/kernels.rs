@@ -68,9 +68,9 @@ impl Kernels {
             ("reorder", layout(gpu, "reorder", &[Uniform, Read, Read, Write])),
             (
                 "forces",
-                layout(gpu, "forces", &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write, Read, Write]),
+                layout(gpu, "forces", &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write, Read, Write, Read]),
             ),
-            ("integrate", layout(gpu, "integrate", &[Uniform, Write, Write, Write, Write, Write, Write, Read, Read, Write])),
+            ("integrate", layout(gpu, "integrate", &[Uniform, Write, Write, Write, Write, Write, Write, Read, Read, Write, Write, Read])),
         ]
         .into_iter()
         .collect();
@@ -102,6 +102,7 @@ impl Kernels {
                     &b.stats,
                     &b.history[g],
                     &b.history[1 - g],
+                    &b.orient,
                 ],
             )
         });
@@ -109,7 +110,7 @@ impl Kernels {
             gpu,
             "integrate",
             &layouts["integrate"],
-            &[&b.params, &b.pos, &b.vel, &b.omega, &b.acc, &b.alpha, &b.props, &b.force, &b.torque, &b.energy],
+            &[&b.params, &b.pos, &b.vel, &b.omega, &b.acc, &b.alpha, &b.props, &b.force, &b.torque, &b.energy, &b.orient, &b.tables],
         );
         let reorder =
             b.particle_arrays().iter().map(|a| bind(gpu, "reorder", &layouts["reorder"], &[&b.params, &b.cell_list, a, &b.scratch])).collect();

@@ -23,7 +23,9 @@ pub const REORDER: &str = include_str!("../shaders/reorder.wgsl");
 pub const FORCES: &str = include_str!("../shaders/forces.wgsl");
 /// Contact history slots, the tangential spring and rolling resistance (used by the contact pass).
 pub const HISTORY: &str = include_str!("../shaders/history.wgsl");
-/// Convex polyhedra: quaternions, the shape table and the narrow phase.
+/// Quaternions and the rigid-body rotation updates.
+pub const QUATERNION: &str = include_str!("../shaders/quaternion.wgsl");
+/// Convex polyhedra: the shape table and the narrow phase (needs QUATERNION).
 pub const POLYHEDRA: &str = include_str!("../shaders/polyhedra.wgsl");
 /// The test harness of the polyhedra narrow phase ([`crate::shapes::evaluate`]).
 pub const POLYHEDRA_TEST: &str = include_str!("../shaders/polyhedra_test.wgsl");
@@ -52,14 +54,14 @@ pub fn sources() -> Vec<ShaderSource> {
         with_common("broad", BROAD, &[COMMON], &["bin", "scatter", "order_cells"]),
         with_common("scan", SCAN, &[], &["reduce", "scan_block"]),
         with_common("reorder", REORDER, &[COMMON], &["permute"]),
-        with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY], &["forces"]),
-        with_common("integrate", INTEGRATE, &[COMMON], &["initial", "kick_drift", "finish"]),
+        with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY, QUATERNION, POLYHEDRA], &["forces"]),
+        with_common("integrate", INTEGRATE, &[COMMON, QUATERNION, POLYHEDRA], &["initial", "kick_drift", "finish"]),
     ]
 }
 
 /// The polyhedra narrow phase with its test harness (entry point `evaluate`; no overrides).
 pub fn polyhedra_test_source() -> String {
-    [POLYHEDRA, POLYHEDRA_TEST].join("\n")
+    [QUATERNION, POLYHEDRA, POLYHEDRA_TEST].join("\n")
 }
 
 /// The plan's feature switches, one per WGSL `override` in common.wgsl.
@@ -76,6 +78,9 @@ pub struct Switches {
     pub history: bool,
     /// Rolling resistance.
     pub rolling: bool,
+    /// Convex polyhedral particles (orientations, the shape table); always with rotation,
+    /// never with cohesion or drag (the plan refuses those with polyhedra).
+    pub polyhedra: bool,
     /// 0: no fluid, 1: Stokes, 2: quadratic.
     pub drag: u32,
     pub taylor_green: bool,
@@ -107,6 +112,7 @@ impl Switches {
             walls: !plan.walls.is_empty(),
             history: plan.history,
             rolling: plan.rolling && plan.rotation,
+            polyhedra: false,
             drag: match plan.fluid.map(|f| f.drag) {
                 None => 0,
                 Some(Drag::Stokes { .. }) => 1,
@@ -126,7 +132,11 @@ impl Switches {
             if (b(7) && !b(5)) || (b(8) && !b(0)) {
                 continue;
             }
-            for (drag, taylor_green) in [(0, false), (1, false), (1, true), (2, false)] {
+            for (drag, taylor_green, polyhedra) in [(0, false, false), (1, false, false), (1, true, false), (2, false, false), (0, false, true)] {
+                // Polyhedra rotate and neither cohere nor feel drag.
+                if polyhedra && (!b(0) || b(1)) {
+                    continue;
+                }
                 for integrator in Integrator::ALL {
                     out.push(Switches {
                         rotation: b(0),
@@ -138,6 +148,7 @@ impl Switches {
                         walls: b(6),
                         history: b(7),
                         rolling: b(8),
+                        polyhedra,
                         drag,
                         taylor_green,
                         integrator,
@@ -149,7 +160,7 @@ impl Switches {
     }
 
     /// All override values by name.
-    pub fn constants(&self) -> [(&'static str, f64); 12] {
+    pub fn constants(&self) -> [(&'static str, f64); 13] {
         let f = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("ROTATION", f(self.rotation)),
@@ -161,6 +172,7 @@ impl Switches {
             ("WALLS", f(self.walls)),
             ("HISTORY", f(self.history)),
             ("ROLLING", f(self.rolling)),
+            ("POLYHEDRA", f(self.polyhedra)),
             ("DRAG", self.drag as f64),
             ("TAYLOR_GREEN", f(self.taylor_green)),
             ("INTEGRATOR", integrator_code(self.integrator) as f64),

@@ -127,6 +127,8 @@ pub struct ParticleArrays {
     pub props: Vec<[u32; 4]>,
     /// Dissipated energy, fluid work, and their Kahan compensations.
     pub energy: Vec<[f32; 4]>,
+    /// Orientation quaternion (x, y, z, w), polyhedra scenes only (empty otherwise).
+    pub orient: Vec<[f32; 4]>,
 }
 
 impl ParticleArrays {
