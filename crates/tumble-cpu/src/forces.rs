@@ -4,13 +4,14 @@
 
 use crate::history::{Spring, WALL_KEY};
 use crate::neighbours::NeighbourList;
+use crate::polyhedra::{equivalent_radius, polyhedron_pair, polyhedron_wall};
 use crate::state::State;
 use glam::DVec3;
 use tumble_contact::{
     TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, history_force, normal_force, rolling_torque, tangential_force,
 };
 use tumble_geom::sphere_sphere;
-use tumble_scene::{PairParams, Plan, Wall};
+use tumble_scene::{PairParams, Plan, SPHERE, Wall};
 
 /// What the contact pass gives one particle.
 #[derive(Clone, Copy, Debug, Default)]
@@ -62,13 +63,13 @@ pub struct PairOut {
 
 /// Force of one contact on body a, from the contact normal n (b to a), the
 /// overlaps and the relative velocity of a against b at the contact point.
-struct ContactForce {
-    force: DVec3,
-    tangential: DVec3,
+pub(crate) struct ContactForce {
+    pub force: DVec3,
+    pub tangential: DVec3,
     /// |F_n| applied, for the rolling torque.
-    normal: f64,
-    elastic: f64,
-    dissipation: f64,
+    pub normal: f64,
+    pub elastic: f64,
+    pub dissipation: f64,
 }
 
 /// `spring` holds the contact's tangential spring on entry (zero for a new contact)
@@ -77,7 +78,7 @@ struct ContactForce {
 /// last step, so the energy balance closes even as a Mindlin k_t changes with δ.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn contact_force<const COH: bool, const HIST: bool>(
+pub(crate) fn contact_force<const COH: bool, const HIST: bool>(
     p: &PairParams,
     n: DVec3,
     overlap: f64,
@@ -129,7 +130,7 @@ fn contact_force<const COH: bool, const HIST: bool>(
 /// The contact of pair (a, b), a with the lower id; zero when out of range.
 /// With history, `spring` receives the pair's new spring as a holds it.
 #[inline(always)]
-pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, const HIST: bool>(
+pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, const HIST: bool, const POLY: bool>(
     c: &ContactInputs,
     a: usize,
     b: usize,
@@ -143,6 +144,9 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
     // Touching (δ = 0) counts: a contact that starts at zero overlap feels its damping at once.
     if d.length_squared() > cutoff * cutoff {
         return out;
+    }
+    if POLY && (s.shape[a] != SPHERE || s.shape[b] != SPHERE) {
+        return polyhedron_pair::<HIST>(c, a, b, d, spring);
     }
     let Some(g) = sphere_sphere(d, s.radius[a], s.radius[b]) else { return out };
     let effect_overlap = if COH { cutoff - g.distance } else { 0.0 };
@@ -204,7 +208,7 @@ impl SpringSlots<'_> {
 /// `wall_power` is empty, or one slot per wall candidate of `i` (its share of
 /// `list.wall_entries`), which receives F_on_particle · v_wall of that contact.
 #[inline(always)]
-pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
+pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bool>(
     c: &ContactInputs,
     list: &NeighbourList,
     pairs: &[PairOut],
@@ -257,32 +261,48 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
     for (slot, &wall) in near.iter().enumerate() {
         let wall = wall as u32;
         let w = &c.walls[wall as usize];
-        let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
-        let effect_overlap = k.overlap + extra;
-        if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
-            continue;
-        }
-        let params = plan.pair(s.material[i], w.material);
-        let arm = k.point - xi;
-        let v_wall = w.velocity_at(k.point);
-        let mut v_rel = c.vel[i] - v_wall;
-        if ROT {
-            v_rel += c.omega[i].cross(arm);
-        }
         let key = WALL_KEY | wall;
-        let mut spring = if HIST { s.history.find(i, key) } else { Spring::default() };
-        let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, plan.dt, &mut spring);
+        let mut spring = Spring::default();
+        // (contact point, body overlap, force, torque about the centre, R* for the rolling couple)
+        let mut power = 0.0;
+        let (point, overlap, f, torque, r_roll) = if POLY && s.shape[i] != SPHERE {
+            if HIST {
+                spring = s.history.find(i, key);
+            }
+            let Some((k, f, torque, twist_power)) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
+            power = twist_power;
+            (k.point, k.depth, f, torque, equivalent_radius(c, i))
+        } else {
+            let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
+            let effect_overlap = k.overlap + extra;
+            if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
+                continue;
+            }
+            let params = plan.pair(s.material[i], w.material);
+            let arm = k.point - xi;
+            let mut v_rel = c.vel[i] - w.velocity_at(k.point);
+            if ROT {
+                v_rel += c.omega[i].cross(arm);
+            }
+            if HIST {
+                spring = s.history.find(i, key);
+            }
+            let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, plan.dt, &mut spring);
+            let torque = arm.cross(f.tangential);
+            (k.point, k.overlap, f, torque, r)
+        };
         if HIST && spring.xi != DVec3::ZERO {
             slots.keep(&mut sum.springs, key, spring);
         }
         sum.force += f.force;
-        let mut power = f.force.dot(v_wall);
+        power += f.force.dot(w.velocity_at(point));
         if ROT {
-            sum.torque += arm.cross(f.tangential);
+            sum.torque += torque;
+            let params = plan.pair(s.material[i], w.material);
             if params.rolling > 0.0 {
                 // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
                 let spin = w.angular_velocity();
-                let roll = rolling_torque(params.rolling, r, f.normal, c.omega[i] - spin, s.inv_inertia[i], plan.dt);
+                let roll = rolling_torque(params.rolling, r_roll, f.normal, c.omega[i] - spin, s.inv_inertia[i], plan.dt);
                 sum.torque += roll;
                 power += roll.dot(spin);
                 sum.dissipation -= roll.dot(c.omega[i] - spin);
@@ -293,9 +313,9 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool>(
         }
         sum.elastic += f.elastic;
         sum.dissipation += f.dissipation;
-        if k.overlap > 0.0 {
+        if overlap > 0.0 {
             sum.contacts += 1;
-            sum.max_overlap_ratio = sum.max_overlap_ratio.max(k.overlap / r);
+            sum.max_overlap_ratio = sum.max_overlap_ratio.max(overlap / r_roll);
         }
     }
     if HIST {

@@ -37,6 +37,7 @@ mod forces;
 mod history;
 mod neighbours;
 mod observables;
+mod polyhedra;
 mod state;
 mod step;
 

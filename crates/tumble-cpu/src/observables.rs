@@ -74,7 +74,7 @@ impl CpuSimulation {
                 o.potential_energy -= s.mass[i] * g.dot(s.pos[i]);
                 if !s.omega.is_empty() {
                     o.finite &= s.omega[i].is_finite();
-                    o.rotational_energy += 0.5 * s.omega[i].length_squared() / s.inv_inertia[i];
+                    o.rotational_energy += s.rotational_energy(i);
                 }
             }
             o.dissipated_energy += s.dissipated[i];

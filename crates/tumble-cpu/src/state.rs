@@ -1,7 +1,7 @@
 //! Particle arrays (structure of arrays), re-sorted by cell for locality.
 
 use crate::history::HistorySlots;
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use tumble_broad::permute;
 use tumble_scene::{CompiledScene, Drag};
 
@@ -33,6 +33,11 @@ pub struct State {
     pub fluid_work: Vec<f64>,
     /// Tangential springs of this particle's contacts (empty without history).
     pub history: HistorySlots,
+    /// Polyhedra only (empty in sphere-only scenes): shape index (`tumble_scene::SPHERE` for a
+    /// sphere), body-to-world orientation and principal inverse inertia (zero for fixed bodies).
+    pub shape: Vec<u16>,
+    pub orient: Vec<DQuat>,
+    pub inv_inertia_body: Vec<DVec3>,
 }
 
 impl State {
@@ -42,7 +47,8 @@ impl State {
         let n = p.len();
         let mut s = State::default();
         for i in 0..n {
-            let m = plan.materials[p.material[i] as usize].density * 4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3);
+            let density = plan.materials[p.material[i] as usize].density;
+            let m = density * p.volume[i];
             s.id.push(i as u32);
             s.pos.push(p.position[i]);
             s.vel.push(p.velocity[i]);
@@ -58,7 +64,18 @@ impl State {
             if plan.rotation {
                 s.omega.push(p.angular_velocity[i]);
                 s.alpha.push(DVec3::ZERO);
-                s.inv_inertia.push(if p.fixed[i] { 0.0 } else { 1.0 / (0.4 * m * p.radius[i] * p.radius[i]) });
+                let principal = match p.shape[i] {
+                    tumble_scene::SPHERE => DVec3::splat(0.4 * m * p.radius[i] * p.radius[i]),
+                    k => plan.shapes[k as usize].body.principal_inertia(density),
+                };
+                let inv = if p.fixed[i] { DVec3::ZERO } else { principal.recip() };
+                // The scalar serves spheres and caps the rolling couple: the largest (softest) axis.
+                s.inv_inertia.push(inv.max_element());
+                if plan.polyhedra {
+                    s.shape.push(p.shape[i]);
+                    s.orient.push(p.orientation[i]);
+                    s.inv_inertia_body.push(inv);
+                }
             }
             if let Some(f) = &plan.fluid {
                 s.fluid_work.push(0.0);
@@ -72,6 +89,24 @@ impl State {
         }
         s.history = HistorySlots::new(n, if plan.history { plan.history_slots } else { 0 });
         s
+    }
+
+    /// Rotational kinetic energy ½ ω·I ω of movable particle `i` (principal inertia for polyhedra).
+    pub fn rotational_energy(&self, i: usize) -> f64 {
+        if self.orient.is_empty() {
+            return 0.5 * self.omega[i].length_squared() / self.inv_inertia[i];
+        }
+        let w = self.orient[i].inverse() * self.omega[i];
+        0.5 * (w * w / self.inv_inertia_body[i]).element_sum()
+    }
+
+    /// Angular momentum I ω about the centre of movable particle `i` (world frame).
+    pub fn spin_momentum(&self, i: usize) -> DVec3 {
+        if self.orient.is_empty() {
+            return self.omega[i] / self.inv_inertia[i];
+        }
+        let q = self.orient[i];
+        q * ((q.inverse() * self.omega[i]) / self.inv_inertia_body[i])
     }
 
     pub fn len(&self) -> usize {
@@ -90,8 +125,9 @@ impl State {
         mut fu: impl FnMut(&mut Vec<u32>),
         mut fs: impl FnMut(&mut Vec<u16>),
         mut fb: impl FnMut(&mut Vec<bool>),
+        mut fq: impl FnMut(&mut Vec<DQuat>),
     ) {
-        for v in [&mut self.pos, &mut self.vel, &mut self.acc, &mut self.omega, &mut self.alpha] {
+        for v in [&mut self.pos, &mut self.vel, &mut self.acc, &mut self.omega, &mut self.alpha, &mut self.inv_inertia_body] {
             if !v.is_empty() {
                 f3(v);
             }
@@ -113,12 +149,27 @@ impl State {
         fu(&mut self.id);
         fs(&mut self.material);
         fs(&mut self.group);
+        if !self.shape.is_empty() {
+            fs(&mut self.shape);
+        }
+        fq(&mut self.orient);
         fb(&mut self.track);
     }
 
     /// Reorders every array by `order` (new slot k holds old particle order[k]).
     pub fn permute(&mut self, order: &[u32]) {
-        self.for_each_array(|v| permute(v, order), |v| permute(v, order), |v| permute(v, order), |v| permute(v, order), |v| permute(v, order));
+        self.for_each_array(
+            |v| permute(v, order),
+            |v| permute(v, order),
+            |v| permute(v, order),
+            |v| permute(v, order),
+            |v| permute(v, order),
+            |v| {
+                if !v.is_empty() {
+                    permute(v, order)
+                }
+            },
+        );
         self.history.permute(order);
     }
 
@@ -131,7 +182,14 @@ impl State {
                 keep[k - 1]
             });
         }
-        self.for_each_array(|v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep), |v| filter(v, keep));
+        self.for_each_array(
+            |v| filter(v, keep),
+            |v| filter(v, keep),
+            |v| filter(v, keep),
+            |v| filter(v, keep),
+            |v| filter(v, keep),
+            |v| filter(v, keep),
+        );
         self.history.retain(keep);
     }
 }

@@ -8,7 +8,10 @@ use rayon::prelude::*;
 use tumble_broad::CellGrid;
 use tumble_contact::{FlowField, quadratic_drag};
 use tumble_geom::PeriodicBox;
-use tumble_integrate::{Integrator, euler, implicit_drag, symplectic_euler, verlet_force_velocity, verlet_kick, verlet_kick_drift};
+use tumble_integrate::{
+    Integrator, euler, free_rotation, implicit_drag, symplectic_euler, verlet_force_velocity, verlet_kick, verlet_kick_drift,
+    world_inverse_inertia_times,
+};
 use tumble_scene::Drag;
 
 /// Per-particle body-force context, copied out of the plan once per pass.
@@ -112,14 +115,24 @@ impl CpuSimulation {
             ($($rot:literal, $coh:literal, $per:literal);*) => {
                 match (self.plan.rotation, self.plan.cohesion, periodic, self.plan.history) {
                     $(
-                        ($rot, $coh, $per, false) => self.contact_pass_with::<$rot, $coh, $per, false>(use_eval),
-                        ($rot, $coh, $per, true) => self.contact_pass_with::<$rot, $coh, $per, true>(use_eval),
+                        ($rot, $coh, $per, false) => self.contact_pass_with::<$rot, $coh, $per, false, false>(use_eval),
+                        ($rot, $coh, $per, true) => self.contact_pass_with::<$rot, $coh, $per, true, false>(use_eval),
                     )*
                 }
             };
         }
-        dispatch!(false, false, false; true, false, false; false, true, false; true, true, false;
-                  false, false, true; true, false, true; false, true, true; true, true, true);
+        if self.plan.polyhedra {
+            // Polyhedra always rotate and never cohere (the plan refuses cohesion with them).
+            match (periodic, self.plan.history) {
+                (false, false) => self.contact_pass_with::<true, false, false, false, true>(use_eval),
+                (false, true) => self.contact_pass_with::<true, false, false, true, true>(use_eval),
+                (true, false) => self.contact_pass_with::<true, false, true, false, true>(use_eval),
+                (true, true) => self.contact_pass_with::<true, false, true, true, true>(use_eval),
+            }
+        } else {
+            dispatch!(false, false, false; true, false, false; false, true, false; true, true, false;
+                      false, false, true; true, false, true; false, true, true; true, true, true);
+        }
         if self.plan.history && commit {
             std::mem::swap(&mut self.state.history, &mut self.history_next);
             self.check_history_capacity();
@@ -139,7 +152,7 @@ impl CpuSimulation {
         }
     }
 
-    fn contact_pass_with<const ROT: bool, const COH: bool, const PERIODIC: bool, const HIST: bool>(&mut self, use_eval: bool) {
+    fn contact_pass_with<const ROT: bool, const COH: bool, const PERIODIC: bool, const HIST: bool, const POLY: bool>(&mut self, use_eval: bool) {
         let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
         let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega, walls: &self.walls };
         let n = self.state.len();
@@ -165,7 +178,7 @@ impl CpuSimulation {
                 pairs
                     .map(|p| {
                         let mut spring = Spring::default();
-                        (pair_contact::<ROT, COH, PERIODIC, HIST>(&inputs, p[0] as usize, p[1] as usize, &mut spring), spring)
+                        (pair_contact::<ROT, COH, PERIODIC, HIST, POLY>(&inputs, p[0] as usize, p[1] as usize, &mut spring), spring)
                     })
                     .unzip_into_vecs(pair_out, pair_spring);
                 next.resize(n);
@@ -178,20 +191,22 @@ impl CpuSimulation {
                     .zip(chunks.into_par_iter())
                     .with_min_len(512)
                     .map(|((((i, key), spring), count), power)| {
-                        let sum = gather::<ROT, COH, HIST>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring }, power);
+                        let sum = gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring }, power);
                         *count = sum.springs.min(slots as u32) as u16;
                         sum
                     })
                     .collect_into_vec(sums);
             } else {
                 pairs
-                    .map(|p| pair_contact::<ROT, COH, PERIODIC, HIST>(&inputs, p[0] as usize, p[1] as usize, &mut Spring::default()))
+                    .map(|p| pair_contact::<ROT, COH, PERIODIC, HIST, POLY>(&inputs, p[0] as usize, p[1] as usize, &mut Spring::default()))
                     .collect_into_vec(pair_out);
                 (0..n)
                     .into_par_iter()
                     .zip(chunks.into_par_iter())
                     .with_min_len(512)
-                    .map(|(i, power)| gather::<ROT, COH, HIST>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }, power))
+                    .map(|(i, power)| {
+                        gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }, power)
+                    })
                     .collect_into_vec(sums);
             }
         });
@@ -229,7 +244,11 @@ impl CpuSimulation {
                     }
                 });
             }
-            if !s.alpha.is_empty() {
+            if !s.orient.is_empty() {
+                // α = R I⁻¹ Rᵀ τ; the gyroscopic term lives in the torque-free drift (free_rotation).
+                let (orient, inv_body) = (&s.orient, &s.inv_inertia_body);
+                s.alpha.par_iter_mut().enumerate().for_each(|(i, al)| *al = world_inverse_inertia_times(orient[i], inv_body[i], sums[i].torque));
+            } else if !s.alpha.is_empty() {
                 let inv_inertia = &s.inv_inertia;
                 s.alpha.par_iter_mut().enumerate().for_each(|(i, al)| *al = sums[i].torque * inv_inertia[i]);
             }
@@ -268,6 +287,7 @@ impl CpuSimulation {
                         s.omega.par_iter_mut().enumerate().for_each(|(i, w)| *w += alpha[i] * (0.5 * dt));
                     });
                 }
+                self.drift_orientations(dt);
                 self.boundaries();
                 // Forces at x_{n+1} see the walls at t_{n+1}.
                 self.place_walls((self.step + 1) as f64 * dt);
@@ -340,12 +360,30 @@ impl CpuSimulation {
                         *w += dw;
                     }
                 }
+                self.drift_orientations(dt);
             }
         }
         self.step += 1;
         if self.plan.integrator.forces_first() {
             self.boundaries();
         }
+    }
+
+    /// Turns every body by its spin over Δt, torque-free (polyhedra only): the world angular
+    /// momentum is held while the orientation and ω follow the free-body motion.
+    fn drift_orientations(&mut self, dt: f64) {
+        let s = &mut self.state;
+        if s.orient.is_empty() {
+            return;
+        }
+        let inv_body = &s.inv_inertia_body;
+        self.pool.install(|| {
+            s.orient.par_iter_mut().zip(s.omega.par_iter_mut()).enumerate().for_each(|(i, (q, w))| {
+                if inv_body[i] != DVec3::ZERO {
+                    (*q, *w) = free_rotation(*q, inv_body[i], *w, dt);
+                }
+            });
+        });
     }
 
     /// Wraps periodic axes and removes particles that left through other sides.

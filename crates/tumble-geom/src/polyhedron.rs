@@ -332,7 +332,11 @@ fn merge_faces(points: &[DVec3], tris: &[[u32; 3]], size: f64) -> Option<(Vec<DV
         }
         let n = area2 / len;
         // A convex polytope has one face per outward normal: group by normal alone.
-        match groups.iter_mut().find(|g| g.normal_sum.normalize().dot(n) > 1.0 - PLANAR_TOL) {
+        // By the sine of the angle: 1 − cos would merge faces up to √(2·tol) apart, leaving vertices off their plane.
+        match groups.iter_mut().find(|g| {
+            let m = g.normal_sum.normalize();
+            m.dot(n) > 0.0 && m.cross(n).length() < PLANAR_TOL
+        }) {
             Some(g) => {
                 g.normal_sum += area2;
                 g.members.extend_from_slice(t);

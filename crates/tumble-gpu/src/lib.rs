@@ -76,6 +76,9 @@ impl GpuSimulation {
                 "it has moving walls, lifters or flow planes, which the GPU backend does not run yet; use backend = \"cpu\"".into(),
             ));
         }
+        if plan.polyhedra {
+            return Err(GpuError::Feature("it has polyhedral particles, which the GPU backend does not run yet; use backend = \"cpu\"".into()));
+        }
         let gpu = context::gpu()?;
         let state = tumble_cpu::State::from_scene(&scene);
         let plan = scene.plan;

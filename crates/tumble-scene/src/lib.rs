@@ -31,6 +31,7 @@ mod particles;
 mod plan;
 mod rng;
 pub mod schema;
+mod shapes;
 pub mod targets;
 
 pub use error::SceneError;
@@ -39,3 +40,4 @@ pub use particles::InitialParticles;
 pub use plan::{CompiledScene, Drag, Feature, Fluid, Material, PairParams, Plan, Timescales, Wall, compile};
 pub use rng::Rng;
 pub use schema::Scene;
+pub use shapes::{ParticleShape, SPHERE};

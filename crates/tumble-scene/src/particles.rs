@@ -1,9 +1,10 @@
 //! Turning particle groups (explicit, lattice, random) into initial particle arrays.
 
 use crate::rng::Rng;
-use crate::schema::{DiameterSpec, FlowSection, NamedVelocity, ParticleGroup, ShapeSection, VelocitySpec};
+use crate::schema::{DiameterSpec, FlowSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, VelocitySpec};
+use crate::shapes::{ParticleShape, SPHERE};
 use crate::{Scene, SceneError};
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use std::collections::HashMap;
 use tumble_contact::FlowField;
 
@@ -13,7 +14,14 @@ pub struct InitialParticles {
     pub position: Vec<DVec3>,
     pub velocity: Vec<DVec3>,
     pub angular_velocity: Vec<DVec3>,
+    /// Sphere radius, or a polyhedron's bounding radius (its reach in the broad phase).
     pub radius: Vec<f64>,
+    /// Body volume (mass = density × volume).
+    pub volume: Vec<f64>,
+    /// [`SPHERE`] or an index into the plan's shape table.
+    pub shape: Vec<u16>,
+    /// Body-to-world rotation (identity for spheres).
+    pub orientation: Vec<DQuat>,
     /// Cohesion effect radius (= radius without cohesion).
     pub effect_radius: Vec<f64>,
     pub material: Vec<u16>,
@@ -30,10 +38,21 @@ impl InitialParticles {
     pub fn is_empty(&self) -> bool {
         self.position.is_empty()
     }
+
+    /// Radius of the sphere of equal volume (the radius itself for spheres).
+    pub fn equivalent_radius(&self, i: usize) -> f64 {
+        if self.shape[i] == SPHERE { self.radius[i] } else { (3.0 * self.volume[i] / (4.0 * std::f64::consts::PI)).cbrt() }
+    }
 }
 
-/// Generates every group's particles; `material_index` maps names to table indices.
-pub fn generate(scene: &Scene, material_index: &HashMap<String, u16>) -> Result<InitialParticles, SceneError> {
+/// Generates every group's particles; `material_index` maps names to table indices and
+/// `group_shape` gives each group's entry in `shapes` (None for spheres).
+pub fn generate(
+    scene: &Scene,
+    material_index: &HashMap<String, u16>,
+    group_shape: &[Option<u16>],
+    shapes: &[ParticleShape],
+) -> Result<InitialParticles, SceneError> {
     let mut out = InitialParticles::default();
     let mut rng = Rng::new(scene.run.seed);
     for (g, group) in scene.particles.iter().enumerate() {
@@ -42,11 +61,22 @@ pub fn generate(scene: &Scene, material_index: &HashMap<String, u16>) -> Result<
             let known: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
             SceneError::field(field("material"), format!("unknown material \"{}\"; defined materials: {}", group.material, known.join(", ")))
         })?;
-        let ShapeSection::Sphere(sphere) = &group.shape;
-        let mut diameter = |rng: &mut Rng| match sphere.diameter {
-            DiameterSpec::Fixed(d) => d,
-            DiameterSpec::Uniform(r) => rng.range(r.min, r.max),
+        let shape = group_shape[g].map(|k| (k, &shapes[k as usize]));
+        let sphere = match &group.shape {
+            ShapeSection::Sphere(s) => Some(s),
+            _ => None,
         };
+        let mut diameter = |rng: &mut Rng| match (shape, sphere) {
+            (Some((_, s)), _) => 2.0 * s.body.bounding_radius(),
+            (None, Some(sphere)) => match sphere.diameter {
+                DiameterSpec::Fixed(d) => d,
+                DiameterSpec::Uniform(r) => rng.range(r.min, r.max),
+            },
+            (None, None) => unreachable!("every non-sphere group has a shape"),
+        };
+        if shape.is_none() && group.orientation.is_some() {
+            return Err(SceneError::field(field("orientation"), "spheres have no orientation; remove it (it is for polyhedra)"));
+        }
         let centres = group_positions(group, g, &mut rng, &mut diameter)?;
         // velocity = "flow": the fluid velocity where each particle starts.
         let flow = match (&group.velocity, scene.fluid.as_ref().map(|f| &f.flow)) {
@@ -59,11 +89,31 @@ pub fn generate(scene: &Scene, material_index: &HashMap<String, u16>) -> Result<
             }
             _ => None,
         };
+        let given = match group.orientation {
+            Some(OrientationSpec::Quaternion(q)) => {
+                let q = DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
+                if !q.is_finite() || q.length() < 1e-12 {
+                    return Err(SceneError::field(field("orientation"), "must be a non-zero quaternion [w, x, y, z] or \"random\""));
+                }
+                Some(q.normalize())
+            }
+            _ => None,
+        };
         for (x, d) in centres {
-            let effect = match (sphere.effect_diameter, sphere.effect_ratio) {
-                (Some(de), _) => de,
-                (None, Some(ratio)) => ratio * d,
-                (None, None) => d,
+            let effect = match sphere.map(|s| (s.effect_diameter, s.effect_ratio)) {
+                Some((Some(de), _)) => de,
+                Some((None, Some(ratio))) => ratio * d,
+                _ => d,
+            };
+            let (shape_index, volume, orientation) = match shape {
+                None => (SPHERE, std::f64::consts::PI / 6.0 * d * d * d, DQuat::IDENTITY),
+                Some((k, s)) => {
+                    let user = match group.orientation {
+                        Some(OrientationSpec::Named(_)) => rng.rotation(),
+                        _ => given.unwrap_or(DQuat::IDENTITY),
+                    };
+                    (k, s.body.volume(), (user * s.as_given).normalize())
+                }
             };
             let v = match &group.velocity {
                 None => DVec3::ZERO,
@@ -75,6 +125,9 @@ pub fn generate(scene: &Scene, material_index: &HashMap<String, u16>) -> Result<
             out.velocity.push(if group.fixed { DVec3::ZERO } else { v });
             out.angular_velocity.push(if group.fixed { DVec3::ZERO } else { DVec3::from_array(group.angular_velocity.unwrap_or([0.0; 3])) });
             out.radius.push(0.5 * d);
+            out.volume.push(volume);
+            out.shape.push(shape_index);
+            out.orientation.push(orientation);
             out.effect_radius.push(0.5 * effect);
             out.material.push(material);
             out.group.push(g as u16);
@@ -156,6 +209,8 @@ fn group_positions(
                         DiameterSpec::Fixed(d) => d,
                         DiameterSpec::Uniform(r) => r.max,
                     },
+                    // Polyhedra are placed by their bounding spheres.
+                    _ => d,
                 };
             }
             let key = |p: DVec3| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64, (p.z / cell).floor() as i64);

@@ -201,6 +201,10 @@ pub struct Plan {
     pub integrator: Integrator,
     pub backend: BackendName,
     pub rotation: bool,
+    /// Some particle is a convex polyhedron: bodies carry an orientation and a shape index.
+    pub polyhedra: bool,
+    /// Polyhedral particle types, indexed by `InitialParticles::shape`.
+    pub shapes: Vec<crate::ParticleShape>,
     pub cohesion: bool,
     /// Some pair keeps a tangential spring per contact.
     pub history: bool,
@@ -423,9 +427,17 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     }
 
     // Particles.
-    let particles = generate(scene, &material_index)?;
+    let mut shapes = Vec::new();
+    let mut group_shape = Vec::with_capacity(scene.particles.len());
     for (g, group) in scene.particles.iter().enumerate() {
-        let ShapeSection::Sphere(s) = &group.shape;
+        group_shape.push(crate::shapes::group_shape(group, g)?.map(|s| {
+            shapes.push(s);
+            (shapes.len() - 1) as u16
+        }));
+    }
+    let particles = generate(scene, &material_index, &group_shape, &shapes)?;
+    for (g, group) in scene.particles.iter().enumerate() {
+        let ShapeSection::Sphere(s) = &group.shape else { continue };
         let f = |x: &str| format!("particles[{g}].shape.sphere.{x}");
         match s.diameter {
             DiameterSpec::Fixed(d) => {
@@ -472,7 +484,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             ));
         }
     }
-    check_explicit_overlaps(scene, &particles, &domain)?;
+    check_explicit_overlaps(scene, &particles, &shapes, &domain)?;
 
     // Walls.
     let (walls, wall_groups, drums) = compile_walls(scene, &lookup, &domain)?;
@@ -536,7 +548,15 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         Some(k) => k as usize,
         None => DEFAULT_HISTORY_SLOTS,
     };
+    let polyhedra = !shapes.is_empty();
     let (rotation, rotation_reason) = match scene.run.rotation {
+        RotationMode::Off if polyhedra => {
+            return Err(SceneError::field(
+                "run.rotation",
+                "polyhedra turn under their contact forces (the normal force does not pass through the centre); remove run.rotation = \"off\"",
+            ));
+        }
+        _ if polyhedra => (true, "polyhedra: normal forces act off the centre of mass, so every body carries an orientation".to_string()),
         RotationMode::On => (true, "run.rotation = \"on\"".to_string()),
         RotationMode::Off if rolling => {
             return Err(SceneError::field(
@@ -550,6 +570,12 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         RotationMode::Auto => (false, "no tangential force, so no torque: no rotation state is carried".to_string()),
     };
     let cohesion = pairs.iter().any(|p| p.cohesion > 0.0);
+    if polyhedra && cohesion {
+        return Err(SceneError::field("contact.cohesion", "cohesion acts between spheres only; this scene has polyhedral particles"));
+    }
+    if polyhedra && fluid.is_some() {
+        return Err(SceneError::field("fluid", "fluid drag is modelled for spheres only; this scene has polyhedral particles"));
+    }
     let max_reach = (0..particles.len())
         .map(|i| if cohesion { particles.effect_radius[i].max(particles.radius[i]) } else { particles.radius[i] })
         .fold(0.0, f64::max);
@@ -653,6 +679,16 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
 
     let mut features = vec![
         Feature { name: "rotation", active: rotation, reason: rotation_reason },
+        Feature {
+            name: "polyhedra",
+            active: polyhedra,
+            reason: if polyhedra {
+                let names: Vec<String> = shapes.iter().map(|s| format!("{} ({} faces)", s.name, s.body.faces().len())).collect();
+                format!("convex polyhedra: {}; bounding radius sets the search reach", names.join(", "))
+            } else {
+                "every particle is a sphere: no orientation or shape is carried".into()
+            },
+        },
         Feature {
             name: "cohesion",
             active: cohesion,
@@ -762,7 +798,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         + if rotation { 8 * 7 } else { 0 } // angular velocity and acceleration, inverse inertia
         + if integrator == Integrator::Verlet { 24 * if rotation { 2 } else { 1 } } else { 0 }
         + if fluid.is_some() { 8 } else { 0 }
-        + if history { 2 * (2 + history_slots * (4 + 24)) } else { 0 }; // two generations of spring slots: count, neighbour id, ξ
+        + if history { 2 * (2 + history_slots * (4 + 24)) } else { 0 } // two generations of spring slots: count, neighbour id, ξ
+        + if polyhedra { 2 + 32 + 24 } else { 0 }; // shape index, orientation, principal inverse inertia
 
     Ok(CompiledScene {
         plan: Plan {
@@ -775,6 +812,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
             integrator,
             backend: run.backend,
             rotation,
+            polyhedra,
+            shapes,
             cohesion,
             history,
             history_slots,
@@ -1180,15 +1219,40 @@ const DEFAULT_SKIN: f64 = 0.1;
 /// Body contacts closer than this fraction of the smaller diameter count as overlapping.
 const OVERLAP_TOLERANCE: f64 = 1e-9;
 
-fn check_explicit_overlaps(scene: &Scene, p: &InitialParticles, domain: &PeriodicBox) -> Result<(), SceneError> {
+fn check_explicit_overlaps(scene: &Scene, p: &InitialParticles, shapes: &[crate::ParticleShape], domain: &PeriodicBox) -> Result<(), SceneError> {
+    use tumble_geom::{Pose, polyhedron_polyhedron, sphere_polyhedron};
+    // Depth of the body overlap of i and j (bounding spheres are only a first test for polyhedra).
+    let body_overlap = |i: usize, j: usize, d: DVec3, sphere_overlap: f64| -> f64 {
+        let pose = |k: usize, x: DVec3| (&shapes[p.shape[k] as usize].body, Pose::new(x, p.orientation[k]));
+        let (xi, xj) = (p.position[i], p.position[i] - d);
+        let contact = match (p.shape[i] != crate::SPHERE, p.shape[j] != crate::SPHERE) {
+            (false, false) => return sphere_overlap,
+            (true, true) => {
+                let ((a, pa), (b, pb)) = (pose(i, xi), pose(j, xj));
+                polyhedron_polyhedron(a, &pa, b, &pb)
+            }
+            (true, false) => {
+                let (a, pa) = pose(i, xi);
+                sphere_polyhedron(xj, p.radius[j], a, &pa)
+            }
+            (false, true) => {
+                let (b, pb) = pose(j, xj);
+                sphere_polyhedron(xi, p.radius[i], b, &pb)
+            }
+        };
+        contact.map_or(-1.0, |c| c.depth)
+    };
     let explicit: Vec<usize> = (0..p.len()).filter(|&i| scene.particles[p.group[i] as usize].positions.is_some()).collect();
     if explicit.len() > 20_000 {
         return Ok(()); // too many to check pairwise; lattice and random groups are safe by construction
     }
     for (a, &i) in explicit.iter().enumerate() {
         for &j in &explicit[a + 1..] {
-            let d = domain.minimum_image(p.position[i] - p.position[j]).length();
-            let overlap = p.radius[i] + p.radius[j] - d;
+            let dv = domain.minimum_image(p.position[i] - p.position[j]);
+            let mut overlap = p.radius[i] + p.radius[j] - dv.length();
+            if overlap > 0.0 {
+                overlap = body_overlap(i, j, dv, overlap);
+            }
             if overlap > OVERLAP_TOLERANCE * 2.0 * p.radius[i].min(p.radius[j]) {
                 return Err(SceneError::field(
                     format!("particles[{}].positions", p.group[j]),
@@ -1217,7 +1281,7 @@ fn timescales(
     rotation: bool,
 ) -> Timescales {
     let n_mat = materials.len();
-    let mass = |i: usize| materials[p.material[i] as usize].density * 4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3);
+    let mass = |i: usize| materials[p.material[i] as usize].density * p.volume[i];
     // Lightest movable particle and smallest radius per material; materials that only fixed particles or walls use.
     let mut lightest = vec![f64::INFINITY; n_mat];
     let mut smallest = vec![f64::INFINITY; n_mat];
@@ -1231,7 +1295,7 @@ fn timescales(
         } else {
             movable[m] += 1;
             lightest[m] = lightest[m].min(mass(i));
-            smallest[m] = smallest[m].min(p.radius[i]);
+            smallest[m] = smallest[m].min(p.equivalent_radius(i));
         }
     }
     for w in walls {

@@ -38,4 +38,11 @@ impl Rng {
         let s = (1.0 - z * z).sqrt();
         glam::DVec3::new(s * phi.cos(), s * phi.sin(), z)
     }
+
+    /// A rotation uniformly distributed over SO(3) (Shoemake's subgroup algorithm).
+    pub fn rotation(&mut self) -> glam::DQuat {
+        let (u1, u2, u3) = (self.uniform(), self.range(0.0, std::f64::consts::TAU), self.range(0.0, std::f64::consts::TAU));
+        let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+        glam::DQuat::from_xyzw(a * u2.sin(), a * u2.cos(), b * u3.sin(), b * u3.cos()).normalize()
+    }
 }

@@ -300,14 +300,74 @@ pub struct ParticleGroup {
     pub random: Option<RandomSection>,
     pub velocity: Option<VelocitySpec>,
     pub angular_velocity: Option<V3>,
+    /// Initial orientation of polyhedra: `[w, x, y, z]` (normalised) or `"random"` (default: as given).
+    pub orientation: Option<OrientationSpec>,
     #[serde(default)]
     pub track: bool,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum OrientationSpec {
+    Quaternion([f64; 4]),
+    Named(NamedOrientation),
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum NamedOrientation {
+    /// Uniformly random over all rotations, from the run's seed.
+    Random,
 }
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ShapeSection {
     Sphere(SphereSection),
+    /// The convex hull of the given points; the particle's position is its centre of mass.
+    Polyhedron(VertexListSection),
+    Cube(CubeSection),
+    /// A rectangular box: `size = [a, b, c]` (edge lengths).
+    Box(BoxShapeSection),
+    /// A regular solid: `kind` (tetrahedron, cube, octahedron, dodecahedron, icosahedron) and
+    /// `edge` or `radius` (circumradius).
+    Platonic(PlatonicSection),
+    /// A right prism on a regular polygon: `sides`, `radius` (circumradius of the polygon), `height`.
+    Prism(PrismShapeSection),
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VertexListSection {
+    pub vertices: Vec<V3>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CubeSection {
+    pub edge: f64,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxShapeSection {
+    pub size: V3,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlatonicSection {
+    pub kind: String,
+    pub edge: Option<f64>,
+    pub radius: Option<f64>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrismShapeSection {
+    pub sides: u32,
+    pub radius: f64,
+    pub height: f64,
 }
 
 #[derive(Clone, Debug, Deserialize)]

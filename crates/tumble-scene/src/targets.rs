@@ -111,7 +111,7 @@ pub(crate) fn resolve(
     let count = movable.len().max(1) as f64;
     let density = |i: usize| materials[p.material[i] as usize].density;
     let mean_rho_d2 = movable.iter().map(|&i| density(i) * 4.0 * p.radius[i] * p.radius[i]).sum::<f64>() / count;
-    let mean_mass = movable.iter().map(|&i| density(i) * 4.0 / 3.0 * PI * p.radius[i].powi(3)).sum::<f64>() / count;
+    let mean_mass = movable.iter().map(|&i| density(i) * p.volume[i]).sum::<f64>() / count;
     let effect_length = movable.iter().map(|&i| 2.0 * (p.effect_radius[i] - p.radius[i])).sum::<f64>() / count;
     let m_star = 0.5 * mean_mass;
     let mut out = Targets::default();

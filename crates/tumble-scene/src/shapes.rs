@@ -1,0 +1,121 @@
+//! Particle shapes: each polyhedral particle group gets one entry in the plan's shape table.
+
+use crate::SceneError;
+use crate::schema::{ParticleGroup, ShapeSection};
+use glam::{DQuat, DVec3};
+use tumble_geom::Polyhedron;
+
+/// Shape index of a sphere (any other value indexes `Plan::shapes`).
+pub const SPHERE: u16 = u16::MAX;
+
+/// A polyhedral particle type: the body (centre of mass at the origin, principal axes along
+/// the body axes) and the rotation that takes the shape as the scene gave it to the body frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParticleShape {
+    /// Where the shape came from (`particles[g].shape.cube`), for messages and outputs.
+    pub name: String,
+    pub body: Polyhedron,
+    /// The radius of the sphere of equal volume: R* of the contact laws and the overlap ratio.
+    pub equivalent_radius: f64,
+    /// Orientation of the body frame in the frame the shape was given in (a particle with this
+    /// orientation shows the shape as written in the scene).
+    pub as_given: DQuat,
+}
+
+impl ParticleShape {
+    fn new(name: String, body: Polyhedron) -> ParticleShape {
+        let equivalent_radius = (3.0 * body.volume() / (4.0 * std::f64::consts::PI)).cbrt();
+        let as_given = body.input_to_body().rotation.inverse();
+        ParticleShape { name, body, equivalent_radius, as_given }
+    }
+}
+
+/// The polyhedron of group `g`, or `None` for spheres.
+pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<ParticleShape>, SceneError> {
+    let field = |f: &str| format!("particles[{g}].shape.{f}");
+    let positive = |f: &str, v: f64| {
+        if v > 0.0 && v.is_finite() { Ok(v) } else { Err(SceneError::field(field(f), format!("must be a positive length in metres, got {v}"))) }
+    };
+    let (name, body) = match &group.shape {
+        ShapeSection::Sphere(_) => return Ok(None),
+        ShapeSection::Polyhedron(p) => {
+            let points: Vec<DVec3> = p.vertices.iter().map(|v| DVec3::from_array(*v)).collect();
+            let body = Polyhedron::from_points(&points).ok_or_else(|| {
+                SceneError::field(
+                    field("polyhedron.vertices"),
+                    format!("the {} points span no solid (need at least four finite points not all in one plane)", points.len()),
+                )
+            })?;
+            ("polyhedron", body)
+        }
+        ShapeSection::Cube(c) => ("cube", Polyhedron::cube(positive("cube.edge", c.edge)?)),
+        ShapeSection::Box(b) => {
+            let half =
+                DVec3::new(positive("box.size[0]", b.size[0])?, positive("box.size[1]", b.size[1])?, positive("box.size[2]", b.size[2])?) * 0.5;
+            ("box", Polyhedron::cuboid(half))
+        }
+        ShapeSection::Platonic(p) => {
+            let unit: fn(f64) -> Polyhedron = match p.kind.as_str() {
+                "tetrahedron" => Polyhedron::tetrahedron,
+                "cube" | "hexahedron" => Polyhedron::cube,
+                "octahedron" => Polyhedron::octahedron,
+                "dodecahedron" => Polyhedron::dodecahedron,
+                "icosahedron" => Polyhedron::icosahedron,
+                other => {
+                    return Err(SceneError::field(
+                        field("platonic.kind"),
+                        format!("unknown solid \"{other}\"; valid: tetrahedron, cube, octahedron, dodecahedron, icosahedron"),
+                    ));
+                }
+            };
+            let body = match (p.edge, p.radius) {
+                (Some(edge), None) => unit(positive("platonic.edge", edge)?),
+                (None, Some(r)) => {
+                    let one = unit(1.0);
+                    let factor = positive("platonic.radius", r)? / one.bounding_radius();
+                    one.scaled(factor)
+                }
+                _ => return Err(SceneError::field(field("platonic"), "give exactly one of edge (edge length) or radius (circumradius)")),
+            };
+            ("platonic", body)
+        }
+        ShapeSection::Prism(p) => {
+            if p.sides < 3 {
+                return Err(SceneError::field(field("prism.sides"), format!("must be at least 3, got {}", p.sides)));
+            }
+            ("prism", Polyhedron::prism(p.sides as usize, positive("prism.radius", p.radius)?, positive("prism.height", p.height)?))
+        }
+    };
+    Ok(Some(ParticleShape::new(format!("particles[{g}].shape.{name}"), body)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cube_as_given_keeps_its_faces_on_the_axes() {
+        let s = ParticleShape::new("cube".into(), Polyhedron::cube(2.0));
+        for v in s.body.vertices() {
+            let w = s.as_given * *v;
+            assert!((w.abs() - DVec3::ONE).length() < 1e-12, "{w}");
+        }
+        assert!((s.equivalent_radius - (6.0 / std::f64::consts::PI).cbrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn an_off_axis_vertex_list_is_shown_as_written() {
+        // A long box turned 30° about z: its body axes are turned back, as_given undoes that.
+        let turn = DQuat::from_rotation_z(0.5);
+        let pts: Vec<DVec3> = [-1.0, 1.0]
+            .iter()
+            .flat_map(|&x| [-1.0, 1.0].map(move |y| (x, y)))
+            .flat_map(|(x, y)| [-1.0, 1.0].map(move |z| turn * DVec3::new(3.0 * x, 2.0 * y, z) + DVec3::new(5.0, 0.0, 0.0)))
+            .collect();
+        let s = ParticleShape::new("p".into(), Polyhedron::from_points(&pts).unwrap());
+        for p in &pts {
+            let shown = s.as_given * (s.body.input_to_body().to_world(*p));
+            assert!((shown - (*p - DVec3::new(5.0, 0.0, 0.0))).length() < 1e-9);
+        }
+    }
+}
