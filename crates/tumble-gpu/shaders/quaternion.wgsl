@@ -14,8 +14,12 @@ fn quat_mul(a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
 }
 
+// One Newton step after inverseSqrt: GPU inverseSqrt may be a few ulp off in one
+// direction, and a quaternion a little short of unit length scales what it rotates
+// (the angular momentum, every step).
 fn quat_normalize(q: vec4<f32>) -> vec4<f32> {
-    return q * inverseSqrt(dot(q, q));
+    let p = q * inverseSqrt(dot(q, q));
+    return p * (1.5 - 0.5 * dot(p, p));
 }
 
 // The rotation matrix (columns: the body axes in the world).
@@ -32,11 +36,13 @@ fn quat_matrix(q_in: vec4<f32>) -> mat3x3<f32> {
     );
 }
 
-// The rotation about the unit axis e_k (k = 0, 1, 2) by the angle phi.
+// The rotation about the unit axis e_k (k = 0, 1, 2) by the angle phi. Normalised:
+// sin² + cos² of f32 (and of approximate GPU sin/cos) is not 1, and a turn that is not
+// a unit quaternion would scale the angular momentum it rotates, step after step.
 fn quat_about_axis(k: u32, phi: f32) -> vec4<f32> {
     var v = vec3<f32>(0.0);
     v[k] = sin(0.5 * phi);
-    return vec4<f32>(v, cos(0.5 * phi));
+    return quat_normalize(vec4<f32>(v, cos(0.5 * phi)));
 }
 
 // q advanced by the world angular velocity ω over Δt: normalise(Δq ∘ q).

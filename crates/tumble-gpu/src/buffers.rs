@@ -16,9 +16,9 @@ pub fn history_bytes_per_particle(slots: usize) -> u64 {
     2 * 16 * (slots as u64 + 1) * u64::from(slots > 0)
 }
 
-/// Device bytes per particle of a plan (history slots included).
+/// Device bytes per particle of a plan (history slots and orientations included).
 pub fn bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
-    BYTES_PER_PARTICLE + history_bytes_per_particle(crate::upload::history_slots(plan))
+    BYTES_PER_PARTICLE + history_bytes_per_particle(crate::upload::history_slots(plan)) + if plan.polyhedra { 16 } else { 0 }
 }
 
 /// Device bytes per grid cell: counts, cursors and starts (u32 each).

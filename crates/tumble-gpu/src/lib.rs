@@ -76,17 +76,15 @@ impl GpuSimulation {
                 "it has moving walls, lifters or flow planes, which the GPU backend does not run yet; use backend = \"cpu\"".into(),
             ));
         }
-        if plan.polyhedra {
-            return Err(GpuError::Feature("it has polyhedral particles, which the GPU backend does not run yet; use backend = \"cpu\"".into()));
-        }
         let gpu = context::gpu()?;
         let state = tumble_cpu::State::from_scene(&scene);
         let plan = scene.plan;
         let arrays = upload::ParticleArrays::from_state(&state, &plan);
         let slots = arrays.pos.len() as u32;
         let grid = upload::Grid::new(&plan, arrays.pos.len());
-        let params = upload::params(&plan, &grid, slots);
-        let buffers = Buffers::new(&gpu, &arrays, &upload::tables(&plan), &params, &grid, upload::history_slots(&plan))?;
+        let (tables, shape_base) = upload::tables_with_shapes(&plan)?;
+        let params = upload::params(&plan, &grid, slots, shape_base);
+        let buffers = Buffers::new(&gpu, &arrays, &tables, &params, &grid, upload::history_slots(&plan))?;
         let kernels = Kernels::new(&gpu, &buffers, &shaders::Switches::from_plan(&plan));
         let mut sim = GpuSimulation {
             group: state.group.clone(),
@@ -132,7 +130,7 @@ impl GpuSimulation {
 
     /// Device memory this simulation holds, bytes.
     pub fn memory_bytes(&self) -> u64 {
-        memory_bytes(self.slots as u64, &self.grid, upload::history_slots(&self.plan))
+        memory_bytes(self.slots as u64, &self.grid, upload::history_slots(&self.plan)) + if self.plan.polyhedra { 16 * self.slots as u64 } else { 0 }
     }
 
     /// Steps taken so far.

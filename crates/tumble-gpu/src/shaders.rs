@@ -112,7 +112,7 @@ impl Switches {
             walls: !plan.walls.is_empty(),
             history: plan.history,
             rolling: plan.rolling && plan.rotation,
-            polyhedra: false,
+            polyhedra: plan.polyhedra,
             drag: match plan.fluid.map(|f| f.drag) {
                 None => 0,
                 Some(Drag::Stokes { .. }) => 1,

@@ -13,6 +13,9 @@ use tumble_scene::Plan;
 pub const FLAG_FIXED: u32 = 1;
 pub const FLAG_DEAD: u32 = 2;
 
+/// props.w holds the shape index from this bit on (forces.wgsl `shape_of`).
+pub const SHAPE_SHIFT: u32 = 16;
+
 /// Threads per workgroup of the particle kernels (common.wgsl WORKGROUP).
 pub const WORKGROUP: u32 = 64;
 /// Values per workgroup of the scan (scan.wgsl BLOCK) and its threads.
@@ -80,7 +83,8 @@ pub fn dispatch(threads: u32, per_group: u32) -> (u32, u32) {
     (x, groups.div_ceil(x))
 }
 
-pub fn params(plan: &Plan, grid: &Grid, slots: u32) -> Params {
+/// The step parameters; `shape_base`: the first word of the shape table in the tables buffer.
+pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params {
     let e = plan.domain.extent();
     let f4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
     let flow = match plan.fluid.map(|f| f.flow) {
@@ -94,7 +98,7 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32) -> Params {
         periodic: [plan.domain.periodic[0] as u32, plan.domain.periodic[1] as u32, plan.domain.periodic[2] as u32, history_slots(plan) as u32],
         inv_cell: [grid.inv_width[0] as f32, grid.inv_width[1] as f32, grid.inv_width[2] as f32, plan.dt as f32],
         extent: f4(e, 0.0),
-        gravity: f4(plan.gravity, 0.0),
+        gravity: f4(plan.gravity, shape_base as f64),
         flow,
         origin: f4(centre(plan), 0.0),
     }
@@ -150,12 +154,41 @@ impl ParticleArrays {
             a.omega.push([w.x as f32, w.y as f32, w.z as f32, inv_inertia as f32]);
             a.acc.push([0.0, 0.0, 0.0, drag as f32]);
             a.alpha.push([0.0, 0.0, 0.0, s.mass[i] as f32]);
-            let flags = if s.inv_mass[i] == 0.0 { FLAG_FIXED } else { 0 };
+            let mut flags = if s.inv_mass[i] == 0.0 { FLAG_FIXED } else { 0 };
+            if plan.polyhedra {
+                // The shape index (SPHERE = 0xffff for spheres) in the high 16 bits.
+                flags |= (s.shape[i] as u32) << SHAPE_SHIFT;
+                let q = s.orient[i];
+                a.orient.push([q.x as f32, q.y as f32, q.z as f32, q.w as f32]);
+            }
             a.props.push([(s.reach[i] as f32).to_bits(), s.material[i] as u32, s.id[i], flags]);
             a.energy.push([0.0; 4]);
         }
         a
     }
+}
+
+/// The polyhedron shapes of a plan as the device takes them.
+pub fn plan_shapes(plan: &Plan) -> Result<Vec<[f32; 4]>, crate::GpuError> {
+    let bodies: Vec<tumble_geom::Polyhedron> = plan.shapes.iter().map(|s| s.body.clone()).collect();
+    crate::shapes::shape_table(&bodies).map_err(|e| crate::GpuError::Feature(e.0))
+}
+
+/// The pair table (3 vec4 per material pair) followed by the walls (6 vec4 each), then the
+/// shape table (shapes.rs) when the plan has polyhedra; see forces.wgsl. Returns the tables
+/// and the first word of the shape table.
+pub fn tables_with_shapes(plan: &Plan) -> Result<(Vec<[f32; 4]>, usize), crate::GpuError> {
+    let mut t = tables(plan);
+    if !plan.polyhedra {
+        return Ok((t, 0));
+    }
+    let shapes = plan_shapes(plan)?;
+    let base = t.len();
+    t.extend_from_slice(&shapes);
+    if t.len() * 4 >= 1 << 24 {
+        return Err(crate::GpuError::Feature(format!("the shape table ends at word {}; indices must stay below 2^22", t.len())));
+    }
+    Ok((t, base))
 }
 
 /// The pair table (3 vec4 per material pair) followed by the walls (6 vec4 each); see forces.wgsl.
