@@ -81,6 +81,8 @@ const SETTLING_BED: &str = include_str!("../../scenes/conformance/settling_bed.t
 const TAYLOR_GREEN: &str = include_str!("../../scenes/conformance/taylor_green_suspension.toml");
 const SETTLING_BED_HISTORY: &str = include_str!("../../scenes/conformance/settling_bed_history.toml");
 const COHESIVE_CLUSTER: &str = include_str!("../../scenes/conformance/cohesive_cluster.toml");
+const CUBE_SETTLING_BED: &str = include_str!("../../scenes/conformance/cube_settling_bed.toml");
+const POLYHEDRA_COLLISION: &str = include_str!("../../scenes/conformance/polyhedra_collision.toml");
 
 fn compiled(text: &str) -> CompiledScene {
     tumble::compile(&tumble::parse_scene(text).expect("conformance scene parses")).expect("conformance scene compiles")
@@ -138,6 +140,41 @@ fn bed(backend: Backend, text: &str) -> [f64; 6] {
     let peak = outputs.iter().map(|o| o.kinetic_energy).fold(0.0, f64::max);
     let ke_at = |t: f64| outputs.iter().min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs())).unwrap().kinetic_energy / peak;
     [height, packing, ke_at(0.05), ke_at(0.10), ke_at(0.15), ke_at(0.20)]
+}
+
+/// Cubes settling bed: bed height (95th percentile of the bounding-sphere tops), mean height
+/// and the kinetic energy (translational and rotational) at three times as a fraction of its
+/// largest sampled value.
+fn cube_settling_bed(backend: Backend) -> Vec<Measured> {
+    let (sim, outputs) = run_with_outputs(backend, compiled(CUBE_SETTLING_BED));
+    let s = sim.state();
+    let mut tops: Vec<f64> = (0..s.len()).map(|i| s.pos[i].z + s.radius[i]).collect();
+    tops.sort_by(f64::total_cmp);
+    let height = tops[(0.95 * (tops.len() - 1) as f64) as usize];
+    let mean = s.pos.iter().map(|p| p.z).sum::<f64>() / s.len() as f64;
+    let ke = |o: &Observables| o.kinetic_energy + o.rotational_energy;
+    let peak = outputs.iter().map(ke).fold(0.0, f64::max);
+    let ke_at = |t: f64| ke(outputs.iter().min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs())).unwrap()) / peak;
+    vec![
+        // A bed a few cubes deep: realisations differ by a few per cent in height.
+        against_cpu("cube bed: height [m]", height, Error::Relative, 6e-2),
+        against_cpu("cube bed: mean height [m]", mean, Error::Relative, 6e-2),
+        against_cpu("cube bed: KE(0.10 s) / KE peak", ke_at(0.10), Error::Absolute, 5e-2),
+        against_cpu("cube bed: KE(0.20 s) / KE peak", ke_at(0.20), Error::Absolute, 5e-2),
+        against_cpu("cube bed: KE(0.36 s) / KE peak", ke_at(0.36), Error::Absolute, 2e-2),
+    ]
+}
+
+/// Octahedron on cube, elastic and head-on: rebound speed over impact speed (1 m/s).
+fn polyhedra_collision(backend: Backend) -> Vec<Measured> {
+    let scene = compiled(POLYHEDRA_COLLISION);
+    let steps = scene.plan.steps;
+    let mut sim = verify::simulation_on(backend.scene_backend(), scene);
+    sim.advance(steps);
+    let s = sim.state();
+    let by_id = |id: u32| s.id.iter().position(|&k| k == id).unwrap();
+    let (a, b) = (by_id(0), by_id(1));
+    vec![exact("octahedron-cube elastic rebound / impact", s.vel[b].x - s.vel[a].x, 1.0, 5e-3, 5e-3)]
 }
 
 /// Taylor–Green suspension: final mean speed and contacts summed over the output times.
@@ -212,6 +249,8 @@ fn measurements(b: Backend) -> Vec<Measured> {
     rows.extend(settling_bed_history(b));
     rows.extend(taylor_green(b));
     rows.extend(cohesive_cluster(b));
+    rows.extend(polyhedra_collision(b));
+    rows.extend(cube_settling_bed(b));
     rows
 }
 
