@@ -242,7 +242,7 @@ fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
 }
 
 // A polyhedral particle i against wall k (entry at `base`): the force, the torque about
-// the centre with twisting friction, into the sum.
+// the centre with twisting friction and rolling resistance, into the sum.
 fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) {
     let x = pos[i].xyz;
     let shape = shape_of(i);
@@ -269,6 +269,12 @@ fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) {
     (*s).torque += cross(arm, f.force) + twist;
     (*s).elastic += f.elastic;
     (*s).dissipation += f.dissipation - dot(twist, w);
+    if ROLLING {
+        // Rolling relative to the (static) wall with the volume-equivalent radius, as on the CPU.
+        let roll = rolling_torque(tables[3u * pair + 2u].z, r, f.normal, w, omega[i].w);
+        (*s).torque += roll;
+        (*s).dissipation -= dot(roll, w);
+    }
     (*s).contacts += 1u;
     (*s).ratio = max((*s).ratio, hit.depth / r);
 }
