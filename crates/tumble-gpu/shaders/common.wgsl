@@ -15,6 +15,8 @@ override LINEAR: bool = true;
 override HERTZ: bool = true;
 override TANGENTIAL: bool = true;
 override WALLS: bool = true;
+// Convex polyhedral particles (polyhedra.wgsl): orientations, the shape table, twisting friction.
+override POLYHEDRA: bool = false;
 // Tangential springs with history and rolling resistance (history.wgsl).
 override HISTORY: bool = false;
 override ROLLING: bool = false;
@@ -29,9 +31,11 @@ override INTEGRATOR: u32 = 0u;
 
 const WORKGROUP: u32 = 64u;
 
-// Particle flags (props.w).
+// Particle flags (props.w, low 16 bits); the high 16 bits hold the shape index
+// (SPHERE_SHAPE for a sphere; only read with POLYHEDRA).
 const FLAG_FIXED: u32 = 1u;
 const FLAG_DEAD: u32 = 2u;
+const SPHERE_SHAPE: u32 = 0xffffu;
 
 struct Params {
     // n (particle slots), live cells (the removed-particle bucket is index `cells`), walls, materials.
@@ -44,7 +48,7 @@ struct Params {
     inv_cell: vec4<f32>,
     // Domain extent per axis (the domain spans [-extent/2, extent/2] in these coordinates); w unused.
     extent: vec4<f32>,
-    // Gravity; w unused.
+    // Gravity; w: the first word of the shape table in `tables` (polyhedra, a whole number).
     gravity: vec4<f32>,
     // Uniform flow velocity (xyz), or Taylor–Green amplitude (x) and frequency (y).
     flow: vec4<f32>,

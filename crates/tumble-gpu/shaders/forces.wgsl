@@ -29,6 +29,8 @@
 @group(0) @binding(12) var<storage, read_write> torque_out: array<vec4<f32>>;
 // Contacts owned, largest overlap ratio (f32 bits).
 @group(0) @binding(13) var<storage, read_write> stats_out: array<vec2<u32>>;
+// Orientation (unit quaternion x, y, z, w, body to world); polyhedra only (else one dummy entry).
+@group(0) @binding(18) var<storage, read> orient: array<vec4<f32>>;
 
 const VERLET: u32 = 2u;
 
@@ -139,6 +141,144 @@ struct PairOut {
     spring: vec3<f32>,
 }
 
+fn shape_of(j: u32) -> u32 {
+    return props[j].w >> 16u;
+}
+
+// Word i of the shape table, which follows the walls in `tables`.
+fn shape_word(i: u32) -> vec4<f32> {
+    return tables[u32(params.gravity.w) + i];
+}
+
+// R* and overlap-ratio radius of particle j: the radius of the sphere of equal volume.
+fn equivalent_radius(j: u32) -> f32 {
+    let s = shape_of(j);
+    if s == SPHERE_SHAPE {
+        return pos[j].w;
+    }
+    return shape_inertia(s).w;
+}
+
+// n · I_w⁻¹ n of particle j: its inverse moment of inertia about the axis n.
+fn inverse_inertia_about(j: u32, n: vec3<f32>) -> f32 {
+    let s = shape_of(j);
+    if s == SPHERE_SHAPE {
+        return omega[j].w;
+    }
+    let nb = quat_rotate(quat_conj(orient[j]), n);
+    return dot(nb * nb, shape_inertia(s).xyz * vel[j].w);
+}
+
+// Coulomb friction against the relative spin about the normal on a contact patch of
+// radius `spread` (tumble-cpu's twisting_torque): μ |F_n| r̄, capped so that it never
+// reverses the relative spin within a step. One-point contacts (spread 0) have none.
+fn twisting_torque(spread: f32, friction: f32, normal_force: f32, n: vec3<f32>, spin_rel: vec3<f32>, inv_inertia_sum: f32) -> vec3<f32> {
+    if spread <= 0.0 || friction == 0.0 {
+        return vec3<f32>(0.0);
+    }
+    return rolling_torque(friction, spread, normal_force, n * dot(spin_rel, n), inv_inertia_sum);
+}
+
+// A pair with at least one polyhedron (a holding the lower id, d = x_a − x_b): one
+// contact (normal, depth, point) from polyhedra.wgsl, the force laws of spheres with
+// m* and R* from the volume-equivalent radii, the torque of the whole force about
+// each centre, twisting friction on the patch, and rolling resistance.
+fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
+    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec3<f32>(0.0));
+    let sa = shape_of(a);
+    let sb = shape_of(b);
+    var hit: PolyHit;
+    // The contact point relative to x_b.
+    var point = vec3<f32>(0.0);
+    if sa != SPHERE_SHAPE && sb != SPHERE_SHAPE {
+        hit = polyhedron_polyhedron(sa, orient[a], sb, orient[b], d);
+        point = hit.point;
+    } else if sa == SPHERE_SHAPE {
+        hit = sphere_polyhedron(pos[a].w, sb, orient[b], d);
+        point = hit.point;
+    } else {
+        hit = sphere_polyhedron(pos[b].w, sa, orient[a], -d);
+        hit.normal = -hit.normal;
+        point = hit.point + d;
+    }
+    if !hit.hit {
+        return out;
+    }
+    let n = hit.normal;
+    let arm_b = point;
+    let arm_a = point - d;
+    let spin_a = seen_spin(a);
+    let spin_b = seen_spin(b);
+    let v_rel = seen_velocity(a) + cross(spin_a, arm_a) - seen_velocity(b) - cross(spin_b, arm_b);
+    let m_star = 1.0 / (vel[a].w + vel[b].w);
+    let ra = equivalent_radius(a);
+    let rb = equivalent_radius(b);
+    let r_star = ra * rb / (ra + rb);
+    var old_spring = vec3<f32>(0.0);
+    if HISTORY {
+        old_spring = find_spring(props[a].z, props[b].z);
+    }
+    let pair = props[a].y * params.counts.w + props[b].y;
+    let f = contact_force(pair, n, hit.depth, 0.0, v_rel, m_star, r_star, old_spring);
+    out.force = f.force;
+    out.spring = f.spring;
+    out.torque_a = cross(arm_a, f.force);
+    out.torque_b = cross(arm_b, -f.force);
+    let spin = spin_a - spin_b;
+    let inv_n = inverse_inertia_about(a, n) + inverse_inertia_about(b, n);
+    let twist = twisting_torque(hit.spread, tables[3u * pair + 1u].y, f.normal, n, spin, inv_n);
+    out.torque_a += twist;
+    out.torque_b -= twist;
+    out.dissipation = f.dissipation - dot(twist, spin);
+    if ROLLING {
+        let roll = rolling_torque(tables[3u * pair + 2u].z, r_star, f.normal, spin, omega[a].w + omega[b].w);
+        out.torque_a += roll;
+        out.torque_b -= roll;
+        out.dissipation -= dot(roll, spin);
+    }
+    out.elastic = f.elastic;
+    out.ratio = hit.depth / min(ra, rb);
+    return out;
+}
+
+// A polyhedral particle i against wall k (entry at `base`): the force, the torque about
+// the centre with twisting friction and rolling resistance, into the sum.
+fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) {
+    let x = pos[i].xyz;
+    let shape = shape_of(i);
+    let entry = array<vec4<f32>, 6>(tables[base], tables[base + 1u], tables[base + 2u], tables[base + 3u], tables[base + 4u], tables[base + 5u]);
+    let hit = polyhedron_wall(shape, orient[i], x, entry);
+    if !hit.hit {
+        return;
+    }
+    let arm = hit.point - x;
+    let w = seen_spin(i);
+    let v_rel = seen_velocity(i) + cross(w, arm);
+    let pair = props[i].y * params.counts.w + u32(tables[base].y);
+    let r = equivalent_radius(i);
+    var old_spring = vec3<f32>(0.0);
+    if HISTORY {
+        old_spring = find_spring(props[i].z, WALL_KEY | k);
+    }
+    let f = contact_force(pair, hit.normal, hit.depth, 0.0, v_rel, alpha[i].w, r, old_spring);
+    if HISTORY {
+        (*s).springs = keep_spring(props[i].z, (*s).springs, WALL_KEY | k, f.spring);
+    }
+    let twist = twisting_torque(hit.spread, tables[3u * pair + 1u].y, f.normal, hit.normal, w, inverse_inertia_about(i, hit.normal));
+    (*s).force += f.force;
+    (*s).torque += cross(arm, f.force) + twist;
+    (*s).elastic += f.elastic;
+    (*s).dissipation += f.dissipation - dot(twist, w);
+    if ROLLING {
+        // Rolling relative to the (static) wall with the volume-equivalent radius, as on the CPU.
+        let roll = rolling_torque(tables[3u * pair + 2u].z, r, f.normal, w, omega[i].w);
+        (*s).torque += roll;
+        (*s).dissipation -= dot(roll, w);
+    }
+    (*s).contacts += 1u;
+    (*s).ratio = max((*s).ratio, hit.depth / r);
+}
+
 // The contact of slots a and b, a holding the lower id.
 fn pair_contact(a: u32, b: u32) -> PairOut {
     var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec3<f32>(0.0));
@@ -150,6 +290,9 @@ fn pair_contact(a: u32, b: u32) -> PairOut {
     let d2 = dot(d, d);
     if d2 > cutoff * cutoff {
         return out;
+    }
+    if POLYHEDRA && (shape_of(a) != SPHERE_SHAPE || shape_of(b) != SPHERE_SHAPE) {
+        return polyhedron_pair(a, b, d);
     }
     let distance = sqrt(d2);
     if distance <= 0.0 {
@@ -280,6 +423,8 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
     let mass = alpha[i].w;
     let walls_base = 3u * params.counts.w * params.counts.w;
     // Wall power (MOVING): walls come grouped in group order; each group's sum is booked once.
+    // Polyhedra never meet moving walls or prisms (GpuSimulation::new refuses those scenes).
+    let polyhedron = POLYHEDRA && shape_of(i) != SPHERE_SHAPE;
     var group = 0u;
     var power = 0.0;
     for (var k = 0u; k < params.counts.z; k++) {
@@ -291,6 +436,10 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
                 group = g;
                 power = 0.0;
             }
+        }
+        if polyhedron {
+            polyhedron_wall_contact(s, i, k, base);
+            continue;
         }
         var p: Proximity;
         if PRISMS && tables[base].x == 3.0 {

@@ -25,6 +25,42 @@
 @group(0) @binding(8) var<storage, read> torque_in: array<vec4<f32>>;
 // Dissipated energy, fluid work, and their compensation terms (Kahan sums).
 @group(0) @binding(9) var<storage, read_write> energy: array<vec4<f32>>;
+// Orientation (unit quaternion, body to world); polyhedra only (else one dummy entry).
+@group(0) @binding(10) var<storage, read_write> orient: array<vec4<f32>>;
+// The pair and wall tables, then the shape table (polyhedra).
+@group(0) @binding(11) var<storage, read> tables: array<vec4<f32>>;
+
+fn shape_of(j: u32) -> u32 {
+    return props[j].w >> 16u;
+}
+
+fn shape_word(i: u32) -> vec4<f32> {
+    return tables[u32(params.gravity.w) + i];
+}
+
+// Principal inverse inertia (body frame) of particle i: zero for fixed bodies.
+fn inverse_inertia_body(i: u32) -> vec3<f32> {
+    let s = shape_of(i);
+    if s == SPHERE_SHAPE {
+        return vec3<f32>(omega[i].w);
+    }
+    return shape_inertia(s).xyz * vel[i].w;
+}
+
+// Turns body i by its spin over Δt, torque-free (polyhedra scenes: every movable body,
+// spheres included, carries an orientation), holding its world angular momentum.
+fn drift_orientation(i: u32) {
+    if !POLYHEDRA {
+        return;
+    }
+    let k = inverse_inertia_body(i);
+    if all(k == vec3<f32>(0.0)) {
+        return;
+    }
+    let r = free_rotation(orient[i], k, omega[i].xyz, dt());
+    orient[i] = r.q;
+    omega[i] = vec4<f32>(r.omega, omega[i].w);
+}
 
 const EULER: u32 = 0u;
 const SYMPLECTIC_EULER: u32 = 1u;
@@ -120,7 +156,12 @@ fn accelerations(i: u32, v: vec3<f32>, explicit_drag: bool, book: bool) -> vec3<
         }
     }
     if ROTATION {
-        alpha[i] = vec4<f32>(torque_in[i].xyz * omega[i].w, alpha[i].w);
+        var angular = torque_in[i].xyz * omega[i].w;
+        if POLYHEDRA {
+            // α = R I⁻¹ Rᵀ τ; the gyroscopic term lives in the torque-free drift.
+            angular = quat_tensor_times(orient[i], inverse_inertia_body(i), torque_in[i].xyz);
+        }
+        alpha[i] = vec4<f32>(angular, alpha[i].w);
     }
     if book {
         let d = kahan(vec2<f32>(e.x, e.z), torque_in[i].w * dt());
@@ -155,6 +196,7 @@ fn kick_drift(@builtin(global_invocation_id) gid: vec3<u32>) {
     if ROTATION {
         omega[i] = vec4<f32>(omega[i].xyz + alpha[i].xyz * h, omega[i].w);
     }
+    drift_orientation(i);
     boundaries(i);
 }
 
@@ -221,5 +263,6 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
     if ROTATION {
         omega[i] = vec4<f32>(omega[i].xyz + alpha[i].xyz * step, omega[i].w);
     }
+    drift_orientation(i);
     boundaries(i);
 }

@@ -16,9 +16,12 @@ pub fn history_bytes_per_particle(slots: usize) -> u64 {
     2 * 16 * (slots as u64 + 1) * u64::from(slots > 0)
 }
 
-/// Device bytes per particle of a plan (history slots included).
+/// Device bytes per particle of a plan (history slots and orientations included).
 pub fn bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
-    BYTES_PER_PARTICLE + history_bytes_per_particle(crate::upload::history_slots(plan)) + wall_bytes_per_particle(plan)
+    BYTES_PER_PARTICLE
+        + history_bytes_per_particle(crate::upload::history_slots(plan))
+        + wall_bytes_per_particle(plan)
+        + if plan.polyhedra { 16 } else { 0 }
 }
 
 /// Device bytes per grid cell: counts, cursors and starts (u32 each).
@@ -64,6 +67,10 @@ pub struct Buffers {
     pub cursor: wgpu::Buffer,
     pub cell_start: wgpu::Buffer,
     pub tables: wgpu::Buffer,
+    /// Orientations (polyhedra scenes; one dummy element otherwise).
+    pub orient: wgpu::Buffer,
+    /// Whether `orient` holds one orientation per particle (and is re-sorted with them).
+    pub oriented: bool,
     /// The two generations of contact-history slots (history.wgsl; 16 bytes each without history).
     pub history: [wgpu::Buffer; 2],
     /// Moving walls: power of the last pass per particle id and wall group (f32), and the
@@ -152,6 +159,8 @@ impl Buffers {
             cursor: zeroed(gpu, "cursor", 4 * cells),
             cell_start,
             tables: init(gpu, "tables", &b(tables)),
+            orient: init(gpu, "orient", &b(&arrays.orient)),
+            oriented: !arrays.orient.is_empty(),
             // Zeroed: no particle holds a spring at t = 0.
             history: [zeroed(gpu, "history a", history_bytes), zeroed(gpu, "history b", history_bytes)],
             wall_power: zeroed(gpu, "wall power", 4 * n * walls.groups),
@@ -163,7 +172,11 @@ impl Buffers {
     }
 
     /// The per-particle arrays the re-sort moves, in a fixed order.
-    pub fn particle_arrays(&self) -> [&wgpu::Buffer; 7] {
-        [&self.pos, &self.vel, &self.omega, &self.acc, &self.alpha, &self.props, &self.energy]
+    pub fn particle_arrays(&self) -> Vec<&wgpu::Buffer> {
+        let mut arrays = vec![&self.pos, &self.vel, &self.omega, &self.acc, &self.alpha, &self.props, &self.energy];
+        if self.oriented {
+            arrays.push(&self.orient);
+        }
+        arrays
     }
 }

@@ -73,7 +73,7 @@ pub struct Gpu {
 }
 
 /// Storage buffers the contact kernel binds at once.
-pub const STORAGE_BUFFERS_NEEDED: u32 = 15;
+pub const STORAGE_BUFFERS_NEEDED: u32 = 16;
 
 static GPU: OnceLock<Result<Arc<Gpu>, GpuError>> = OnceLock::new();
 

@@ -71,10 +71,10 @@ impl Kernels {
                 layout(
                     gpu,
                     "forces",
-                    &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write, Read, Write, Write, Write],
+                    &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write, Read, Write, Write, Write, Read],
                 ),
             ),
-            ("integrate", layout(gpu, "integrate", &[Uniform, Write, Write, Write, Write, Write, Write, Read, Read, Write])),
+            ("integrate", layout(gpu, "integrate", &[Uniform, Write, Write, Write, Write, Write, Write, Read, Read, Write, Write, Read])),
         ]
         .into_iter()
         .collect();
@@ -108,6 +108,7 @@ impl Kernels {
                     &b.history[1 - g],
                     &b.wall_power,
                     &b.wall_work,
+                    &b.orient,
                 ],
             )
         });
@@ -115,7 +116,7 @@ impl Kernels {
             gpu,
             "integrate",
             &layouts["integrate"],
-            &[&b.params, &b.pos, &b.vel, &b.omega, &b.acc, &b.alpha, &b.props, &b.force, &b.torque, &b.energy],
+            &[&b.params, &b.pos, &b.vel, &b.omega, &b.acc, &b.alpha, &b.props, &b.force, &b.torque, &b.energy, &b.orient, &b.tables],
         );
         let reorder =
             b.particle_arrays().iter().map(|a| bind(gpu, "reorder", &layouts["reorder"], &[&b.params, &b.cell_list, a, &b.scratch])).collect();

@@ -30,6 +30,7 @@ mod kernels;
 pub mod profile;
 mod readback;
 pub mod shaders;
+pub mod shapes;
 mod step;
 mod upload;
 mod walls;
@@ -84,8 +85,14 @@ impl GpuSimulation {
         if let Some(why) = upload::unsupported_walls(&scene.plan) {
             return Err(GpuError::Feature(format!("{why}; use backend = \"cpu\"")));
         }
-        if scene.plan.polyhedra {
-            return Err(GpuError::Feature("it has polyhedral particles, which the GPU backend does not run yet; use backend = \"cpu\"".into()));
+        if scene.plan.polyhedra
+            && (upload::moving_walls(&scene.plan) || scene.plan.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))))
+        {
+            return Err(GpuError::Feature(
+                "it has polyhedral particles with moving walls or lifters, which the GPU backend does not run yet (polyhedron contacts \
+                 take static walls only); use backend = \"cpu\""
+                    .into(),
+            ));
         }
         let gpu = context::gpu()?;
         let state = tumble_cpu::State::from_scene(&scene);
@@ -93,10 +100,12 @@ impl GpuSimulation {
         let arrays = upload::ParticleArrays::from_state(&state, &plan);
         let slots = arrays.pos.len() as u32;
         let grid = upload::Grid::new(&plan, arrays.pos.len());
-        let params = upload::params(&plan, &grid, slots);
+        let (tables, shape_base) = upload::tables_with_shapes(&plan)?;
+        let params = upload::params(&plan, &grid, slots, shape_base);
         let moving = upload::moving_walls(&plan);
-        let tables = upload::tables(&plan);
-        let wall_entries = if moving { tables.len() - 3 * plan.pairs.len() } else { 0 };
+        // The wall section the stage rewrites each step: the 6-vec4 entries and their extras,
+        // never the shape table after them.
+        let wall_entries = if moving { upload::wall_table(&plan, 0.0).len() } else { 0 };
         let walls = buffers::WallBuffers {
             groups: if moving { plan.wall_groups.len() as u64 } else { 0 },
             stage_bytes: 16 * (wall_entries as u64) * STEPS_PER_SUBMIT,
@@ -153,6 +162,7 @@ impl GpuSimulation {
     pub fn memory_bytes(&self) -> u64 {
         memory_bytes(self.slots as u64, &self.grid, upload::history_slots(&self.plan))
             + self.slots as u64 * buffers::wall_bytes_per_particle(&self.plan)
+            + if self.plan.polyhedra { 16 * self.slots as u64 } else { 0 }
     }
 
     /// Submits recorded steps, with the wall poses they copy from the stage (moving walls).

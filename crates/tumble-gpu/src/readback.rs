@@ -20,6 +20,8 @@ pub struct DeviceArrays {
     pub force: Vec<[f32; 4]>,
     pub torque: Vec<[f32; 4]>,
     pub stats: Vec<[u32; 2]>,
+    /// Orientations (polyhedra scenes; empty otherwise).
+    pub orient: Vec<[f32; 4]>,
 }
 
 impl DeviceArrays {
@@ -93,6 +95,7 @@ impl GpuSimulation {
             (&b.force, 16 * n),
             (&b.torque, 16 * n),
             (&b.stats, 8 * n),
+            (&b.orient, if b.oriented { 16 * n } else { 0 }),
         ]);
         fn cast<T: Pod>(bytes: &[u8]) -> Vec<T> {
             bytemuck::pod_collect_to_vec(bytes)
@@ -108,6 +111,7 @@ impl GpuSimulation {
             force: cast(&v[7]),
             torque: cast(&v[8]),
             stats: cast(&v[9]),
+            orient: cast(&v[10]),
         }
     }
 
@@ -141,6 +145,20 @@ impl GpuSimulation {
             if self.plan.fluid.is_some() {
                 s.fluid_work.push(a.energy[i][1] as f64);
                 s.drag.push(a.acc[i][3] as f64);
+            }
+            if self.plan.polyhedra {
+                let shape = (a.props[i][3] >> crate::upload::SHAPE_SHIFT) as u16;
+                let o = a.orient[i];
+                s.shape.push(shape);
+                s.orient.push(glam::DQuat::from_xyzw(o[0] as f64, o[1] as f64, o[2] as f64, o[3] as f64));
+                // The principal inverse inertia as the CPU holds it (from the plan, in f64).
+                let fixed = a.vel[i][3] == 0.0;
+                let inv = match shape {
+                    _ if fixed => DVec3::ZERO,
+                    tumble_scene::SPHERE => DVec3::splat(a.omega[i][3] as f64),
+                    k => self.plan.shapes[k as usize].body.principal_inertia(self.plan.materials[a.props[i][1] as usize].density).recip(),
+                };
+                s.inv_inertia_body.push(inv);
             }
         }
         self.alive.set(Some(s.len()));

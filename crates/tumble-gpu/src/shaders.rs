@@ -25,6 +25,12 @@ pub const FORCES: &str = include_str!("../shaders/forces.wgsl");
 pub const HISTORY: &str = include_str!("../shaders/history.wgsl");
 /// Moving world geometry: wall velocities, wall power and lifter prisms (used by the contact pass).
 pub const WALLS_MOVING: &str = include_str!("../shaders/walls_moving.wgsl");
+/// Quaternions and the rigid-body rotation updates.
+pub const QUATERNION: &str = include_str!("../shaders/quaternion.wgsl");
+/// Convex polyhedra: the shape table and the narrow phase (needs QUATERNION).
+pub const POLYHEDRA: &str = include_str!("../shaders/polyhedra.wgsl");
+/// The test harness of the polyhedra narrow phase ([`crate::shapes::evaluate`]).
+pub const POLYHEDRA_TEST: &str = include_str!("../shaders/polyhedra_test.wgsl");
 /// Body forces and the integrators.
 pub const INTEGRATE: &str = include_str!("../shaders/integrate.wgsl");
 
@@ -50,9 +56,14 @@ pub fn sources() -> Vec<ShaderSource> {
         with_common("broad", BROAD, &[COMMON], &["bin", "scatter", "order_cells"]),
         with_common("scan", SCAN, &[], &["reduce", "scan_block"]),
         with_common("reorder", REORDER, &[COMMON], &["permute"]),
-        with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY, WALLS_MOVING], &["forces"]),
-        with_common("integrate", INTEGRATE, &[COMMON], &["initial", "kick_drift", "finish"]),
+        with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY, WALLS_MOVING, QUATERNION, POLYHEDRA], &["forces"]),
+        with_common("integrate", INTEGRATE, &[COMMON, QUATERNION, POLYHEDRA], &["initial", "kick_drift", "finish"]),
     ]
+}
+
+/// The polyhedra narrow phase with its test harness (entry point `evaluate`; no overrides).
+pub fn polyhedra_test_source() -> String {
+    [QUATERNION, POLYHEDRA, POLYHEDRA_TEST].join("\n")
 }
 
 /// The plan's feature switches, one per WGSL `override` in common.wgsl.
@@ -73,6 +84,9 @@ pub struct Switches {
     pub moving: bool,
     /// Lifter bars (sphere–prism contacts).
     pub prisms: bool,
+    /// Convex polyhedral particles (orientations, the shape table); always with rotation,
+    /// never with cohesion or drag (the plan refuses those with polyhedra).
+    pub polyhedra: bool,
     /// 0: no fluid, 1: Stokes, 2: quadratic.
     pub drag: u32,
     pub taylor_green: bool,
@@ -106,6 +120,7 @@ impl Switches {
             rolling: plan.rolling && plan.rotation,
             moving: crate::upload::moving_walls(plan),
             prisms: plan.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))),
+            polyhedra: plan.polyhedra,
             drag: match plan.fluid.map(|f| f.drag) {
                 None => 0,
                 Some(Drag::Stokes { .. }) => 1,
@@ -125,7 +140,11 @@ impl Switches {
             if (b(7) && !b(5)) || (b(8) && !b(0)) || ((b(9) || b(10)) && !b(6)) {
                 continue;
             }
-            for (drag, taylor_green) in [(0, false), (1, false), (1, true), (2, false)] {
+            for (drag, taylor_green, polyhedra) in [(0, false, false), (1, false, false), (1, true, false), (2, false, false), (0, false, true)] {
+                // Polyhedra rotate, neither cohere nor feel drag, and meet only static walls.
+                if polyhedra && (!b(0) || b(1) || b(9) || b(10)) {
+                    continue;
+                }
                 for integrator in Integrator::ALL {
                     out.push(Switches {
                         rotation: b(0),
@@ -139,6 +158,7 @@ impl Switches {
                         rolling: b(8),
                         moving: b(9),
                         prisms: b(10),
+                        polyhedra,
                         drag,
                         taylor_green,
                         integrator,
@@ -150,7 +170,7 @@ impl Switches {
     }
 
     /// All override values by name.
-    pub fn constants(&self) -> [(&'static str, f64); 14] {
+    pub fn constants(&self) -> [(&'static str, f64); 15] {
         let f = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("ROTATION", f(self.rotation)),
@@ -164,6 +184,7 @@ impl Switches {
             ("ROLLING", f(self.rolling)),
             ("MOVING", f(self.moving)),
             ("PRISMS", f(self.prisms)),
+            ("POLYHEDRA", f(self.polyhedra)),
             ("DRAG", self.drag as f64),
             ("TAYLOR_GREEN", f(self.taylor_green)),
             ("INTEGRATOR", integrator_code(self.integrator) as f64),
@@ -198,6 +219,7 @@ mod tests {
         assert!(SCAN.contains(&format!("const SCAN_THREADS: u32 = {SCAN_THREADS}u;")));
         assert!(COMMON.contains(&format!("const FLAG_DEAD: u32 = {}u;", crate::upload::FLAG_DEAD)));
         assert!(COMMON.contains(&format!("const FLAG_FIXED: u32 = {}u;", crate::upload::FLAG_FIXED)));
+        assert!(POLYHEDRA.contains(&format!("const SHAPE_HEADER_WORDS: u32 = {}u;", crate::shapes::HEADER_WORDS)));
     }
 
     #[test]

@@ -13,6 +13,9 @@ use tumble_scene::Plan;
 pub const FLAG_FIXED: u32 = 1;
 pub const FLAG_DEAD: u32 = 2;
 
+/// props.w holds the shape index from this bit on (forces.wgsl `shape_of`).
+pub const SHAPE_SHIFT: u32 = 16;
+
 /// Threads per workgroup of the particle kernels (common.wgsl WORKGROUP).
 pub const WORKGROUP: u32 = 64;
 /// Values per workgroup of the scan (scan.wgsl BLOCK) and its threads.
@@ -80,7 +83,8 @@ pub fn dispatch(threads: u32, per_group: u32) -> (u32, u32) {
     (x, groups.div_ceil(x))
 }
 
-pub fn params(plan: &Plan, grid: &Grid, slots: u32) -> Params {
+/// The step parameters; `shape_base`: the first word of the shape table in the tables buffer.
+pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params {
     let e = plan.domain.extent();
     let f4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
     let flow = match plan.fluid.map(|f| f.flow) {
@@ -94,7 +98,7 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32) -> Params {
         periodic: [plan.domain.periodic[0] as u32, plan.domain.periodic[1] as u32, plan.domain.periodic[2] as u32, history_slots(plan) as u32],
         inv_cell: [grid.inv_width[0] as f32, grid.inv_width[1] as f32, grid.inv_width[2] as f32, plan.dt as f32],
         extent: f4(e, 0.0),
-        gravity: f4(plan.gravity, 0.0),
+        gravity: f4(plan.gravity, shape_base as f64),
         flow,
         // w: wall groups (walls_moving.wgsl).
         origin: f4(centre(plan), plan.wall_groups.len() as f64),
@@ -128,6 +132,8 @@ pub struct ParticleArrays {
     pub props: Vec<[u32; 4]>,
     /// Dissipated energy, fluid work, and their Kahan compensations.
     pub energy: Vec<[f32; 4]>,
+    /// Orientation quaternion (x, y, z, w), polyhedra scenes only (empty otherwise).
+    pub orient: Vec<[f32; 4]>,
 }
 
 impl ParticleArrays {
@@ -149,12 +155,42 @@ impl ParticleArrays {
             a.omega.push([w.x as f32, w.y as f32, w.z as f32, inv_inertia as f32]);
             a.acc.push([0.0, 0.0, 0.0, drag as f32]);
             a.alpha.push([0.0, 0.0, 0.0, s.mass[i] as f32]);
-            let flags = if s.inv_mass[i] == 0.0 { FLAG_FIXED } else { 0 };
+            let mut flags = if s.inv_mass[i] == 0.0 { FLAG_FIXED } else { 0 };
+            if plan.polyhedra {
+                // The shape index (SPHERE = 0xffff for spheres) in the high 16 bits.
+                flags |= (s.shape[i] as u32) << SHAPE_SHIFT;
+                let q = s.orient[i];
+                a.orient.push([q.x as f32, q.y as f32, q.z as f32, q.w as f32]);
+            }
             a.props.push([(s.reach[i] as f32).to_bits(), s.material[i] as u32, s.id[i], flags]);
             a.energy.push([0.0; 4]);
         }
         a
     }
+}
+
+/// The polyhedron shapes of a plan as the device takes them.
+pub fn plan_shapes(plan: &Plan) -> Result<Vec<[f32; 4]>, crate::GpuError> {
+    let bodies: Vec<tumble_geom::Polyhedron> = plan.shapes.iter().map(|s| s.body.clone()).collect();
+    crate::shapes::shape_table(&bodies).map_err(|e| crate::GpuError::Feature(e.0))
+}
+
+/// The pair table (3 vec4 per material pair) followed by the wall section (6 vec4 per wall, then
+/// the walls' extras: motion, prism faces; see [`wall_table`]), then the shape table (shapes.rs)
+/// when the plan has polyhedra; see forces.wgsl. Returns the tables and the first entry of the
+/// shape table, which follows everything the walls append so the two regions never overlap.
+pub fn tables_with_shapes(plan: &Plan) -> Result<(Vec<[f32; 4]>, usize), crate::GpuError> {
+    let mut t = tables(plan);
+    if !plan.polyhedra {
+        return Ok((t, 0));
+    }
+    let shapes = plan_shapes(plan)?;
+    let base = t.len();
+    t.extend_from_slice(&shapes);
+    if t.len() * 4 >= 1 << 24 {
+        return Err(crate::GpuError::Feature(format!("the shape table ends at word {}; indices must stay below 2^22", t.len())));
+    }
+    Ok((t, base))
 }
 
 /// The pair table (3 vec4 per material pair) followed by the walls at t = 0 (see [`wall_table`]).
@@ -210,56 +246,37 @@ pub fn wall_table(plan: &Plan, t: f64) -> Vec<[f32; 4]> {
     let walls_base = 3 * plan.pairs.len();
     let moving = moving_walls(plan);
     let origin = centre(plan);
-    let rel = |p: DVec3| {
-        let x = p - origin;
-        [x.x as f32, x.y as f32, x.z as f32, 0.0]
-    };
-    let dir = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
     let mut main = Vec::with_capacity(6 * plan.walls.len());
     let mut extras = Vec::new();
     for w in &plan.walls {
-        let m = w.material as f32;
-        let mut entry = [[0.0f32; 4]; 6];
         let extra = (walls_base + 6 * plan.walls.len() + extras.len()) as f32;
         if moving {
             // ω and the velocity at the domain's centre: v(x) = ω × (x − centre) + v(centre).
             let spin = w.angular_velocity();
             extras.push([spin.x as f32, spin.y as f32, spin.z as f32, w.group as f32]);
-            extras.push(dir(w.velocity_at(origin)));
+            let v = w.velocity_at(origin);
+            extras.push([v.x as f32, v.y as f32, v.z as f32, 0.0]);
         }
         let shape = if w.motion.is_some() { std::borrow::Cow::Owned(w.shape_at(t)) } else { std::borrow::Cow::Borrowed(&w.shape) };
-        match shape.as_ref() {
-            SurfaceShape::Plane(p) => {
-                entry[0] = [0.0, m, 0.0, extra];
-                entry[1] = rel(p.point);
-                entry[5] = dir(p.normal);
-            }
-            SurfaceShape::Quad(q) => {
-                entry[0] = [1.0, m, if q.two_sided { 1.0 } else { 0.0 }, extra];
-                for k in 0..4 {
-                    entry[1 + k] = rel(q.corners[k]);
-                }
-                entry[5] = dir(q.normal);
-            }
-            SurfaceShape::Cylinder(c) => {
-                entry[0] = [2.0, m, if c.inside { 1.0 } else { 0.0 }, extra];
-                entry[1] = rel(c.point);
-                entry[2] = dir(c.axis);
-                entry[3] = [c.radius as f32, c.length as f32, 0.0, 0.0];
-            }
-            SurfaceShape::Prism(p) => {
-                entry[0] = [3.0, m, 0.0, extra];
-                let centre = rel(p.centre);
-                extras.push([centre[0], centre[1], centre[2], p.bound as f32]);
-                let axis_point = rel(p.axis_point);
-                extras.push([axis_point[0], axis_point[1], axis_point[2], p.inner as f32]);
-                extras.push(dir(p.axis));
-                for f in &p.faces {
-                    extras.extend(f.corners.map(rel));
-                    extras.push(dir(f.normal));
-                }
+        let mut entry = wall_entry(shape.as_ref(), w.material as usize, origin);
+        if let SurfaceShape::Prism(p) = shape.as_ref() {
+            let rel = |p: DVec3| {
+                let x = p - origin;
+                [x.x as f32, x.y as f32, x.z as f32, 0.0]
+            };
+            let dir = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+            let centre = rel(p.centre);
+            extras.push([centre[0], centre[1], centre[2], p.bound as f32]);
+            let axis_point = rel(p.axis_point);
+            extras.push([axis_point[0], axis_point[1], axis_point[2], p.inner as f32]);
+            extras.push(dir(p.axis));
+            for f in &p.faces {
+                extras.extend(f.corners.map(rel));
+                extras.push(dir(f.normal));
             }
         }
+        // w0.w: the first index of this wall's extras (walls_moving.wgsl).
+        entry[0][3] = extra;
         main.extend_from_slice(&entry);
     }
     main.extend(extras);
@@ -278,6 +295,41 @@ pub fn unsupported_walls(plan: &Plan) -> Option<String> {
         return Some(format!("its pair and wall tables have {entries} entries (at most 2^24)"));
     }
     None
+}
+
+/// One wall's table entry (6 vec4, geometry.wgsl), coordinates relative to `origin`; w0.w
+/// (the extras' index) is left 0 for [`wall_table`] to fill.
+pub fn wall_entry(shape: &SurfaceShape, material: usize, origin: DVec3) -> [[f32; 4]; 6] {
+    let rel = |p: DVec3| {
+        let x = p - origin;
+        [x.x as f32, x.y as f32, x.z as f32, 0.0]
+    };
+    let dir = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+    let m = material as f32;
+    let mut entry = [[0.0f32; 4]; 6];
+    match shape {
+        SurfaceShape::Plane(p) => {
+            entry[0] = [0.0, m, 0.0, 0.0];
+            entry[1] = rel(p.point);
+            entry[5] = dir(p.normal);
+        }
+        SurfaceShape::Quad(q) => {
+            entry[0] = [1.0, m, if q.two_sided { 1.0 } else { 0.0 }, 0.0];
+            for k in 0..4 {
+                entry[1 + k] = rel(q.corners[k]);
+            }
+            entry[5] = dir(q.normal);
+        }
+        SurfaceShape::Cylinder(c) => {
+            entry[0] = [2.0, m, if c.inside { 1.0 } else { 0.0 }, 0.0];
+            entry[1] = rel(c.point);
+            entry[2] = dir(c.axis);
+            entry[3] = [c.radius as f32, c.length as f32, 0.0, 0.0];
+        }
+        // A prism's geometry lives in the wall's extras (wall_table, walls_moving.wgsl).
+        SurfaceShape::Prism(_) => entry[0] = [3.0, m, 0.0, 0.0],
+    }
+    entry
 }
 
 #[cfg(test)]

@@ -65,3 +65,11 @@ fn moving_wall_and_lifter_variants_are_validated_and_static_scenes_compile_none_
     let mill = Switches::from_plan(&scene("scenes/ball_mill.toml").plan);
     assert!(mill.moving && mill.prisms, "{mill:?}");
 }
+
+#[test]
+fn the_polyhedra_module_validates() {
+    let source = tumble_gpu::shaders::polyhedra_test_source();
+    let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("polyhedra: {}", e.emit_to_string(&source)));
+    validator().validate(&module).unwrap_or_else(|e| panic!("polyhedra: {}", e.emit_to_string(&source)));
+    assert!(module.entry_points.iter().any(|e| e.name == "evaluate"));
+}

@@ -1,0 +1,310 @@
+//! Polyhedral particles in the GPU step against the CPU engine: a box tumbling about its
+//! intermediate axis (energy, angular momentum), an elastic octahedron–cube collision
+//! (rebound speed), a settling bed of cubes and a sphere–polyhedron mixture (height,
+//! kinetic-energy decay), and run-to-run bit-identical states. Without an adapter every
+//! test prints one skip line and passes.
+
+use glam::DVec3;
+use std::sync::Mutex;
+use tumble_cpu::CpuSimulation;
+use tumble_gpu::GpuSimulation;
+use tumble_scene::{CompiledScene, compile, parse_scene};
+
+static SERIAL: Mutex<()> = Mutex::new(());
+
+fn on_gpu(name: &str, f: impl FnOnce()) {
+    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    match tumble_gpu::gpu() {
+        Ok(_) => f(),
+        Err(e) => println!("skipped {name}: no GPU adapter ({e})"),
+    }
+}
+
+fn scene(text: &str) -> CompiledScene {
+    compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A free body of the given shape spinning at `omega` (no gravity, no walls).
+fn spinning(shape: &str, omega: [f64; 3], dt: f64, duration: f64) -> String {
+    format!(
+        r#"
+name = "spin"
+[run]
+duration = {duration}
+dt = {dt}
+integrator = "verlet"
+[domain]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[[materials]]
+name = "steel"
+density = 7800.0
+[contact]
+normal = {{ model = "linear", stiffness = 1.0e5 }}
+restitution = 1.0
+[[particles]]
+material = "steel"
+shape = {shape}
+positions = [[0.0, 0.0, 0.0]]
+angular_velocity = [{}, {}, {}]
+"#,
+        omega[0], omega[1], omega[2]
+    )
+}
+
+#[test]
+fn a_box_spun_about_its_intermediate_axis_tumbles_as_on_the_cpu() {
+    on_gpu("a_box_spun_about_its_intermediate_axis_tumbles_as_on_the_cpu", || {
+        let sc = scene(&spinning("{ box = { size = [0.1, 0.2, 0.3] } }", [1e-3, 5.0, 1e-3], 2e-3, 10.0));
+        let mut cpu = CpuSimulation::new(sc.clone(), 1);
+        let mut gpu = GpuSimulation::new(sc).unwrap();
+        let e = |s: &tumble_cpu::State| (s.rotational_energy(0), s.spin_momentum(0), s.orient[0]);
+        let (e0, l0, _) = e(&gpu.state());
+        let (mut de, mut dl, mut flip, mut early) = (0.0f64, 0.0f64, 1.0f64, 0.0f64);
+        for k in 0..100 {
+            gpu.advance(50);
+            cpu.advance(50);
+            let (eg, lg, qg) = e(&gpu.state());
+            de = de.max((eg / e0 - 1.0).abs());
+            dl = dl.max((lg - l0).length() / l0.length());
+            flip = flip.min((qg * DVec3::Y).dot(DVec3::Y));
+            if k < 10 {
+                // Before the tumbling amplifies f32 rounding: the same orientation as the CPU.
+                early = early.max(qg.angle_between(cpu.state().orient[0]));
+            }
+        }
+        println!(
+            "GPU tumbling box: energy error {de:.3e}, momentum error {dl:.3e}, min cos {flip:.4}, orientation off the CPU by {early:.2e} rad over 1 s"
+        );
+        assert!(flip < -0.9, "no tumbling: min cos {flip}");
+        // f32 rounding of the five turns and the body/world round trip of ω each step: measured
+        // 2e-6 over the first 1,000 steps, 1.4e-4 (L) and 2.8e-4 (E) over 5,000 steps and two flips
+        // (the CPU in f64: L to 1e-13, E within its bounded O(Δt²) error).
+        assert!(dl < 5e-4, "angular momentum drifts by {dl:e}");
+        assert!(de < 1e-3, "energy error {de:e}");
+        assert!(early < 1e-3, "orientation off the CPU by {early:e} rad");
+    });
+}
+
+/// An octahedron (vertex first) hits a cube face head-on at `speed`: (rebound / impact, |ω| after).
+fn octahedron_on_cube(speed: f64, gpu: bool) -> (f64, f64) {
+    let text = format!(
+        r#"
+name = "octahedron-cube"
+[run]
+duration = 1.0
+integrator = "verlet"
+[domain]
+min = [-0.1, -0.1, -0.1]
+max = [0.1, 0.1, 0.1]
+[[materials]]
+name = "steel"
+density = 7800.0
+[contact]
+normal = {{ model = "linear", stiffness = 1.0e6 }}
+restitution = 1.0
+[[particles]]
+material = "steel"
+shape = {{ platonic = {{ kind = "octahedron", radius = 0.02 }} }}
+positions = [[-0.0205, 0.0, 0.0]]
+velocity = [{speed}, 0.0, 0.0]
+[[particles]]
+material = "steel"
+shape = {{ cube = {{ edge = 0.03 }} }}
+positions = [[0.015, 0.0, 0.0]]
+"#
+    );
+    let sc = scene(&text);
+    let steps = ((0.0005 / speed + 0.01) / sc.plan.dt).ceil() as u64;
+    let st = if gpu {
+        let mut s = GpuSimulation::new(sc).unwrap();
+        s.advance(steps);
+        s.state()
+    } else {
+        let mut s = CpuSimulation::new(sc, 1);
+        s.advance(steps);
+        let mut st = s.state().clone();
+        let order: Vec<u32> = (0..2).map(|id| s.index_of(id).unwrap() as u32).collect();
+        st.permute(&order);
+        st
+    };
+    ((st.vel[1].x - st.vel[0].x) / speed, st.omega[0].length().max(st.omega[1].length()))
+}
+
+#[test]
+fn octahedron_cube_elastic_rebound_matches_the_cpu() {
+    on_gpu("octahedron_cube_elastic_rebound_matches_the_cpu", || {
+        for speed in [0.25, 1.0] {
+            let (g, spin) = octahedron_on_cube(speed, true);
+            let (c, _) = octahedron_on_cube(speed, false);
+            println!("octahedron on cube at {speed} m/s: rebound / impact gpu {g:.6} cpu {c:.6}, gpu spin after {spin:.2e} rad/s");
+            assert!((g - 1.0).abs() < 5e-3, "GPU rebound ratio {g}");
+            assert!((g - c).abs() < 1e-3, "GPU {g} vs CPU {c}");
+            assert!(spin < 1e-3, "a central impact must not spin: {spin}");
+        }
+    });
+}
+
+/// A bed of frictional cubes (and, with `spheres`, a layer of spheres above them) settling
+/// into a box under gravity: 112 cubes (and 32 spheres), 5,400 steps to 0.36 s. On lavapipe
+/// this is minutes, so the beds are small; the spheres settle slowest (they roll), so the
+/// mixture is compared while the layers land on each other (to 0.18 s).
+fn bed(spheres: bool, duration: f64) -> CompiledScene {
+    let mut text = format!(
+        r#"
+name = "cube-bed"
+[run]
+duration = {duration}
+integrator = "verlet"
+dt = {{ collision_fraction = 20 }}
+seed = 3
+[domain]
+min = [0.0, 0.0, 0.0]
+max = [0.05, 0.05, 0.12]
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[[materials]]
+name = "glass"
+density = 2500.0
+[contact]
+normal = {{ model = "linear", stiffness = 1.0e3 }}
+restitution = 0.3
+tangential = {{ model = "history", friction = 0.4 }}
+[[particles]]
+material = "glass"
+shape = {{ cube = {{ edge = 0.005 }} }}
+orientation = "random"
+lattice = {{ min = [0.005, 0.005, 0.005], max = [0.045, 0.045, 0.065], spacing = 0.0085, jitter = 0.05 }}
+[[walls]]
+name = "box"
+material = "glass"
+box = {{ min = [0.0, 0.0, 0.0], max = [0.05, 0.05, 0.12] }}
+"#
+    );
+    if spheres {
+        text.push_str(
+            r#"
+[[particles]]
+material = "glass"
+shape = { sphere = { diameter = 0.005 } }
+lattice = { min = [0.005, 0.005, 0.075], max = [0.045, 0.045, 0.1], spacing = 0.0085, jitter = 0.05 }
+"#,
+        );
+    }
+    scene(&text)
+}
+
+/// (mean height, kinetic + rotational energy) of a state.
+fn height_and_energy(s: &tumble_cpu::State) -> (f64, f64) {
+    let n = s.len() as f64;
+    let h = s.pos.iter().map(|p| p.z).sum::<f64>() / n;
+    let e = (0..s.len()).map(|i| 0.5 * s.mass[i] * s.vel[i].length_squared() + s.rotational_energy(i)).sum::<f64>();
+    (h, e)
+}
+
+/// Runs the bed on both backends for `duration`; `settled`: the end is checked as a settled bed
+/// (else as one still falling together: heights within 3 %).
+fn settle_against_the_cpu(name: &str, spheres: bool, duration: f64, settled: bool) {
+    let sc = bed(spheres, duration);
+    let steps = sc.plan.steps;
+    println!("{name}: {} particles, {} steps of {:.2e} s", sc.particles.len(), steps, sc.plan.dt);
+    let mut cpu = CpuSimulation::new(sc.clone(), 2);
+    let mut gpu = GpuSimulation::new(sc).unwrap();
+    let chunks = 6;
+    let mut worst_height = 0.0f64;
+    let (mut peak_cpu, mut peak_gpu) = (0.0f64, 0.0f64);
+    for k in 1..=chunks {
+        let t = std::time::Instant::now();
+        gpu.advance(steps / chunks);
+        let gpu_time = t.elapsed().as_secs_f64();
+        cpu.advance(steps / chunks);
+        let (hc, ec) = height_and_energy(cpu.state());
+        let (hg, eg) = height_and_energy(&gpu.state());
+        let (oc, og) = (cpu.observables(), gpu.observables());
+        println!(
+            "  t = {:.3} s: mean height cpu {hc:.5} gpu {hg:.5} m, kinetic cpu {ec:.3e} gpu {eg:.3e} J, contacts cpu {} gpu {}, dissipated cpu {:.4e} gpu {:.4e} J ({gpu_time:.1} s on the device)",
+            cpu.time(),
+            oc.contacts,
+            og.contacts,
+            oc.dissipated_energy,
+            og.dissipated_energy
+        );
+        assert!(og.finite);
+        let total =
+            |o: &tumble_cpu::Observables| o.kinetic_energy + o.rotational_energy + o.potential_energy + o.elastic_energy + o.dissipated_energy;
+        println!(
+            "    energy total cpu {:.6e} gpu {:.6e} (elastic cpu {:.3e} gpu {:.3e})",
+            total(&oc),
+            total(&og),
+            oc.elastic_energy,
+            og.elastic_energy
+        );
+        worst_height = worst_height.max((hg - hc).abs() / hc);
+        peak_cpu = peak_cpu.max(ec);
+        peak_gpu = peak_gpu.max(eg);
+        if k == 1 {
+            // Falling, before many collisions: still the same trajectories.
+            assert!((hg - hc).abs() < 5e-3 * hc && (eg - ec).abs() < 5e-2 * ec, "first chunk: height cpu {hc} gpu {hg}, kinetic cpu {ec} gpu {eg}");
+        }
+        if k == chunks && !settled {
+            assert!((hg - hc).abs() < 0.03 * hc, "final mean height cpu {hc} gpu {hg}");
+            assert!((og.contacts as f64 - oc.contacts as f64).abs() < 0.2 * oc.contacts as f64, "contacts cpu {} gpu {}", oc.contacts, og.contacts);
+        }
+        if k == chunks && settled {
+            // Settled on both (kinetic energy 50 times below its peak), at the same bed height
+            // within the spread of realisations of a bed a few cubes deep, with as many contacts.
+            // Single trajectories diverge once the bed forms (f32, and polyhedra switch contact
+            // features discontinuously); the bed as a whole must not.
+            assert!(eg < 2e-2 * peak_gpu && ec < 2e-2 * peak_cpu, "not settled: cpu {ec:e} of {peak_cpu:e}, gpu {eg:e} of {peak_gpu:e}");
+            assert!((hg - hc).abs() < 0.06 * hc, "final mean height cpu {hc} gpu {hg}");
+            assert!((og.contacts as f64 - oc.contacts as f64).abs() < 0.2 * oc.contacts as f64, "contacts cpu {} gpu {}", oc.contacts, og.contacts);
+        }
+    }
+    println!("{name}: worst mean-height difference {:.2e} of the height", worst_height);
+}
+
+#[test]
+fn a_mixture_of_spheres_and_cubes_settles_as_on_the_cpu() {
+    on_gpu("a_mixture_of_spheres_and_cubes_settles_as_on_the_cpu", || settle_against_the_cpu("sphere and cube bed", true, 0.18, false));
+}
+
+#[test]
+fn polyhedra_runs_give_bit_identical_states() {
+    on_gpu("polyhedra_runs_give_bit_identical_states", || {
+        let sc = bed(true, 0.36);
+        let run = || {
+            let mut g = GpuSimulation::new(sc.clone()).unwrap();
+            g.advance(600);
+            g.device_arrays()
+        };
+        let (a, b) = (run(), run());
+        assert!(!a.orient.is_empty());
+        assert_eq!(a, b, "two runs differ");
+        let moving = a.vel.iter().filter(|v| v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0).count();
+        let turned = a.orient.iter().filter(|q| q[3] < 0.999).count();
+        println!("two runs of 600 steps bit-identical ({moving} moving, {turned} turned)");
+    });
+}
+
+#[test]
+fn a_bed_of_cubes_settles_as_on_the_cpu() {
+    on_gpu("a_bed_of_cubes_settles_as_on_the_cpu", || settle_against_the_cpu("cube bed", false, 0.36, true));
+}
+
+/// Polyhedron–wall contacts take static walls only: a polyhedra scene with a moving wall is
+/// refused with a feature error (before any adapter is asked for), its static twin is not.
+#[test]
+fn polyhedra_with_moving_walls_are_refused() {
+    let bed = include_str!("../../../scenes/conformance/cube_settling_bed.toml");
+    let moving = format!(
+        "{bed}\n[[walls]]\nname = \"belt\"\nmaterial = \"glass\"\nplane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}\nmotion = {{ translate = {{ velocity = [0.1, 0.0, 0.0] }} }}\n"
+    );
+    match GpuSimulation::new(scene(&moving)) {
+        Err(tumble_gpu::GpuError::Feature(why)) => assert!(why.contains("polyhedral particles with moving walls"), "{why}"),
+        Err(e) => panic!("expected a feature error, got {e}"),
+        Ok(_) => panic!("a polyhedra scene with a moving wall was accepted"),
+    }
+    on_gpu("polyhedra_with_moving_walls_are_refused", || {
+        assert!(GpuSimulation::new(scene(bed)).is_ok(), "the static cube bed is refused");
+    });
+}
