@@ -41,7 +41,7 @@ impl InitialParticles {
 
     /// Radius of the sphere of equal volume (the radius itself for spheres).
     pub fn equivalent_radius(&self, i: usize) -> f64 {
-        if self.shape[i] == SPHERE { self.radius[i] } else { (3.0 * self.volume[i] / (4.0 * std::f64::consts::PI)).cbrt() }
+        if self.shape[i] == SPHERE { self.radius[i] } else { crate::shapes::equivalent_radius(self.volume[i]) }
     }
 }
 

@@ -8,6 +8,11 @@ use tumble_geom::Polyhedron;
 /// Shape index of a sphere (any other value indexes `Plan::shapes`).
 pub const SPHERE: u16 = u16::MAX;
 
+/// Radius of the sphere with volume `volume`: a polyhedron's R* and overlap-ratio radius.
+pub(crate) fn equivalent_radius(volume: f64) -> f64 {
+    (3.0 * volume / (4.0 * std::f64::consts::PI)).cbrt()
+}
+
 /// A polyhedral particle type: the body (centre of mass at the origin, principal axes along
 /// the body axes) and the rotation that takes the shape as the scene gave it to the body frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,7 +29,7 @@ pub struct ParticleShape {
 
 impl ParticleShape {
     fn new(name: String, body: Polyhedron) -> ParticleShape {
-        let equivalent_radius = (3.0 * body.volume() / (4.0 * std::f64::consts::PI)).cbrt();
+        let equivalent_radius = equivalent_radius(body.volume());
         let as_given = body.input_to_body().rotation.inverse();
         ParticleShape { name, body, equivalent_radius, as_given }
     }
