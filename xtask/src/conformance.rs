@@ -200,10 +200,12 @@ fn cohesive_cluster(backend: Backend) -> Vec<Measured> {
 /// Small ball mill with lifters (moving walls, lifter prisms, wall power, drum profile): mean
 /// power of the drive (all wall groups), of the lifters and of the shell, and the mean charge
 /// centre-of-mass angle, over the second half of the run; and the wall work against the energy
-/// the charge gained and dissipated over the whole run. The charge's motion is chaotic: two CPU
-/// runs whose Δt differ by 1 % differ by ~5 % in lifter power (the f32 run by up to 15 % over a
-/// slightly different window), ~0.15 W in shell power and ~3° in angle, so the f32 tolerances
-/// are set at that spread.
+/// the charge gained and dissipated over the whole run. The charge's motion is chaotic: five CPU
+/// runs with the drum's speed raised by 0 to 0.04 % spread over 1.99–2.17 W in drive power,
+/// 1.66–1.91 W in lifter power, 0.07 W in shell power and 8.6° in angle; single f32 runs (a
+/// change in the device grid's summation order is enough for a new realisation) measured
+/// 2.12–2.28 W drive and 1.89–2.05 W lifter power, so the f32 tolerances cover that spread
+/// (`a_small_mill_with_lifters_agrees_with_the_cpu` checks the GPU against the CPU ensemble).
 fn small_mill(backend: Backend) -> Vec<Measured> {
     let scene = compiled(SMALL_MILL);
     let steps = scene.plan.steps;
@@ -223,10 +225,10 @@ fn small_mill(backend: Backend) -> Vec<Measured> {
     let o = sim.observables();
     let gain = o.mechanical_energy() + o.dissipated_energy - e0.mechanical_energy() - e0.dissipated_energy;
     vec![
-        against_cpu("small mill: drive power [W]", power.iter().sum(), Error::Relative, 0.1),
+        against_cpu("small mill: drive power [W]", power.iter().sum(), Error::Relative, 0.15),
         against_cpu("small mill: lifter power [W]", power[1], Error::Relative, 0.2),
         against_cpu("small mill: shell power [W]", power[0], Error::Absolute, 0.3),
-        against_cpu("small mill: charge COM angle [deg]", angle, Error::Absolute, 5.0),
+        against_cpu("small mill: charge COM angle [deg]", angle, Error::Absolute, 8.0),
         // Springs that end while loaded take their energy along on the GPU (stored ξ only): ~2 %.
         exact("small mill: energy balance (work − ΔE − dissipated) / work", ((o.wall_work - gain) / o.wall_work).abs(), 0.0, 1e-2, 3e-2),
     ]

@@ -19,6 +19,7 @@
 
 pub use glam::{DQuat, DVec3};
 
+mod contact_mass;
 mod enclosing_sphere;
 mod periodic;
 mod polyhedron;

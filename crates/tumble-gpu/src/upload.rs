@@ -62,7 +62,9 @@ impl Grid {
         // A hair wider than the largest interaction diameter, so f32 rounding never hides a neighbour.
         let width = (plan.cell_size * (1.0 + 1e-4)).max(1e-12);
         let mut dims = [0, 1, 2].map(|k| ((extent[k] / width).floor()).clamp(1.0, (1u32 << 20) as f64));
-        let max_cells = (8.0 * particles as f64).max(1.0 * (1 << 16) as f64);
+        // Eight cells per particle at most: the binning passes sweep every cell each step, which
+        // would cost a few particles in a large domain far more than their contacts do.
+        let max_cells = (8.0 * particles as f64).max(512.0);
         let total: f64 = dims.iter().product();
         if total > max_cells {
             let shrink = (total / max_cells).cbrt();

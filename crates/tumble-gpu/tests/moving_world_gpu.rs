@@ -113,27 +113,54 @@ fn a_small_mill_with_lifters_agrees_with_the_cpu() {
     on_gpu("a_small_mill_with_lifters_agrees_with_the_cpu", || {
         let s = scene(SMALL_MILL);
         let steps = s.plan.steps;
-        let mut cpu = CpuSimulation::new(s.clone(), 2);
         let mut gpu = GpuSimulation::new(s).unwrap();
-        let start = std::time::Instant::now();
-        let c = mill_means(&mut cpu, steps);
-        let cpu_seconds = start.elapsed().as_secs_f64();
         let start = std::time::Instant::now();
         let g = mill_means(&mut gpu, steps);
         let gpu_seconds = start.elapsed().as_secs_f64();
-        println!("{} particles, {steps} steps: cpu {cpu_seconds:.1} s, gpu {gpu_seconds:.1} s on {}", gpu.particles(), gpu.adapter());
+        // A charge is chaotic: f32 and a different summation order give another realisation. The
+        // CPU runs the scene and four copies turning 0.01 % to 0.04 % faster (a jittered lattice would
+        // leave the balls' z planes and change the physics); the GPU must fall within their spread.
+        let start = std::time::Instant::now();
+        let ensemble: Vec<MillMeans> = (0..5)
+            .map(|k| {
+                let text = if k == 0 {
+                    SMALL_MILL.to_string()
+                } else {
+                    SMALL_MILL.replace("rpm = 60.0", &format!("rpm = {}", 60.0 * (1.0 + 1e-4 * k as f64)))
+                };
+                let s = scene(&text);
+                mill_means(&mut CpuSimulation::new(s, 2), steps)
+            })
+            .collect();
+        let cpu_seconds = start.elapsed().as_secs_f64();
+        println!("{} particles, {steps} steps: 5 cpu runs {cpu_seconds:.1} s, gpu {gpu_seconds:.1} s on {}", gpu.particles(), gpu.adapter());
+        let c = &ensemble[0];
         println!("cpu {c:?}\ngpu {g:?}");
         // The charge is lifted on the rising side (+) and the drum drives it.
         assert!(c.com_angle > 10.0 && c.power[0] + c.power[1] > 0.0, "{c:?}");
-        assert!((c.com_angle - g.com_angle).abs() < 3.0, "com angle: cpu {} gpu {}", c.com_angle, g.com_angle);
-        assert!((c.toe - g.toe).abs() < 6.0, "toe: cpu {} gpu {}", c.toe, g.toe);
-        assert!((c.shoulder - g.shoulder).abs() < 6.0, "shoulder: cpu {} gpu {}", c.shoulder, g.shoulder);
         let total = |m: &MillMeans| m.power.iter().sum::<f64>();
-        let scale = total(&c).abs();
+        let scale = total(c).abs();
+        // Mean and range of a quantity over the CPU realisations; the GPU may sit up to one and a
+        // half ranges (or `floor`) from the mean.
+        let failures = std::cell::RefCell::new(Vec::new());
+        let check = |name: &str, q: &dyn Fn(&MillMeans) -> f64, floor: f64| {
+            let values: Vec<f64> = ensemble.iter().map(q).collect();
+            let mean = values.iter().sum::<f64>() / values.len() as f64;
+            let range = values.iter().cloned().fold(f64::MIN, f64::max) - values.iter().cloned().fold(f64::MAX, f64::min);
+            let (gv, tol) = (q(&g), (1.5 * range).max(floor));
+            println!("{name}: gpu {gv:.4}, cpu mean {mean:.4} range {range:.4}");
+            if (gv - mean).abs() >= tol {
+                failures.borrow_mut().push(format!("{name}: gpu {gv} vs cpu {values:?} (tolerance {tol})"));
+            }
+        };
+        check("com angle", &|m| m.com_angle, 2.0);
+        check("toe", &|m| m.toe, 4.0);
+        check("shoulder", &|m| m.shoulder, 4.0);
         for (k, name) in ["shell", "lifters", "back", "front"].iter().enumerate() {
-            assert!((c.power[k] - g.power[k]).abs() < 0.1 * scale, "{name} power: cpu {} gpu {} (total {scale})", c.power[k], g.power[k]);
+            check(name, &|m| m.power[k], 0.05 * scale);
         }
-        assert!((total(&c) - total(&g)).abs() < 0.1 * scale, "total power: cpu {} gpu {}", total(&c), total(&g));
+        check("total power", &total, 0.05 * scale);
+        assert!(failures.borrow().is_empty(), "{:#?}", failures.borrow());
         // The GPU books the walls' work as the CPU does: it is what the charge gained and dissipated.
         assert!((g.work - g.gain).abs() < 0.03 * g.work.abs(), "gpu wall work {} vs Δ(E + dissipated) {}", g.work, g.gain);
     });

@@ -33,6 +33,8 @@ mod rng;
 pub mod schema;
 mod shapes;
 pub mod targets;
+mod timescales;
+mod walls;
 
 pub use error::SceneError;
 pub use load::{parse_scene, read_scene};

@@ -3,13 +3,12 @@
 use crate::SceneError;
 use crate::particles::{InitialParticles, generate};
 use crate::schema::*;
+pub use crate::timescales::Timescales;
 use glam::DVec3;
 use std::collections::HashMap;
 use std::fmt::Write as _;
-use tumble_contact::{
-    FlowField, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, collision_time, hertz_effective_moduli, rayleigh_time, stokes_relaxation_time,
-};
-use tumble_geom::{Cylinder, DQuat, PeriodicBox, Plane, Prism, Quad, SurfaceShape};
+use tumble_contact::{FlowField, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, hertz_effective_moduli};
+use tumble_geom::{DQuat, PeriodicBox, Plane, SurfaceShape};
 use tumble_integrate::Integrator;
 
 /// Contact parameters of one material pair.
@@ -172,23 +171,6 @@ pub struct Feature {
     pub reason: String,
 }
 
-/// Time scales that fix and bound the step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Timescales {
-    /// Shortest contact duration (linear: t_col; Hertz: at the characteristic speed).
-    pub collision_time: Option<f64>,
-    /// Hertz: shortest Rayleigh time.
-    pub rayleigh_time: Option<f64>,
-    /// Largest stable Δt (2/ω for linear contacts, Δt_R for Hertz, 2τ_p for explicit drag).
-    pub stability_limit: Option<f64>,
-    /// Shortest drag relaxation time τ_p.
-    pub drag_time: Option<f64>,
-    /// Shortest relaxation time m*_t / c_t of the viscous tangential force.
-    pub tangential_time: Option<f64>,
-    /// The Δt the plan would choose by itself.
-    pub default_dt: f64,
-}
-
 /// The compiled scene: what runs, with which parameters.
 #[derive(Clone, Debug)]
 pub struct Plan {
@@ -336,7 +318,7 @@ pub struct CompiledScene {
     pub particles: InitialParticles,
 }
 
-fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
+pub(crate) fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
     if v.is_finite() && v > 0.0 { Ok(v) } else { Err(SceneError::field(field, format!("must be a positive number, got {v}"))) }
 }
 
@@ -344,11 +326,11 @@ fn non_negative(field: &str, v: f64) -> Result<f64, SceneError> {
     if v.is_finite() && v >= 0.0 { Ok(v) } else { Err(SceneError::field(field, format!("must be zero or positive, got {v}"))) }
 }
 
-fn finite3(field: &str, v: V3) -> Result<DVec3, SceneError> {
+pub(crate) fn finite3(field: &str, v: V3) -> Result<DVec3, SceneError> {
     if v.iter().all(|c| c.is_finite()) { Ok(DVec3::from_array(v)) } else { Err(SceneError::field(field, "every component must be a finite number")) }
 }
 
-fn unit(field: &str, v: V3) -> Result<DVec3, SceneError> {
+pub(crate) fn unit(field: &str, v: V3) -> Result<DVec3, SceneError> {
     let d = finite3(field, v)?;
     if d.length() > 0.0 { Ok(d.normalize()) } else { Err(SceneError::field(field, "must be a non-zero direction")) }
 }
@@ -487,7 +469,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     check_explicit_overlaps(scene, &particles, &shapes, &domain)?;
 
     // Walls.
-    let (walls, wall_groups, drums) = compile_walls(scene, &lookup, &domain)?;
+    let (walls, wall_groups, drums) = crate::walls::compile_walls(scene, &lookup, &domain)?;
     let mut flow_planes: Vec<FlowPlane> = Vec::new();
     for (k, fp) in scene.output.flow_planes.iter().enumerate() {
         let f = |x: &str| format!("output.flow_planes[{k}].{x}");
@@ -609,7 +591,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         IntegratorName::ImplicitDragSymplectic => "implicit-drag-symplectic",
     })
     .unwrap();
-    let mut timescales = timescales(&particles, &materials, &pairs, &walls, fluid.as_ref(), integrator, gravity, &domain, rotation);
+    let mut timescales =
+        crate::timescales::timescales(&particles, &shapes, &materials, &pairs, &walls, fluid.as_ref(), integrator, gravity, &domain, rotation);
     // Moving geometry: a wall must not advance more than 0.025 r_min per step.
     let wall_step_limit = walls.iter().filter(|w| w.surface_speed > 0.0).max_by(|a, b| a.surface_speed.total_cmp(&b.surface_speed)).and_then(|w| {
         let r_min = (0..particles.len()).filter(|&i| !particles.fixed[i]).map(|i| particles.radius[i]).fold(f64::INFINITY, f64::min);
@@ -844,247 +827,6 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     })
 }
 
-/// Surfaces, their groups (one per [[walls]] entry) and the drums among them.
-type CompiledWalls = (Vec<Wall>, Vec<WallGroup>, Vec<Drum>);
-
-/// The [[walls]] entries as surfaces (boxes as six quads, lifters as prisms), their groups and the drums.
-fn compile_walls(scene: &Scene, lookup: &dyn Fn(String, &str) -> Result<u16, SceneError>, domain: &PeriodicBox) -> Result<CompiledWalls, SceneError> {
-    let names: Vec<String> = scene.walls.iter().enumerate().map(|(k, w)| w.name.clone().unwrap_or_else(|| format!("wall{k}"))).collect();
-    // Motions first: lifters take their cylinder's.
-    let mut motions: Vec<Option<Motion>> = Vec::new();
-    for (k, w) in scene.walls.iter().enumerate() {
-        let f = |x: &str| format!("walls[{k}].motion.{x}");
-        motions.push(match &w.motion {
-            None => None,
-            Some(MotionSection::Rotate(r)) => {
-                if !(r.rpm.is_finite() && r.rpm != 0.0) {
-                    return Err(SceneError::field(f("rotate.rpm"), format!("must be a non-zero number of revolutions per minute, got {}", r.rpm)));
-                }
-                Some(Motion::Rotate {
-                    point: finite3(&f("rotate.point"), r.point)?,
-                    axis: unit(&f("rotate.axis"), r.axis)?,
-                    omega: r.rpm * std::f64::consts::TAU / 60.0,
-                })
-            }
-            Some(MotionSection::Translate(t)) => {
-                let v = finite3(&f("translate.velocity"), t.velocity)?;
-                if v == DVec3::ZERO {
-                    return Err(SceneError::field(f("translate.velocity"), "must be non-zero (leave motion out for a static wall)"));
-                }
-                Some(Motion::Translate { velocity: v })
-            }
-        });
-        if w.motion.is_some() && names[..k].contains(&names[k]) {
-            return Err(SceneError::field(
-                format!("walls[{k}].name"),
-                format!("a moving wall needs a unique name (its power column); \"{}\" is used twice", names[k]),
-            ));
-        }
-    }
-    let mut walls: Vec<Wall> = Vec::new();
-    let mut groups = Vec::new();
-    let mut drums = Vec::new();
-    for (k, w) in scene.walls.iter().enumerate() {
-        let f = |x: &str| format!("walls[{k}].{x}");
-        let material = lookup(f("material"), &w.material)?;
-        let name = names[k].clone();
-        let given = [w.plane.is_some(), w.quad.is_some(), w.box_.is_some(), w.cylinder.is_some(), w.lifters.is_some()];
-        if given.iter().filter(|&&b| b).count() != 1 {
-            return Err(SceneError::field(format!("walls[{k}]"), "give exactly one shape: plane, quad, box, cylinder or lifters"));
-        }
-        let mut motion = motions[k];
-        let group = k as u16;
-        let mut shapes: Vec<(String, SurfaceShape)> = Vec::new();
-        if let Some(p) = &w.plane {
-            shapes.push((name.clone(), SurfaceShape::Plane(Plane::new(finite3(&f("plane.point"), p.point)?, unit(&f("plane.normal"), p.normal)?))));
-        } else if let Some(q) = &w.quad {
-            let mut c = [DVec3::ZERO; 4];
-            for (i, corner) in q.corners.iter().enumerate() {
-                c[i] = finite3(&f(&format!("quad.corners[{i}]")), *corner)?;
-            }
-            if (c[1] - c[0]).cross(c[2] - c[0]).length() == 0.0 {
-                return Err(SceneError::field(f("quad.corners"), "the first three corners are collinear"));
-            }
-            let quad = Quad::new(c, q.two_sided);
-            if quad.planarity_error() > 1e-9 {
-                return Err(SceneError::field(f("quad.corners"), "the four corners must lie in one plane"));
-            }
-            shapes.push((name.clone(), SurfaceShape::Quad(quad)));
-        } else if let Some(b) = &w.box_ {
-            let (lo, hi) = (finite3(&f("box.min"), b.min)?, finite3(&f("box.max"), b.max)?);
-            if (0..3).any(|a| hi[a] <= lo[a]) {
-                return Err(SceneError::field(f("box"), "max must exceed min on every axis"));
-            }
-            for (side, quad) in ["-x", "+x", "-y", "+y", "-z", "+z"].iter().zip(Quad::box_faces(lo, hi)) {
-                if *side == "-z"
-                    && let Some(hole) = b.floor_hole
-                {
-                    let w = positive(&f("box.floor_hole"), hole)?;
-                    let (c, half) = (0.5 * (lo + hi), 0.5 * w);
-                    if c.x + half >= hi.x || c.y + half >= hi.y {
-                        return Err(SceneError::field(
-                            f("box.floor_hole"),
-                            format!("a {w} m hole does not fit in the {} x {} m floor", hi.x - lo.x, hi.y - lo.y),
-                        ));
-                    }
-                    // Four quads around the hole, normal +z like the floor they replace.
-                    let (x0, x1, y0, y1) = (c.x - half, c.x + half, c.y - half, c.y + half);
-                    let q = |ax: f64, bx: f64, ay: f64, by: f64| {
-                        SurfaceShape::Quad(Quad::new(
-                            [DVec3::new(ax, ay, lo.z), DVec3::new(bx, ay, lo.z), DVec3::new(bx, by, lo.z), DVec3::new(ax, by, lo.z)],
-                            false,
-                        ))
-                    };
-                    shapes.push((format!("{name}-z0"), q(lo.x, x0, lo.y, hi.y)));
-                    shapes.push((format!("{name}-z1"), q(x1, hi.x, lo.y, hi.y)));
-                    shapes.push((format!("{name}-z2"), q(x0, x1, lo.y, y0)));
-                    shapes.push((format!("{name}-z3"), q(x0, x1, y1, hi.y)));
-                    continue;
-                }
-                shapes.push((format!("{name}{side}"), SurfaceShape::Quad(quad)));
-            }
-        } else if let Some(c) = &w.cylinder {
-            let cyl = cylinder(k, c)?;
-            if let Some(Motion::Rotate { point, axis, omega }) = motion
-                && c.inside
-                && coaxial(&cyl, point, axis)
-            {
-                drums.push(Drum { name: name.clone(), point: cyl.point, axis, radius: cyl.radius, length: cyl.length, omega });
-            }
-            shapes.push((name.clone(), SurfaceShape::Cylinder(cyl)));
-        } else if let Some(l) = &w.lifters {
-            let fl = |x: &str| format!("walls[{k}].lifters.{x}");
-            if w.motion.is_some() {
-                return Err(SceneError::field(f("motion"), "lifters move with the cylinder they are fixed to; give the motion on that cylinder"));
-            }
-            let host: Vec<usize> = (0..scene.walls.len()).filter(|&j| names[j] == l.on).collect();
-            let j = match host[..] {
-                [j] => j,
-                [] => {
-                    return Err(SceneError::field(
-                        fl("on"),
-                        format!("no wall is named \"{}\"; lifters need the name of an inside cylinder wall", l.on),
-                    ));
-                }
-                _ => return Err(SceneError::field(fl("on"), format!("several walls are named \"{}\"; give the cylinder a unique name", l.on))),
-            };
-            let Some(c) = scene.walls[j].cylinder.as_ref().filter(|c| c.inside) else {
-                return Err(SceneError::field(fl("on"), format!("wall \"{}\" is not an inside cylinder (lifters line a drum shell)", l.on)));
-            };
-            let cyl = cylinder(j, c)?;
-            if l.count == 0 {
-                return Err(SceneError::field(fl("count"), "must be at least 1 row"));
-            }
-            let h = positive(&fl("height"), l.height)?;
-            let width = positive(&fl("width"), l.width)?;
-            if h >= 0.5 * cyl.radius {
-                return Err(SceneError::field(fl("height"), format!("must be less than half the drum radius {}, got {h}", cyl.radius)));
-            }
-            if !(l.face_angle >= 0.0 && l.face_angle < 75.0) {
-                return Err(SceneError::field(
-                    fl("face_angle"),
-                    format!("must lie in [0, 75) degrees from the radial direction, got {}", l.face_angle),
-                ));
-            }
-            if !l.phase.is_finite() {
-                return Err(SceneError::field(fl("phase"), "must be a finite angle in degrees"));
-            }
-            let base = width + 2.0 * h * l.face_angle.to_radians().tan();
-            if base * l.count as f64 >= std::f64::consts::TAU * (cyl.radius - h) {
-                return Err(SceneError::field(
-                    fl("count"),
-                    format!(
-                        "{} rows with a base {base:.4} m wide do not fit around the drum (circumference {:.4} m)",
-                        l.count,
-                        std::f64::consts::TAU * (cyl.radius - h)
-                    ),
-                ));
-            }
-            motion = motions[j];
-            for (r, prism) in lifter_prisms(&cyl, l.count, h, width, base, l.phase.to_radians()).into_iter().enumerate() {
-                shapes.push((format!("{name}{r}"), SurfaceShape::Prism(Box::new(prism))));
-            }
-        }
-        groups.push(WallGroup { name, moving: motion.is_some() });
-        for (wall_name, shape) in shapes {
-            let (travel_speed, surface_speed) = match motion {
-                None => (0.0, 0.0),
-                Some(Motion::Translate { velocity }) => match &shape {
-                    // An infinite plane sliding in its own plane stays where it is.
-                    SurfaceShape::Plane(p) => (velocity.dot(p.normal).abs(), velocity.length()),
-                    _ => (velocity.length(), velocity.length()),
-                },
-                Some(Motion::Rotate { point, axis, omega }) => {
-                    let speed = omega.abs() * max_radius(&shape, point, axis, domain);
-                    // A drum shell about its own axis, or an end plate about its normal, stays in place.
-                    let invariant = match &shape {
-                        SurfaceShape::Cylinder(c) => coaxial(c, point, axis),
-                        SurfaceShape::Plane(p) => p.normal.cross(axis).length() < 1e-9,
-                        _ => false,
-                    };
-                    (if invariant { 0.0 } else { speed }, speed)
-                }
-            };
-            walls.push(Wall { name: wall_name, material, shape, motion, group, travel_speed, surface_speed });
-        }
-    }
-    if walls.len() > u16::MAX as usize {
-        return Err(SceneError::field("walls", format!("{} surfaces; at most {} are supported", walls.len(), u16::MAX)));
-    }
-    Ok((walls, groups, drums))
-}
-
-fn cylinder(k: usize, c: &CylinderSection) -> Result<Cylinder, SceneError> {
-    let f = |x: &str| format!("walls[{k}].cylinder.{x}");
-    positive(&f("radius"), c.radius)?;
-    positive(&f("length"), c.length)?;
-    Ok(Cylinder::new(finite3(&f("point"), c.point)?, unit(&f("axis"), c.axis)?, c.radius, c.length, c.inside))
-}
-
-/// True when the rotation axis (point, unit axis) is the cylinder's own axis.
-fn coaxial(c: &Cylinder, point: DVec3, axis: DVec3) -> bool {
-    let d = c.point - point;
-    axis.cross(c.axis).length() < 1e-9 && (d - axis * d.dot(axis)).length() < 1e-9 * c.radius
-}
-
-/// Largest distance of the surface from the axis (planes: over the domain's corners).
-fn max_radius(shape: &SurfaceShape, point: DVec3, axis: DVec3, domain: &PeriodicBox) -> f64 {
-    let r = |x: DVec3| {
-        let d = x - point;
-        (d - axis * d.dot(axis)).length()
-    };
-    match shape {
-        SurfaceShape::Plane(_) => (0..8)
-            .map(|k| {
-                r(DVec3::new(
-                    if k & 1 == 0 { domain.min.x } else { domain.max.x },
-                    if k & 2 == 0 { domain.min.y } else { domain.max.y },
-                    if k & 4 == 0 { domain.min.z } else { domain.max.z },
-                ))
-            })
-            .fold(0.0, f64::max),
-        SurfaceShape::Quad(q) => q.corners.iter().map(|&c| r(c)).fold(0.0, f64::max),
-        SurfaceShape::Cylinder(c) => r(c.point).max(r(c.point + c.axis * c.length)) + c.radius,
-        SurfaceShape::Prism(p) => p.faces.iter().flat_map(|q| q.corners).map(r).fold(0.0, f64::max),
-    }
-}
-
-/// Lifter bars: prisms along the drum axis, top face `width` wide at R − h, base `base`
-/// wide on the shell (tangent plane at R; its corners sit just beyond the shell).
-fn lifter_prisms(c: &Cylinder, count: u32, h: f64, width: f64, base: f64, phase: f64) -> Vec<Prism> {
-    let (u, v) = c.axis.any_orthonormal_pair();
-    (0..count)
-        .map(|k| {
-            let phi = phase + std::f64::consts::TAU * k as f64 / count as f64;
-            let er = u * phi.cos() + v * phi.sin();
-            let et = c.axis.cross(er);
-            let section = [(-0.5 * base, c.radius), (0.5 * base, c.radius), (0.5 * width, c.radius - h), (-0.5 * width, c.radius - h)];
-            let at = |s: f64| section.map(|(x, y)| c.point + c.axis * s + et * x + er * y);
-            Prism::new(at(0.0), at(c.length), c.point, c.axis)
-        })
-        .collect()
-}
-
 /// Gravity pressing particles that start at rest onto walls, with history-free friction.
 fn looks_quasi_static(p: &InitialParticles, pairs: &[PairParams], gravity: DVec3, walls: &[Wall], fluid: Option<&Fluid>) -> bool {
     let history_free = pairs.iter().any(|p| p.tangential.friction() > 0.0 && !p.tangential.has_history());
@@ -1266,153 +1008,4 @@ fn check_explicit_overlaps(scene: &Scene, p: &InitialParticles, shapes: &[crate:
         }
     }
     Ok(())
-}
-
-#[allow(clippy::too_many_arguments)]
-fn timescales(
-    p: &InitialParticles,
-    materials: &[Material],
-    pairs: &[PairParams],
-    walls: &[Wall],
-    fluid: Option<&Fluid>,
-    integrator: Integrator,
-    gravity: DVec3,
-    domain: &PeriodicBox,
-    rotation: bool,
-) -> Timescales {
-    let n_mat = materials.len();
-    let mass = |i: usize| materials[p.material[i] as usize].density * p.volume[i];
-    // Lightest movable particle and smallest radius per material; materials that only fixed particles or walls use.
-    let mut lightest = vec![f64::INFINITY; n_mat];
-    let mut smallest = vec![f64::INFINITY; n_mat];
-    let mut movable = vec![0usize; n_mat];
-    // Materials of surfaces a movable particle can hit: walls and fixed particles (m* = m).
-    let mut obstacle = vec![false; n_mat];
-    for i in 0..p.len() {
-        let m = p.material[i] as usize;
-        if p.fixed[i] {
-            obstacle[m] = true;
-        } else {
-            movable[m] += 1;
-            lightest[m] = lightest[m].min(mass(i));
-            smallest[m] = smallest[m].min(p.equivalent_radius(i));
-        }
-    }
-    for w in walls {
-        obstacle[w.material as usize] = true;
-    }
-    let mut ts = Timescales::default();
-    let mut limit = f64::INFINITY;
-    let mut t_col = f64::INFINITY;
-    let mut t_col_linear = f64::INFINITY;
-    let mut rayleigh = f64::INFINITY;
-    let mut tangential = f64::INFINITY;
-    let mut spring_period = f64::INFINITY;
-    let speed = characteristic_speed(p, gravity, domain);
-    for a in 0..n_mat {
-        if !lightest[a].is_finite() {
-            continue;
-        }
-        for b in 0..n_mat {
-            let mut m_stars = Vec::new();
-            // Two movable particles can meet only if there are two of them.
-            if movable[b] > usize::from(a == b) {
-                m_stars.push(lightest[a] * lightest[b] / (lightest[a] + lightest[b]));
-            }
-            if obstacle[b] {
-                m_stars.push(lightest[a]);
-            }
-            for m_star in m_stars {
-                // The explicit viscous tangential force relaxes slip at rate c_t / m*_t, where
-                // m*_t = (2/7) m* for rolling spheres: stable for Δt < 2 m*_t / c_t per contact.
-                if let TangentialLaw::ViscousCoulomb { viscous, .. } = pairs[a * n_mat + b].tangential {
-                    let c_t = match (viscous, pairs[a * n_mat + b].normal) {
-                        (ViscousParameter::Coefficient(c), _) => c,
-                        (ViscousParameter::Stiffness(k_f), NormalLaw::Linear { stiffness, restitution, .. }) => {
-                            k_f * collision_time(stiffness, m_star, restitution)
-                        }
-                        (ViscousParameter::Stiffness(k_f), NormalLaw::Hertz { e_star, restitution, .. }) => {
-                            // Hertz has no single t_col: take the tangent stiffness at an overlap of 1 % of r.
-                            let r = smallest[a];
-                            k_f * collision_time(2.0 * e_star * (r * 0.01 * r).sqrt(), m_star, restitution)
-                        }
-                    };
-                    let m_t = if rotation { 2.0 / 7.0 * m_star } else { m_star };
-                    tangential = tangential.min(m_t / c_t);
-                }
-                // A tangential spring oscillates at ω_t = √(k_t / m*_t): the same limit 2/ω as a normal spring.
-                if let TangentialLaw::History { spring: SpringLaw::Linear { stiffness: k_t, .. }, .. } = pairs[a * n_mat + b].tangential {
-                    let m_t = if rotation { 2.0 / 7.0 * m_star } else { m_star };
-                    let omega_t = (k_t / m_t).sqrt();
-                    limit = limit.min(2.0 / omega_t);
-                    spring_period = spring_period.min(std::f64::consts::PI / omega_t);
-                }
-                match pairs[a * n_mat + b].normal {
-                    NormalLaw::Linear { stiffness, restitution, .. } => {
-                        t_col_linear = t_col_linear.min(collision_time(stiffness, m_star, restitution));
-                        t_col = t_col.min(t_col_linear);
-                        limit = limit.min(2.0 / (stiffness / m_star).sqrt());
-                    }
-                    NormalLaw::Hertz { e_star, .. } => {
-                        let r = smallest[a];
-                        let (e, nu) = (materials[a].youngs_modulus.unwrap(), materials[a].poisson_ratio.unwrap());
-                        rayleigh = rayleigh.min(rayleigh_time(r, materials[a].density, e, nu));
-                        let r_star = if lightest[b].is_finite() && m_star < lightest[a] { r * smallest[b] / (r + smallest[b]) } else { r };
-                        t_col = t_col.min(tumble_contact::hertz_contact_time(m_star, r_star, e_star, speed));
-                    }
-                }
-            }
-        }
-    }
-    let mut default_dt = f64::INFINITY;
-    if t_col.is_finite() {
-        ts.collision_time = Some(t_col);
-    }
-    // Linear contacts: t_col / 50; Hertz: 0.2 Δt_R (physics.md, "Time step").
-    if t_col_linear.is_finite() {
-        default_dt = t_col_linear / 50.0;
-    }
-    if spring_period.is_finite() {
-        default_dt = default_dt.min(spring_period / 50.0);
-    }
-    if tangential.is_finite() {
-        ts.tangential_time = Some(tangential);
-        limit = limit.min(2.0 * tangential);
-        // A particle in a packing has several contacts whose viscous rates add up.
-        default_dt = default_dt.min(tangential / 3.0);
-    }
-    if rayleigh.is_finite() {
-        ts.rayleigh_time = Some(rayleigh);
-        default_dt = default_dt.min(0.2 * rayleigh);
-        limit = limit.min(rayleigh);
-    }
-    if let Some(f) = fluid {
-        let tau = (0..p.len())
-            .filter(|&i| !p.fixed[i])
-            .map(|i| match f.drag {
-                Drag::Stokes { viscosity } => stokes_relaxation_time(materials[p.material[i] as usize].density, 2.0 * p.radius[i], viscosity),
-                // Linearised at the characteristic speed: τ = m / (α v).
-                Drag::Quadratic { coefficient } => mass(i) / (coefficient * speed.max(1e-3)),
-            })
-            .fold(f64::INFINITY, f64::min);
-        if tau.is_finite() {
-            ts.drag_time = Some(tau);
-            default_dt = default_dt.min(tau / 50.0);
-            if !integrator.implicit_drag() {
-                limit = limit.min(2.0 * tau);
-            }
-        }
-    }
-    if limit.is_finite() {
-        ts.stability_limit = Some(limit);
-    }
-    ts.default_dt = if default_dt.is_finite() { default_dt } else { 1e-3 };
-    ts
-}
-
-/// A speed scale for Hertz contact times: the fastest initial particle or free fall across the domain.
-fn characteristic_speed(p: &InitialParticles, gravity: DVec3, domain: &PeriodicBox) -> f64 {
-    let initial = p.velocity.iter().map(|v| v.length()).fold(0.0, f64::max);
-    let fall = (2.0 * gravity.length() * domain.extent().max_element()).sqrt();
-    initial.max(fall).max(0.1)
 }

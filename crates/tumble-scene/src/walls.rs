@@ -1,0 +1,253 @@
+//! The [[walls]] entries compiled into surfaces: boxes as six quads, drums with their lifter
+//! prisms, motions and the groups whose power `observables.csv` reports.
+
+use crate::SceneError;
+use crate::plan::{Drum, Motion, Wall, WallGroup, finite3, positive, unit};
+use crate::schema::*;
+use glam::DVec3;
+use tumble_geom::{Cylinder, PeriodicBox, Plane, Prism, Quad, SurfaceShape};
+
+/// Surfaces, their groups (one per [[walls]] entry) and the drums among them.
+pub(crate) type CompiledWalls = (Vec<Wall>, Vec<WallGroup>, Vec<Drum>);
+
+/// The [[walls]] entries as surfaces (boxes as six quads, lifters as prisms), their groups and the drums.
+pub(crate) fn compile_walls(
+    scene: &Scene,
+    lookup: &dyn Fn(String, &str) -> Result<u16, SceneError>,
+    domain: &PeriodicBox,
+) -> Result<CompiledWalls, SceneError> {
+    let names: Vec<String> = scene.walls.iter().enumerate().map(|(k, w)| w.name.clone().unwrap_or_else(|| format!("wall{k}"))).collect();
+    // Motions first: lifters take their cylinder's.
+    let mut motions: Vec<Option<Motion>> = Vec::new();
+    for (k, w) in scene.walls.iter().enumerate() {
+        let f = |x: &str| format!("walls[{k}].motion.{x}");
+        motions.push(match &w.motion {
+            None => None,
+            Some(MotionSection::Rotate(r)) => {
+                if !(r.rpm.is_finite() && r.rpm != 0.0) {
+                    return Err(SceneError::field(f("rotate.rpm"), format!("must be a non-zero number of revolutions per minute, got {}", r.rpm)));
+                }
+                Some(Motion::Rotate {
+                    point: finite3(&f("rotate.point"), r.point)?,
+                    axis: unit(&f("rotate.axis"), r.axis)?,
+                    omega: r.rpm * std::f64::consts::TAU / 60.0,
+                })
+            }
+            Some(MotionSection::Translate(t)) => {
+                let v = finite3(&f("translate.velocity"), t.velocity)?;
+                if v == DVec3::ZERO {
+                    return Err(SceneError::field(f("translate.velocity"), "must be non-zero (leave motion out for a static wall)"));
+                }
+                Some(Motion::Translate { velocity: v })
+            }
+        });
+        if w.motion.is_some() && names[..k].contains(&names[k]) {
+            return Err(SceneError::field(
+                format!("walls[{k}].name"),
+                format!("a moving wall needs a unique name (its power column); \"{}\" is used twice", names[k]),
+            ));
+        }
+    }
+    let mut walls: Vec<Wall> = Vec::new();
+    let mut groups = Vec::new();
+    let mut drums = Vec::new();
+    for (k, w) in scene.walls.iter().enumerate() {
+        let f = |x: &str| format!("walls[{k}].{x}");
+        let material = lookup(f("material"), &w.material)?;
+        let name = names[k].clone();
+        let given = [w.plane.is_some(), w.quad.is_some(), w.box_.is_some(), w.cylinder.is_some(), w.lifters.is_some()];
+        if given.iter().filter(|&&b| b).count() != 1 {
+            return Err(SceneError::field(format!("walls[{k}]"), "give exactly one shape: plane, quad, box, cylinder or lifters"));
+        }
+        let mut motion = motions[k];
+        let group = k as u16;
+        let mut shapes: Vec<(String, SurfaceShape)> = Vec::new();
+        if let Some(p) = &w.plane {
+            shapes.push((name.clone(), SurfaceShape::Plane(Plane::new(finite3(&f("plane.point"), p.point)?, unit(&f("plane.normal"), p.normal)?))));
+        } else if let Some(q) = &w.quad {
+            let mut c = [DVec3::ZERO; 4];
+            for (i, corner) in q.corners.iter().enumerate() {
+                c[i] = finite3(&f(&format!("quad.corners[{i}]")), *corner)?;
+            }
+            if (c[1] - c[0]).cross(c[2] - c[0]).length() == 0.0 {
+                return Err(SceneError::field(f("quad.corners"), "the first three corners are collinear"));
+            }
+            let quad = Quad::new(c, q.two_sided);
+            if quad.planarity_error() > 1e-9 {
+                return Err(SceneError::field(f("quad.corners"), "the four corners must lie in one plane"));
+            }
+            shapes.push((name.clone(), SurfaceShape::Quad(quad)));
+        } else if let Some(b) = &w.box_ {
+            let (lo, hi) = (finite3(&f("box.min"), b.min)?, finite3(&f("box.max"), b.max)?);
+            if (0..3).any(|a| hi[a] <= lo[a]) {
+                return Err(SceneError::field(f("box"), "max must exceed min on every axis"));
+            }
+            for (side, quad) in ["-x", "+x", "-y", "+y", "-z", "+z"].iter().zip(Quad::box_faces(lo, hi)) {
+                if *side == "-z"
+                    && let Some(hole) = b.floor_hole
+                {
+                    let w = positive(&f("box.floor_hole"), hole)?;
+                    let (c, half) = (0.5 * (lo + hi), 0.5 * w);
+                    if c.x + half >= hi.x || c.y + half >= hi.y {
+                        return Err(SceneError::field(
+                            f("box.floor_hole"),
+                            format!("a {w} m hole does not fit in the {} x {} m floor", hi.x - lo.x, hi.y - lo.y),
+                        ));
+                    }
+                    // Four quads around the hole, normal +z like the floor they replace.
+                    let (x0, x1, y0, y1) = (c.x - half, c.x + half, c.y - half, c.y + half);
+                    let q = |ax: f64, bx: f64, ay: f64, by: f64| {
+                        SurfaceShape::Quad(Quad::new(
+                            [DVec3::new(ax, ay, lo.z), DVec3::new(bx, ay, lo.z), DVec3::new(bx, by, lo.z), DVec3::new(ax, by, lo.z)],
+                            false,
+                        ))
+                    };
+                    shapes.push((format!("{name}-z0"), q(lo.x, x0, lo.y, hi.y)));
+                    shapes.push((format!("{name}-z1"), q(x1, hi.x, lo.y, hi.y)));
+                    shapes.push((format!("{name}-z2"), q(x0, x1, lo.y, y0)));
+                    shapes.push((format!("{name}-z3"), q(x0, x1, y1, hi.y)));
+                    continue;
+                }
+                shapes.push((format!("{name}{side}"), SurfaceShape::Quad(quad)));
+            }
+        } else if let Some(c) = &w.cylinder {
+            let cyl = cylinder(k, c)?;
+            if let Some(Motion::Rotate { point, axis, omega }) = motion
+                && c.inside
+                && coaxial(&cyl, point, axis)
+            {
+                drums.push(Drum { name: name.clone(), point: cyl.point, axis, radius: cyl.radius, length: cyl.length, omega });
+            }
+            shapes.push((name.clone(), SurfaceShape::Cylinder(cyl)));
+        } else if let Some(l) = &w.lifters {
+            let fl = |x: &str| format!("walls[{k}].lifters.{x}");
+            if w.motion.is_some() {
+                return Err(SceneError::field(f("motion"), "lifters move with the cylinder they are fixed to; give the motion on that cylinder"));
+            }
+            let host: Vec<usize> = (0..scene.walls.len()).filter(|&j| names[j] == l.on).collect();
+            let j = match host[..] {
+                [j] => j,
+                [] => {
+                    return Err(SceneError::field(
+                        fl("on"),
+                        format!("no wall is named \"{}\"; lifters need the name of an inside cylinder wall", l.on),
+                    ));
+                }
+                _ => return Err(SceneError::field(fl("on"), format!("several walls are named \"{}\"; give the cylinder a unique name", l.on))),
+            };
+            let Some(c) = scene.walls[j].cylinder.as_ref().filter(|c| c.inside) else {
+                return Err(SceneError::field(fl("on"), format!("wall \"{}\" is not an inside cylinder (lifters line a drum shell)", l.on)));
+            };
+            let cyl = cylinder(j, c)?;
+            if l.count == 0 {
+                return Err(SceneError::field(fl("count"), "must be at least 1 row"));
+            }
+            let h = positive(&fl("height"), l.height)?;
+            let width = positive(&fl("width"), l.width)?;
+            if h >= 0.5 * cyl.radius {
+                return Err(SceneError::field(fl("height"), format!("must be less than half the drum radius {}, got {h}", cyl.radius)));
+            }
+            if !(l.face_angle >= 0.0 && l.face_angle < 75.0) {
+                return Err(SceneError::field(
+                    fl("face_angle"),
+                    format!("must lie in [0, 75) degrees from the radial direction, got {}", l.face_angle),
+                ));
+            }
+            if !l.phase.is_finite() {
+                return Err(SceneError::field(fl("phase"), "must be a finite angle in degrees"));
+            }
+            let base = width + 2.0 * h * l.face_angle.to_radians().tan();
+            if base * l.count as f64 >= std::f64::consts::TAU * (cyl.radius - h) {
+                return Err(SceneError::field(
+                    fl("count"),
+                    format!(
+                        "{} rows with a base {base:.4} m wide do not fit around the drum (circumference {:.4} m)",
+                        l.count,
+                        std::f64::consts::TAU * (cyl.radius - h)
+                    ),
+                ));
+            }
+            motion = motions[j];
+            for (r, prism) in lifter_prisms(&cyl, l.count, h, width, base, l.phase.to_radians()).into_iter().enumerate() {
+                shapes.push((format!("{name}{r}"), SurfaceShape::Prism(Box::new(prism))));
+            }
+        }
+        groups.push(WallGroup { name, moving: motion.is_some() });
+        for (wall_name, shape) in shapes {
+            let (travel_speed, surface_speed) = match motion {
+                None => (0.0, 0.0),
+                Some(Motion::Translate { velocity }) => match &shape {
+                    // An infinite plane sliding in its own plane stays where it is.
+                    SurfaceShape::Plane(p) => (velocity.dot(p.normal).abs(), velocity.length()),
+                    _ => (velocity.length(), velocity.length()),
+                },
+                Some(Motion::Rotate { point, axis, omega }) => {
+                    let speed = omega.abs() * max_radius(&shape, point, axis, domain);
+                    // A drum shell about its own axis, or an end plate about its normal, stays in place.
+                    let invariant = match &shape {
+                        SurfaceShape::Cylinder(c) => coaxial(c, point, axis),
+                        SurfaceShape::Plane(p) => p.normal.cross(axis).length() < 1e-9,
+                        _ => false,
+                    };
+                    (if invariant { 0.0 } else { speed }, speed)
+                }
+            };
+            walls.push(Wall { name: wall_name, material, shape, motion, group, travel_speed, surface_speed });
+        }
+    }
+    if walls.len() > u16::MAX as usize {
+        return Err(SceneError::field("walls", format!("{} surfaces; at most {} are supported", walls.len(), u16::MAX)));
+    }
+    Ok((walls, groups, drums))
+}
+
+fn cylinder(k: usize, c: &CylinderSection) -> Result<Cylinder, SceneError> {
+    let f = |x: &str| format!("walls[{k}].cylinder.{x}");
+    positive(&f("radius"), c.radius)?;
+    positive(&f("length"), c.length)?;
+    Ok(Cylinder::new(finite3(&f("point"), c.point)?, unit(&f("axis"), c.axis)?, c.radius, c.length, c.inside))
+}
+
+/// True when the rotation axis (point, unit axis) is the cylinder's own axis.
+fn coaxial(c: &Cylinder, point: DVec3, axis: DVec3) -> bool {
+    let d = c.point - point;
+    axis.cross(c.axis).length() < 1e-9 && (d - axis * d.dot(axis)).length() < 1e-9 * c.radius
+}
+
+/// Largest distance of the surface from the axis (planes: over the domain's corners).
+fn max_radius(shape: &SurfaceShape, point: DVec3, axis: DVec3, domain: &PeriodicBox) -> f64 {
+    let r = |x: DVec3| {
+        let d = x - point;
+        (d - axis * d.dot(axis)).length()
+    };
+    match shape {
+        SurfaceShape::Plane(_) => (0..8)
+            .map(|k| {
+                r(DVec3::new(
+                    if k & 1 == 0 { domain.min.x } else { domain.max.x },
+                    if k & 2 == 0 { domain.min.y } else { domain.max.y },
+                    if k & 4 == 0 { domain.min.z } else { domain.max.z },
+                ))
+            })
+            .fold(0.0, f64::max),
+        SurfaceShape::Quad(q) => q.corners.iter().map(|&c| r(c)).fold(0.0, f64::max),
+        SurfaceShape::Cylinder(c) => r(c.point).max(r(c.point + c.axis * c.length)) + c.radius,
+        SurfaceShape::Prism(p) => p.faces.iter().flat_map(|q| q.corners).map(r).fold(0.0, f64::max),
+    }
+}
+
+/// Lifter bars: prisms along the drum axis, top face `width` wide at R − h, base `base`
+/// wide on the shell (tangent plane at R; its corners sit just beyond the shell).
+fn lifter_prisms(c: &Cylinder, count: u32, h: f64, width: f64, base: f64, phase: f64) -> Vec<Prism> {
+    let (u, v) = c.axis.any_orthonormal_pair();
+    (0..count)
+        .map(|k| {
+            let phi = phase + std::f64::consts::TAU * k as f64 / count as f64;
+            let er = u * phi.cos() + v * phi.sin();
+            let et = c.axis.cross(er);
+            let section = [(-0.5 * base, c.radius), (0.5 * base, c.radius), (0.5 * width, c.radius - h), (-0.5 * width, c.radius - h)];
+            let at = |s: f64| section.map(|(x, y)| c.point + c.axis * s + et * x + er * y);
+            Prism::new(at(0.0), at(c.length), c.point, c.axis)
+        })
+        .collect()
+}
