@@ -20,7 +20,10 @@ pub struct RunOptions {
     /// Output folder; `None` means `out/<scene name>/`.
     pub out_dir: Option<PathBuf>,
     pub threads: usize,
+    /// Overrides `run.duration` when the scene is read from a file ([`run_scene_file`]); a
+    /// scene given to [`run_compiled`] already has its plan, and this is not looked at.
     pub duration: Option<f64>,
+    /// Overrides `run.dt` (seconds) when the scene is read from a file, as `duration`.
     pub dt: Option<f64>,
     /// Report progress on standard error.
     pub progress: bool,

@@ -159,6 +159,7 @@ fn cube_settling_bed(backend: Backend) -> Vec<Measured> {
         against_cpu("cube bed: mean height [m]", mean, Error::Relative, 6e-2),
         against_cpu("cube bed: KE(0.10 s) / KE peak", ke_at(0.10), Error::Absolute, 5e-2),
         against_cpu("cube bed: KE(0.36 s) / KE peak", ke_at(0.36), Error::Absolute, 2e-2),
+        against_cpu("cube bed: contacts at the end", outputs.last().unwrap().contacts as f64, Error::Relative, 0.2),
     ]
 }
 

@@ -202,9 +202,9 @@ fn height_and_energy(s: &tumble_cpu::State) -> (f64, f64) {
     (h, e)
 }
 
-/// Runs the bed on both backends for `duration`; `settled`: the end is checked as a settled bed
-/// (else as one still falling together: heights within 3 %).
-fn settle_against_the_cpu(name: &str, spheres: bool, duration: f64, settled: bool) {
+/// Runs the bed on both backends for `duration`; the end is checked as a bed still falling
+/// together (heights within 3 %, as many contacts).
+fn settle_against_the_cpu(name: &str, spheres: bool, duration: f64) {
     let sc = bed(spheres, duration);
     let steps = sc.plan.steps;
     println!("{name}: {} particles, {} steps of {:.2e} s", sc.particles.len(), steps, sc.plan.dt);
@@ -212,7 +212,6 @@ fn settle_against_the_cpu(name: &str, spheres: bool, duration: f64, settled: boo
     let mut gpu = GpuSimulation::new(sc).unwrap();
     let chunks = 6;
     let mut worst_height = 0.0f64;
-    let (mut peak_cpu, mut peak_gpu) = (0.0f64, 0.0f64);
     for k in 1..=chunks {
         let t = std::time::Instant::now();
         gpu.advance(steps / chunks);
@@ -240,23 +239,12 @@ fn settle_against_the_cpu(name: &str, spheres: bool, duration: f64, settled: boo
             og.elastic_energy
         );
         worst_height = worst_height.max((hg - hc).abs() / hc);
-        peak_cpu = peak_cpu.max(ec);
-        peak_gpu = peak_gpu.max(eg);
         if k == 1 {
             // Falling, before many collisions: still the same trajectories.
             assert!((hg - hc).abs() < 5e-3 * hc && (eg - ec).abs() < 5e-2 * ec, "first chunk: height cpu {hc} gpu {hg}, kinetic cpu {ec} gpu {eg}");
         }
-        if k == chunks && !settled {
+        if k == chunks {
             assert!((hg - hc).abs() < 0.03 * hc, "final mean height cpu {hc} gpu {hg}");
-            assert!((og.contacts as f64 - oc.contacts as f64).abs() < 0.2 * oc.contacts as f64, "contacts cpu {} gpu {}", oc.contacts, og.contacts);
-        }
-        if k == chunks && settled {
-            // Settled on both (kinetic energy 50 times below its peak), at the same bed height
-            // within the spread of realisations of a bed a few cubes deep, with as many contacts.
-            // Single trajectories diverge once the bed forms (f32, and polyhedra switch contact
-            // features discontinuously); the bed as a whole must not.
-            assert!(eg < 2e-2 * peak_gpu && ec < 2e-2 * peak_cpu, "not settled: cpu {ec:e} of {peak_cpu:e}, gpu {eg:e} of {peak_gpu:e}");
-            assert!((hg - hc).abs() < 0.06 * hc, "final mean height cpu {hc} gpu {hg}");
             assert!((og.contacts as f64 - oc.contacts as f64).abs() < 0.2 * oc.contacts as f64, "contacts cpu {} gpu {}", oc.contacts, og.contacts);
         }
     }
@@ -265,7 +253,7 @@ fn settle_against_the_cpu(name: &str, spheres: bool, duration: f64, settled: boo
 
 #[test]
 fn a_mixture_of_spheres_and_cubes_settles_as_on_the_cpu() {
-    on_gpu("a_mixture_of_spheres_and_cubes_settles_as_on_the_cpu", || settle_against_the_cpu("sphere and cube bed", true, 0.18, false));
+    on_gpu("a_mixture_of_spheres_and_cubes_settles_as_on_the_cpu", || settle_against_the_cpu("sphere and cube bed", true, 0.18));
 }
 
 #[test]
@@ -286,10 +274,8 @@ fn polyhedra_runs_give_bit_identical_states() {
     });
 }
 
-#[test]
-fn a_bed_of_cubes_settles_as_on_the_cpu() {
-    on_gpu("a_bed_of_cubes_settles_as_on_the_cpu", || settle_against_the_cpu("cube bed", false, 0.36, true));
-}
+// The settled bed of cubes alone (height, kinetic-energy decay, contacts against the CPU) is the
+// conformance suite's "polyhedra: cube bed" family, which CI runs after the tests.
 
 /// Polyhedron–wall contacts take static walls only: a polyhedra scene with a moving wall is
 /// refused with a feature error (before any adapter is asked for), its static twin is not.
