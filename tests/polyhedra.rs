@@ -93,11 +93,18 @@ fn case_6_spin_about_the_intermediate_axis_tumbles_conserving_energy_and_momentu
     assert!((order - 2.0).abs() < 0.3, "energy error should fall as Δt²: order {order}");
 }
 
-/// An octahedron (vertex first) hits a cube face head-on at `speed`: rebound speed / impact speed.
-fn octahedron_on_cube(speed: f64) -> f64 {
-    let text = format!(
+/// Two steel bodies with a linear spring of `stiffness`, e = 1, no friction: (shape, position,
+/// orientation, velocity) each.
+fn elastic_pair(stiffness: f64, a: (&str, [f64; 3], DQuat, f64), b: (&str, [f64; 3], DQuat, f64)) -> String {
+    let body = |(shape, x, q, v): (&str, [f64; 3], DQuat, f64)| {
+        format!(
+            "[[particles]]\nmaterial = \"steel\"\nshape = {shape}\npositions = [[{}, {}, {}]]\norientation = [{}, {}, {}, {}]\nvelocity = [{v}, 0.0, 0.0]\n",
+            x[0], x[1], x[2], q.w, q.x, q.y, q.z
+        )
+    };
+    format!(
         r#"
-name = "octahedron-cube"
+name = "pair"
 [run]
 duration = 1.0
 integrator = "verlet"
@@ -108,18 +115,20 @@ max = [1.0, 1.0, 1.0]
 name = "steel"
 density = 7800.0
 [contact]
-normal = {{ model = "linear", stiffness = 1.0e6 }}
+normal = {{ model = "linear", stiffness = {stiffness:e} }}
 restitution = 1.0
-[[particles]]
-material = "steel"
-shape = {{ platonic = {{ kind = "octahedron", radius = 0.02 }} }}
-positions = [[-0.0205, 0.0, 0.0]]
-velocity = [{speed}, 0.0, 0.0]
-[[particles]]
-material = "steel"
-shape = {{ cube = {{ edge = 0.03 }} }}
-positions = [[0.015, 0.0, 0.0]]
-"#
+{}{}"#,
+        body(a),
+        body(b)
+    )
+}
+
+/// An octahedron (vertex first) hits a cube face head-on at `speed`: rebound speed / impact speed.
+fn octahedron_on_cube(speed: f64) -> f64 {
+    let text = elastic_pair(
+        1.0e6,
+        ("{ platonic = { kind = \"octahedron\", radius = 0.02 } }", [-0.0205, 0.0, 0.0], DQuat::IDENTITY, speed),
+        ("{ cube = { edge = 0.03 } }", [0.015, 0.0, 0.0], DQuat::IDENTITY, 0.0),
     );
     let mut s = sim(&text);
     // Until well after the contact ends (0.0005 m gap, then t_col = π √(m*/k)).
@@ -382,4 +391,56 @@ fn the_time_step_sees_the_mass_a_cube_has_at_its_corner() {
     // Δt = t_col / 50, then shortened to fit a whole number of steps into the duration.
     assert!(cube_dt <= cube / 50.0 && cube_dt > 0.99 * cube / 50.0, "Δt {cube_dt:e} for t_col {cube:e}");
     assert!(sphere_dt / cube_dt > 0.99 * expected, "Δt sphere {sphere_dt:e} cube {cube_dt:e}");
+}
+
+/// (E + dissipated) / E0 at the end of the scene.
+fn energy_ratio(text: &str) -> f64 {
+    let mut s = sim(text);
+    let e0 = s.observables().mechanical_energy();
+    s.advance(s.plan().steps);
+    let o = s.observables();
+    (o.mechanical_energy() + o.dissipated_energy) / e0
+}
+
+/// A uniformly random rotation (Shoemake) from a 64-bit LCG.
+fn random_rotation(seed: &mut u64) -> DQuat {
+    let mut next = || {
+        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (u1, u2, u3) = (next(), next(), next());
+    let t = std::f64::consts::TAU;
+    DQuat::from_xyzw((1.0 - u1).sqrt() * (t * u2).sin(), (1.0 - u1).sqrt() * (t * u2).cos(), u1.sqrt() * (t * u3).sin(), u1.sqrt() * (t * u3).cos())
+}
+
+/// Known gap (docs/polyhedral-particles.md): the contact force is not the gradient of a potential
+/// across feature changes, so elastic collisions gain or lose energy; held to what was measured.
+#[test]
+fn random_elastic_collisions_of_polyhedra_keep_their_energy_within_the_measured_gap() {
+    let mut seed = 7u64;
+    let mut ratios = Vec::new();
+    for shape in ["{ cube = { edge = 0.03 } }", "{ platonic = { kind = \"dodecahedron\", radius = 0.02 } }"] {
+        for k in 0..8 {
+            let (qa, qb) = (random_rotation(&mut seed), random_rotation(&mut seed));
+            let offset = 0.004 * (k % 4) as f64;
+            let text = elastic_pair(1.0e5, (shape, [-0.04, offset, 0.0], qa, 0.5), (shape, [0.04, 0.0, 0.0], qb, -0.5))
+                .replace("duration = 1.0", "duration = 0.09");
+            ratios.push(energy_ratio(&text));
+        }
+    }
+    let worst = ratios.iter().map(|r| (r - 1.0).abs()).fold(0.0, f64::max);
+    eprintln!("elastic collisions (E + dissipated) / E0: {ratios:.4?}, worst {worst:.3e}");
+    // Measured: 0.9996–1.0096, most within 2e-4.
+    assert!(worst < 1.5e-2, "an elastic collision changed the energy by {worst:e}");
+}
+
+/// The same gap in a bed: 72 frictionless, elastic cubes poured into a box.
+#[test]
+fn a_frictionless_elastic_bed_of_cubes_keeps_its_energy_within_the_measured_gap() {
+    let text = cube_bed(0.2).replace("restitution = 0.5", "restitution = 1.0").replace("tangential = { model = \"history\", friction = 0.4 }\n", "");
+    assert!(!text.contains("tangential") && text.contains("restitution = 1.0"));
+    let r = energy_ratio(&text);
+    eprintln!("frictionless elastic cube bed: (E + dissipated) / E0 = {r:.4}");
+    // Measured: 1.047 (1.049 with the longer step that ignored the corner mass).
+    assert!((r - 1.0).abs() < 0.07, "the elastic bed's energy changed by {:e}", r - 1.0);
 }
