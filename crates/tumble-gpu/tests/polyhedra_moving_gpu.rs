@@ -245,56 +245,8 @@ motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 30.
     });
 }
 
-/// A short drum of 30 glass cubes (8 mm) with six lifter bars and end plates turning with the
-/// shell at 60 rpm (half the critical speed): soft contacts and Δt = t_col / 20 so that a
-/// thousand steps see the charge land and be lifted.
-const SMALL_CUBE_DRUM: &str = r#"
-name = "small-cube-drum"
-[run]
-duration = 0.25
-integrator = "verlet"
-dt = { collision_fraction = 20 }
-[domain]
-min = [-0.052, -0.052, -0.002]
-max = [0.052, 0.052, 0.032]
-[gravity]
-acceleration = [0.0, -9.81, 0.0]
-[[materials]]
-name = "glass"
-density = 2500.0
-[[materials]]
-name = "steel"
-density = 7800.0
-[contact]
-normal = { model = "linear", stiffness = 300.0 }
-restitution = 0.5
-tangential = { model = "history", friction = 0.5 }
-[[particles]]
-name = "cubes"
-material = "glass"
-shape = { cube = { edge = 0.008 } }
-orientation = "random"
-lattice = { min = [-0.0355, -0.0284, 0.0004], max = [0.0355, 0.0142, 0.0288], spacing = 0.0142 }
-[[walls]]
-name = "shell"
-material = "steel"
-cylinder = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.05, length = 0.03, inside = true }
-motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 60.0 } }
-[[walls]]
-name = "lifters"
-material = "steel"
-lifters = { count = 6, height = 0.006, width = 0.006, on = "shell" }
-[[walls]]
-name = "back"
-material = "steel"
-plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
-motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 60.0 } }
-[[walls]]
-name = "front"
-material = "steel"
-plane = { point = [0.0, 0.0, 0.03], normal = [0.0, 0.0, -1.0] }
-motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 60.0 } }
-"#;
+/// A short drum of 30 cubes with six lifters, end plates turning with the shell (the conformance scene).
+const SMALL_CUBE_DRUM: &str = include_str!("../../../scenes/conformance/cube_drum.toml");
 
 /// What the drum tells over a run: per wall group the mean power over the second half, the
 /// kinetic energy and charge angle averaged over it, and the energy books over the whole run.
