@@ -25,8 +25,9 @@ fn scene(text: &str) -> CompiledScene {
     compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// One cube of 1 cm (7.8 g of steel) with friction and one translating plane; `run`: further
-/// [run] lines. Both cube tests build the same pipelines (a cold lavapipe compiles each variant once).
+/// One cube of 1 cm (7.8 g of steel) with friction and rolling resistance and one translating plane;
+/// `run`: further [run] lines. The single-cube tests build the same pipelines (a cold lavapipe
+/// compiles each variant once, ~30 s).
 fn cube_and_plate(run: &str, gravity: f64, stiffness: f64, restitution: f64, cube_at: [f64; 3], plane: &str) -> String {
     format!(
         r#"
@@ -47,6 +48,7 @@ density = 7800.0
 normal = {{ model = "linear", stiffness = {stiffness} }}
 restitution = {restitution}
 tangential = {{ model = "history", friction = 0.5 }}
+rolling_friction = 0.05
 [[particles]]
 material = "steel"
 shape = {{ cube = {{ edge = 0.01 }} }}
@@ -148,14 +150,14 @@ fn a_cube_on_a_belt_is_dragged_to_the_belt_speed() {
         let (vg, wg, work_g, o) = run_one(sc.clone(), steps, true);
         let (vc, wc, work_c, oc) = run_one(sc, steps, false);
         let work = mass * v * v;
-        // The books of a sliding contact, printed only: a cube sliding on a static floor books the
-        // same dissipation on each backend as here (the belt's frame), off the analytic ½ m V² by
-        // +2.6 % on the CPU and −6.3 % on the GPU: polyhedron contacts with tangential springs, not the belt.
-        let books =
-            (o.wall_work - (o.mechanical_energy() + o.dissipated_energy - initial.mechanical_energy() - initial.dissipated_energy)) / o.wall_work;
-        let books_c =
-            (oc.wall_work - (oc.mechanical_energy() + oc.dissipated_energy - initial.mechanical_energy() - initial.dissipated_energy)) / oc.wall_work;
+        // The books of a sliding contact: the belt's work is what the cube gained and friction took.
+        let residual = |o: &tumble_cpu::Observables| {
+            (o.wall_work - (o.mechanical_energy() + o.dissipated_energy - initial.mechanical_energy() - initial.dissipated_energy)) / o.wall_work
+        };
+        let (books, books_c) = (residual(&o), residual(&oc));
         println!("belt energy books: (work − Δ mechanical − dissipated) / work = gpu {books:.2e} cpu {books_c:.2e}");
+        // Measured −8.8e-3 on both: the polyhedron contact's own books (docs/drum.md), not the belt's.
+        assert!(books.abs() < 2e-2 && (books - books_c).abs() < 1e-3, "energy books: gpu {books} cpu {books_c}");
         println!(
             "belt, {steps} steps: gpu v {vg} ω {wg} work {work_g:.6e} | cpu v {vc} ω {wc} work {work_c:.6e} | analytic v {v} work m V² = {work:.6e}"
         );
@@ -171,7 +173,8 @@ fn a_drum_turning_a_cube_draws_torque_times_omega() {
         // One cube on a turning shell, pressed against the turning back plate by a tilted gravity:
         // the walls' power is Ω · Σ (p × F + twisting couple) = Ω · (x × F + I α) about the axis (a
         // cube's inertia is isotropic), which the device books contact by contact as F · v_wall(p)
-        // + twist · Ω. The twisting friction on the back plate's face contact enters here.
+        // + (twist + rolling couple) · Ω. The twisting friction on the back plate's face contact and
+        // the rolling resistance against ω − Ω enter here.
         let text = r#"
 name = "cube-in-drum"
 [run]
@@ -190,6 +193,7 @@ density = 7800.0
 normal = { model = "linear", stiffness = 1.0e4 }
 restitution = 0.5
 tangential = { model = "history", friction = 0.5 }
+rolling_friction = 0.05
 [[particles]]
 material = "steel"
 shape = { cube = { edge = 0.01 } }
