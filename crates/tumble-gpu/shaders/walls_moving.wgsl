@@ -17,7 +17,7 @@
 //     orientation quaternion (x, y, z, w), in the pose of the contact pass.
 //
 // Wall power (MOVING): per particle ORIGINAL id and wall group, F_on_particle · v_wall
-// (+ Ω_wall · rolling couple) of the last pass, and the work Σ power Δt as a Kahan pair.
+// (+ Ω_wall · rolling couple, + Ω_wall · twisting couple for polyhedra) of the last pass, and the work Σ power Δt as a Kahan pair.
 // Each invocation writes only its own id's entries; the host sums them in id order.
 
 @group(0) @binding(16) var<storage, read_write> wall_power: array<f32>;
