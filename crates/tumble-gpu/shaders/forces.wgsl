@@ -242,18 +242,31 @@ fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
 }
 
 // A polyhedral particle i against wall k (entry at `base`): the force, the torque about
-// the centre with twisting friction and rolling resistance, into the sum.
-fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) {
+// the centre with twisting friction and rolling resistance, into the sum (tumble-cpu's
+// polyhedron_wall). Returns the power the wall delivers (MOVING): F · v_wall at the contact
+// point plus the twisting and rolling couples times the wall's spin.
+fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 {
     let x = pos[i].xyz;
     let shape = shape_of(i);
-    let entry = array<vec4<f32>, 6>(tables[base], tables[base + 1u], tables[base + 2u], tables[base + 3u], tables[base + 4u], tables[base + 5u]);
-    let hit = polyhedron_wall(shape, orient[i], x, entry);
+    var hit: PolyHit;
+    if PRISMS && tables[base].x == 3.0 {
+        hit = polyhedron_prism(shape, orient[i], x, base);
+    } else {
+        let entry = array<vec4<f32>, 6>(tables[base], tables[base + 1u], tables[base + 2u], tables[base + 3u], tables[base + 4u], tables[base + 5u]);
+        hit = polyhedron_wall(shape, orient[i], x, entry);
+    }
     if !hit.hit {
-        return;
+        return 0.0;
     }
     let arm = hit.point - x;
     let w = seen_spin(i);
-    let v_rel = seen_velocity(i) + cross(w, arm);
+    var v_wall = vec3<f32>(0.0);
+    var wall_w = vec3<f32>(0.0);
+    if MOVING {
+        v_wall = wall_velocity(base, hit.point);
+        wall_w = wall_spin(base);
+    }
+    let v_rel = seen_velocity(i) + cross(w, arm) - v_wall;
     let pair = props[i].y * params.counts.w + u32(tables[base].y);
     let r = equivalent_radius(i);
     var old_spring = vec3<f32>(0.0);
@@ -264,19 +277,24 @@ fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) {
     if HISTORY {
         (*s).springs = keep_spring(props[i].z, (*s).springs, WALL_KEY | k, f.spring);
     }
-    let twist = twisting_torque(hit.spread, tables[3u * pair + 1u].y, f.normal, hit.normal, w, inverse_inertia_about(i, hit.normal));
+    // Twisting friction and rolling resistance act against the spin relative to the wall.
+    let spin = w - wall_w;
+    let twist = twisting_torque(hit.spread, tables[3u * pair + 1u].y, f.normal, hit.normal, spin, inverse_inertia_about(i, hit.normal));
     (*s).force += f.force;
     (*s).torque += cross(arm, f.force) + twist;
     (*s).elastic += f.elastic;
-    (*s).dissipation += f.dissipation - dot(twist, w);
+    (*s).dissipation += f.dissipation - dot(twist, spin);
+    var power = dot(f.force, v_wall) + dot(twist, wall_w);
     if ROLLING {
-        // Rolling relative to the (static) wall with the volume-equivalent radius, as on the CPU.
-        let roll = rolling_torque(tables[3u * pair + 2u].z, r, f.normal, w, omega[i].w);
+        // The volume-equivalent radius, as on the CPU.
+        let roll = rolling_torque(tables[3u * pair + 2u].z, r, f.normal, spin, omega[i].w);
         (*s).torque += roll;
-        (*s).dissipation -= dot(roll, w);
+        (*s).dissipation -= dot(roll, spin);
+        power += dot(roll, wall_w);
     }
     (*s).contacts += 1u;
     (*s).ratio = max((*s).ratio, hit.depth / r);
+    return power;
 }
 
 // The contact of slots a and b, a holding the lower id.
@@ -423,7 +441,6 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
     let mass = alpha[i].w;
     let walls_base = 3u * params.counts.w * params.counts.w;
     // Wall power (MOVING): walls come grouped in group order; each group's sum is booked once.
-    // Polyhedra never meet moving walls or prisms (GpuSimulation::new refuses those scenes).
     let polyhedron = POLYHEDRA && shape_of(i) != SPHERE_SHAPE;
     var group = 0u;
     var power = 0.0;
@@ -438,7 +455,7 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
             }
         }
         if polyhedron {
-            polyhedron_wall_contact(s, i, k, base);
+            power += polyhedron_wall_contact(s, i, k, base);
             continue;
         }
         var p: Proximity;

@@ -1,6 +1,7 @@
 // Moving world geometry (prepended to forces.wgsl after geometry.wgsl and
 // history.wgsl): wall velocities, per-group wall power and work, and lifter
-// bars (convex prisms, tumble-geom's sphere_prism.rs in f32).
+// bars (convex prisms, tumble-geom's sphere_prism.rs in f32; polyhedral particles meet
+// a bar's hull through the polyhedron–polyhedron narrow phase).
 //
 // The host writes every wall's pose at the step's force time into the wall
 // table before each contact pass (Wall::shape_at in f64, then f32 relative to
@@ -11,14 +12,19 @@
 //                            wall material at the domain's centre, 0); a static wall has zeros.
 //   prism (kind 3), after the motion entries when MOVING:
 //     p0 = (centre of the enclosing sphere, its radius), p1 = (drum axis point, inner radius),
-//     p2 = (drum axis, 0), then per face (6): 4 corners and the outward normal (5 vec4).
+//     p2 = (drum axis, 0), then per face (6): 4 corners and the outward normal (5 vec4);
+//     with POLYHEDRA, then the bar's hull (prisms.rs): (its centre, its shape index), its
+//     orientation quaternion (x, y, z, w), in the pose of the contact pass.
 //
 // Wall power (MOVING): per particle ORIGINAL id and wall group, F_on_particle · v_wall
-// (+ Ω_wall · rolling couple) of the last pass, and the work Σ power Δt as a Kahan pair.
+// (+ Ω_wall · rolling couple, + Ω_wall · twisting couple for polyhedra) of the last pass, and the work Σ power Δt as a Kahan pair.
 // Each invocation writes only its own id's entries; the host sums them in id order.
 
 @group(0) @binding(16) var<storage, read_write> wall_power: array<f32>;
 @group(0) @binding(17) var<storage, read_write> wall_work: array<vec2<f32>>;
+
+// The hull's entries follow the three prism words and the six faces (5 vec4 each).
+const PRISM_HULL: u32 = 33u;
 
 fn wall_extras(base: u32) -> u32 {
     return u32(tables[base].w);
@@ -154,4 +160,16 @@ fn prism_data(base: u32) -> u32 {
         e += 2u;
     }
     return e;
+}
+
+// Polyhedron s at x (orientation q) against the bar at `base`: its hull, a table shape in
+// the pass's pose, through the polyhedron–polyhedron narrow phase (tumble-geom's
+// Prism::polyhedron_contact). Normal from the bar to the polyhedron; the point relative to
+// the walls' origin.
+fn polyhedron_prism(s: u32, q: vec4<f32>, x: vec3<f32>, base: u32) -> PolyHit {
+    let hull = prism_data(base) + PRISM_HULL;
+    let centre = tables[hull];
+    var hit = polyhedron_polyhedron(s, q, u32(centre.w), tables[hull + 1u], x - centre.xyz);
+    hit.point += centre.xyz;
+    return hit;
 }

@@ -27,6 +27,7 @@ mod buffers;
 mod context;
 mod history;
 mod kernels;
+mod prisms;
 pub mod profile;
 mod readback;
 pub mod shaders;
@@ -77,22 +78,16 @@ pub struct GpuSimulation {
     pending_walls: Vec<[f32; 4]>,
     /// The time of the walls' pose in the last recorded contact pass.
     wall_time: f64,
+    /// Lifter bars as table shapes (polyhedral particles only).
+    hulls: prisms::PrismHulls,
 }
 
 impl GpuSimulation {
     /// Uploads a compiled scene to the process's GPU and evaluates the initial forces.
     pub fn new(scene: CompiledScene) -> Result<Self, GpuError> {
-        if let Some(why) = upload::unsupported_walls(&scene.plan) {
+        let hulls = prisms::PrismHulls::new(&scene.plan)?;
+        if let Some(why) = upload::unsupported_walls(&scene.plan, &hulls) {
             return Err(GpuError::Feature(format!("{why}; use backend = \"cpu\"")));
-        }
-        if scene.plan.polyhedra
-            && (upload::moving_walls(&scene.plan) || scene.plan.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))))
-        {
-            return Err(GpuError::Feature(
-                "it has polyhedral particles with moving walls or lifters, which the GPU backend does not run yet (polyhedron contacts \
-                 take static walls only); use backend = \"cpu\""
-                    .into(),
-            ));
         }
         let gpu = context::gpu()?;
         let state = tumble_cpu::State::from_scene(&scene);
@@ -100,12 +95,12 @@ impl GpuSimulation {
         let arrays = upload::ParticleArrays::from_state(&state, &plan);
         let slots = arrays.pos.len() as u32;
         let grid = upload::Grid::new(&plan, arrays.pos.len());
-        let (tables, shape_base) = upload::tables_with_shapes(&plan)?;
+        let (tables, shape_base) = upload::tables_with_shapes(&plan, &hulls)?;
         let params = upload::params(&plan, &grid, slots, shape_base);
         let moving = upload::moving_walls(&plan);
         // The wall section the stage rewrites each step: the 6-vec4 entries and their extras,
         // never the shape table after them.
-        let wall_entries = if moving { upload::wall_table(&plan, 0.0).len() } else { 0 };
+        let wall_entries = if moving { upload::wall_table(&plan, 0.0, &hulls).len() } else { 0 };
         let walls = buffers::WallBuffers {
             groups: if moving { plan.wall_groups.len() as u64 } else { 0 },
             stage_bytes: 16 * (wall_entries as u64) * STEPS_PER_SUBMIT,
@@ -130,6 +125,7 @@ impl GpuSimulation {
             wall_entries,
             pending_walls: Vec::new(),
             wall_time: 0.0,
+            hulls,
         };
         let mut r = sim.recorder();
         sim.record_initial(&mut r);

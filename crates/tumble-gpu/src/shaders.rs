@@ -82,7 +82,7 @@ pub struct Switches {
     pub rolling: bool,
     /// Moving walls: wall velocities in the contact laws, poses uploaded every step, wall power.
     pub moving: bool,
-    /// Lifter bars (sphere–prism contacts).
+    /// Lifter bars (sphere–prism contacts; polyhedra meet their hulls).
     pub prisms: bool,
     /// Convex polyhedral particles (orientations, the shape table); always with rotation,
     /// never with cohesion or drag (the plan refuses those with polyhedra).
@@ -141,8 +141,8 @@ impl Switches {
                 continue;
             }
             for (drag, taylor_green, polyhedra) in [(0, false, false), (1, false, false), (1, true, false), (2, false, false), (0, false, true)] {
-                // Polyhedra rotate, neither cohere nor feel drag, and meet only static walls.
-                if polyhedra && (!b(0) || b(1) || b(9) || b(10)) {
+                // Polyhedra rotate and neither cohere nor feel drag.
+                if polyhedra && (!b(0) || b(1)) {
                     continue;
                 }
                 for integrator in Integrator::ALL {

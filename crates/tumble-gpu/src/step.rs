@@ -98,7 +98,7 @@ impl GpuSimulation {
         let bytes = 16 * self.wall_entries as u64;
         let offset = 16 * self.pending_walls.len() as u64;
         assert!(offset + bytes <= self.buffers.wall_stage.size(), "more steps recorded than one batch holds");
-        self.pending_walls.extend(crate::upload::wall_table(&self.plan, t));
+        self.pending_walls.extend(crate::upload::wall_table(&self.plan, t, &self.hulls));
         r.encoder.copy_buffer_to_buffer(&self.buffers.wall_stage, offset, &self.buffers.tables, 16 * 3 * self.plan.pairs.len() as u64, bytes);
         self.wall_time = t;
     }

@@ -9,6 +9,8 @@ use tumble_cpu::State;
 use tumble_geom::SurfaceShape;
 use tumble_scene::Plan;
 
+use crate::prisms::PrismHulls;
+
 /// Particle flags (common.wgsl).
 pub const FLAG_FIXED: u32 = 1;
 pub const FLAG_DEAD: u32 = 2;
@@ -171,9 +173,10 @@ impl ParticleArrays {
     }
 }
 
-/// The polyhedron shapes of a plan as the device takes them.
-pub fn plan_shapes(plan: &Plan) -> Result<Vec<[f32; 4]>, crate::GpuError> {
-    let bodies: Vec<tumble_geom::Polyhedron> = plan.shapes.iter().map(|s| s.body.clone()).collect();
+/// The polyhedron shapes of a plan as the device takes them: its particle shapes, then its
+/// lifter bars' hulls (prisms.rs).
+pub fn plan_shapes(plan: &Plan, hulls: &PrismHulls) -> Result<Vec<[f32; 4]>, crate::GpuError> {
+    let bodies: Vec<tumble_geom::Polyhedron> = plan.shapes.iter().map(|s| s.body.clone()).chain(hulls.shapes().cloned()).collect();
     crate::shapes::shape_table(&bodies).map_err(|e| crate::GpuError::Feature(e.0))
 }
 
@@ -181,12 +184,12 @@ pub fn plan_shapes(plan: &Plan) -> Result<Vec<[f32; 4]>, crate::GpuError> {
 /// the walls' extras: motion, prism faces; see [`wall_table`]), then the shape table (shapes.rs)
 /// when the plan has polyhedra; see forces.wgsl. Returns the tables and the first entry of the
 /// shape table, which follows everything the walls append so the two regions never overlap.
-pub fn tables_with_shapes(plan: &Plan) -> Result<(Vec<[f32; 4]>, usize), crate::GpuError> {
-    let mut t = tables(plan);
+pub fn tables_with_shapes(plan: &Plan, hulls: &PrismHulls) -> Result<(Vec<[f32; 4]>, usize), crate::GpuError> {
+    let mut t = tables(plan, hulls);
     if !plan.polyhedra {
         return Ok((t, 0));
     }
-    let shapes = plan_shapes(plan)?;
+    let shapes = plan_shapes(plan, hulls)?;
     let base = t.len();
     t.extend_from_slice(&shapes);
     if t.len() * 4 >= 1 << 24 {
@@ -196,9 +199,9 @@ pub fn tables_with_shapes(plan: &Plan) -> Result<(Vec<[f32; 4]>, usize), crate::
 }
 
 /// The pair table (3 vec4 per material pair) followed by the walls at t = 0 (see [`wall_table`]).
-pub fn tables(plan: &Plan) -> Vec<[f32; 4]> {
+pub fn tables(plan: &Plan, hulls: &PrismHulls) -> Vec<[f32; 4]> {
     let mut t = pair_table(plan);
-    t.extend(wall_table(plan, 0.0));
+    t.extend(wall_table(plan, 0.0, hulls));
     if t.is_empty() {
         t.push([0.0; 4]);
     }
@@ -242,15 +245,15 @@ pub fn moving_walls(plan: &Plan) -> bool {
 
 /// The wall section of the table (it follows the pair table, at `3 · materials²`) with every
 /// wall in its pose at time `t`: 6 vec4 per wall (geometry.wgsl), then each wall's extras
-/// (walls_moving.wgsl: its motion when some wall moves, a prism's faces), whose first index
-/// is the entry's w0.w.
-pub fn wall_table(plan: &Plan, t: f64) -> Vec<[f32; 4]> {
+/// (walls_moving.wgsl: its motion when some wall moves, a prism's faces and, with polyhedral
+/// particles, its hull's pose), whose first index is the entry's w0.w.
+pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
     let walls_base = 3 * plan.pairs.len();
     let moving = moving_walls(plan);
     let origin = centre(plan);
     let mut main = Vec::with_capacity(6 * plan.walls.len());
     let mut extras = Vec::new();
-    for w in &plan.walls {
+    for (k, w) in plan.walls.iter().enumerate() {
         let extra = (walls_base + 6 * plan.walls.len() + extras.len()) as f32;
         if moving {
             // ω and the velocity at the domain's centre: v(x) = ω × (x − centre) + v(centre).
@@ -276,6 +279,13 @@ pub fn wall_table(plan: &Plan, t: f64) -> Vec<[f32; 4]> {
                 extras.extend(f.corners.map(rel));
                 extras.push(dir(f.normal));
             }
+            if let Some((hull, pose)) = hulls.pose(k, w, p, t) {
+                // The hull's centre (w: its shape index) and orientation, for polyhedral particles.
+                let x = rel(pose.position);
+                extras.push([x[0], x[1], x[2], hull as f32]);
+                let q = pose.rotation;
+                extras.push([q.x as f32, q.y as f32, q.z as f32, q.w as f32]);
+            }
         }
         // w0.w: the first index of this wall's extras (walls_moving.wgsl).
         entry[0][3] = extra;
@@ -286,13 +296,13 @@ pub fn wall_table(plan: &Plan, t: f64) -> Vec<[f32; 4]> {
 }
 
 /// Why the GPU backend cannot run the plan's walls, if it cannot.
-pub fn unsupported_walls(plan: &Plan) -> Option<String> {
+pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
     // The contact pass books each group's power once, walking the walls in group order.
     if moving_walls(plan) && plan.walls.windows(2).any(|w| w[1].group < w[0].group) {
         return Some("its wall surfaces are not in wall-group order".into());
     }
     // Table indices are stored as f32 (exact below 2^24).
-    let entries = 3 * plan.pairs.len() + wall_table(plan, 0.0).len();
+    let entries = 3 * plan.pairs.len() + wall_table(plan, 0.0, hulls).len();
     if entries >= 1 << 24 {
         return Some(format!("its pair and wall tables have {entries} entries (at most 2^24)"));
     }

@@ -29,7 +29,8 @@ impl GpuSimulation {
     }
 
     /// Power delivered to the particles by each wall group at the last force pass,
-    /// Σ F_on_particle · v_wall (+ Ω_wall · rolling couple); zero for static walls.
+    /// Σ F_on_particle · v_wall at the contact point (+ Ω_wall · the rolling and, for polyhedra,
+    /// twisting couples); zero for static walls.
     pub fn wall_power(&self) -> Vec<f64> {
         self.group_sums(&self.buffers.wall_power, |p: &f32| *p as f64)
     }

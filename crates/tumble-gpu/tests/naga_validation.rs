@@ -73,3 +73,22 @@ fn the_polyhedra_module_validates() {
     validator().validate(&module).unwrap_or_else(|e| panic!("polyhedra: {}", e.emit_to_string(&source)));
     assert!(module.entry_points.iter().any(|e| e.name == "evaluate"));
 }
+
+#[test]
+fn polyhedra_with_moving_walls_and_lifters_have_their_variants_validated() {
+    let forces = sources().into_iter().find(|s| s.name == "forces").unwrap();
+    let variants: BTreeSet<Vec<(&str, u64)>> =
+        Switches::all().iter().map(|s| s.constants_for(&forces).into_iter().map(|(k, v)| (k, v.to_bits())).collect()).collect();
+    let on = |set: &Vec<(&str, u64)>, name: &str| set.iter().any(|(k, v)| *k == name && f64::from_bits(*v) == 1.0);
+    // The contact pass is specialised on POLYHEDRA with each of MOVING and PRISMS, alone and together.
+    for (moving, prisms) in [(false, false), (true, false), (false, true), (true, true)] {
+        assert!(
+            variants.iter().any(|v| on(v, "POLYHEDRA") && on(v, "MOVING") == moving && on(v, "PRISMS") == prisms),
+            "POLYHEDRA with MOVING {moving} PRISMS {prisms}"
+        );
+    }
+    // The drum of cubes needs all three.
+    let text = std::fs::read_to_string(format!("{}/../../scenes/drum_cubes.toml", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let drum = Switches::from_plan(&tumble_scene::compile(&tumble_scene::parse_scene(&text).unwrap()).unwrap().plan);
+    assert!(drum.polyhedra && drum.moving && drum.prisms, "{drum:?}");
+}

@@ -276,21 +276,3 @@ fn polyhedra_runs_give_bit_identical_states() {
 
 // The settled bed of cubes alone (height, kinetic-energy decay, contacts against the CPU) is the
 // conformance suite's "polyhedra: cube bed" family, which CI runs after the tests.
-
-/// Polyhedron–wall contacts take static walls only: a polyhedra scene with a moving wall is
-/// refused with a feature error (before any adapter is asked for), its static twin is not.
-#[test]
-fn polyhedra_with_moving_walls_are_refused() {
-    let bed = include_str!("../../../scenes/conformance/cube_settling_bed.toml");
-    let moving = format!(
-        "{bed}\n[[walls]]\nname = \"belt\"\nmaterial = \"glass\"\nplane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}\nmotion = {{ translate = {{ velocity = [0.1, 0.0, 0.0] }} }}\n"
-    );
-    match GpuSimulation::new(scene(&moving)) {
-        Err(tumble_gpu::GpuError::Feature(why)) => assert!(why.contains("polyhedral particles with moving walls"), "{why}"),
-        Err(e) => panic!("expected a feature error, got {e}"),
-        Ok(_) => panic!("a polyhedra scene with a moving wall was accepted"),
-    }
-    on_gpu("polyhedra_with_moving_walls_are_refused", || {
-        assert!(GpuSimulation::new(scene(bed)).is_ok(), "the static cube bed is refused");
-    });
-}
