@@ -1,5 +1,6 @@
 use crate::surface::contact_from_closest;
-use crate::{DVec3, Quad, SurfaceContact};
+use crate::{DVec3, Polyhedron, Pose, Quad, SurfaceContact};
+use std::sync::Arc;
 
 /// A convex prism with a quadrilateral cross-section (a mill lifter bar): six
 /// one-sided quads with outward normals, touched as one convex body (face, edge
@@ -16,6 +17,10 @@ pub struct Prism {
     pub axis_point: DVec3,
     pub axis: DVec3,
     pub inner: f64,
+    /// The prism as a polyhedron (hulled once, shared by every pose) and where its body frame
+    /// sits now; `None` for a degenerate prism, which polyhedra then never touch.
+    pub hull: Option<Arc<Polyhedron>>,
+    pub hull_pose: Pose,
 }
 
 impl Prism {
@@ -40,7 +45,10 @@ impl Prism {
         };
         let side = |k: usize| outward([a[k], a[(k + 1) % 4], b[(k + 1) % 4], b[k]]);
         let faces = [side(0), side(1), side(2), side(3), outward(a), outward(b)];
-        Prism { faces, centre, bound, axis_point, axis, inner }
+        let hull = Polyhedron::from_points(&verts);
+        // The hull's body frame sits at its centre of mass: place it back where the corners are.
+        let hull_pose = hull.as_ref().map_or(Pose::IDENTITY, |h| h.input_to_body().relative(&Pose::IDENTITY));
+        Prism { faces, centre, bound, axis_point, axis, inner, hull: hull.map(Arc::new), hull_pose }
     }
 
     /// The vertices, for drawing.
@@ -49,16 +57,12 @@ impl Prism {
     }
 
     /// Contact of a convex polyhedron at `pose` with this prism (normal from the prism to the
-    /// polyhedron): the prism is hulled and handed to the polyhedron–polyhedron routine.
-    pub fn polyhedron_contact(&self, poly: &crate::Polyhedron, pose: &crate::Pose) -> Option<crate::PolyContact> {
+    /// polyhedron): the prism's hull goes to the polyhedron–polyhedron routine.
+    pub fn polyhedron_contact(&self, poly: &Polyhedron, pose: &Pose) -> Option<crate::PolyContact> {
         if (pose.position - self.centre).length() > self.bound + poly.bounding_radius() {
             return None;
         }
-        let corners: Vec<DVec3> = self.faces[4].corners.iter().chain(&self.faces[5].corners).copied().collect();
-        let hull = crate::Polyhedron::from_points(&corners)?;
-        // The hull's body frame sits at its centre of mass: place it back where the corners are.
-        let hull_pose = hull.input_to_body().relative(&crate::Pose::IDENTITY);
-        crate::polyhedron_polyhedron(poly, pose, &hull, &hull_pose)
+        crate::polyhedron_polyhedron(poly, pose, self.hull.as_deref()?, &self.hull_pose)
     }
 
     pub fn sphere_proximity(&self, centre: DVec3, radius: f64, reach: f64) -> Option<SurfaceContact> {
@@ -103,6 +107,7 @@ impl Prism {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::DQuat;
 
     /// A unit cube [0,1]³ as a prism along z, axis far below.
     fn cube() -> Prism {
@@ -147,5 +152,23 @@ mod tests {
         assert!((c.normal - DVec3::Y).length() < 1e-9, "{:?}", c.normal);
         assert!((c.depth - 0.03).abs() < 1e-9, "{}", c.depth);
         assert!(p.polyhedron_contact(&small, &crate::Pose::from_position(DVec3::new(0.5, 1.2, 0.5))).is_none());
+    }
+
+    /// A turned lifter keeps its hull built once and posed: the contact equals that of a prism
+    /// built from the turned corners (what the hull was rebuilt from on every call before).
+    #[test]
+    fn a_moved_prism_touches_polyhedra_as_one_built_where_it_moved() {
+        let p = cube();
+        let (pivot, rotation, shift) = (DVec3::new(0.0, 0.0, 3.0), DQuat::from_axis_angle(DVec3::new(0.3, 0.4, 0.8).normalize(), 0.7), DVec3::X);
+        let crate::SurfaceShape::Prism(moved) = crate::SurfaceShape::Prism(Box::new(p.clone())).moved(pivot, rotation, shift) else { unreachable!() };
+        let pt = |v: DVec3| pivot + rotation * (v - pivot) + shift;
+        let rebuilt = Prism::new(p.faces[4].corners.map(pt), p.faces[5].corners.map(pt), pt(p.axis_point), rotation * p.axis);
+        let small = crate::Polyhedron::cube(0.2);
+        let pose = crate::Pose::new(pt(DVec3::new(0.5, 1.07, 0.55)), rotation * DQuat::from_rotation_z(0.2));
+        let (a, b) = (moved.polyhedron_contact(&small, &pose).unwrap(), rebuilt.polyhedron_contact(&small, &pose).unwrap());
+        assert!(
+            (a.normal - b.normal).length() < 1e-12 && (a.depth - b.depth).abs() < 1e-12 && (a.point - b.point).length() < 1e-12,
+            "{a:?} vs {b:?}"
+        );
     }
 }

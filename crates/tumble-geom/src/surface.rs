@@ -55,6 +55,8 @@ impl SurfaceShape {
                 axis_point: pt(p.axis_point),
                 axis: dir(p.axis),
                 inner: p.inner,
+                hull: p.hull.clone(),
+                hull_pose: Pose::new(pt(p.hull_pose.position), rotation * p.hull_pose.rotation),
             })),
         }
     }

@@ -279,7 +279,7 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
                 extras.extend(f.corners.map(rel));
                 extras.push(dir(f.normal));
             }
-            if let Some((hull, pose)) = hulls.pose(k, w, p, t) {
+            if let Some((hull, pose)) = hulls.pose(k, p) {
                 // The hull's centre (w: its shape index) and orientation, for polyhedral particles.
                 let x = rel(pose.position);
                 extras.push([x[0], x[1], x[2], hull as f32]);
