@@ -299,8 +299,15 @@ const FAMILIES: [(&str, fn(Backend) -> Vec<Measured>); 10] = [
 ];
 
 /// Every measurement of the suite on one backend (only the families whose name contains `only`, when given).
+/// Each family's wall time goes to standard error: CI's budget is watched family by family.
 fn measurements(b: Backend, only: Option<&str>) -> Vec<Measured> {
-    FAMILIES.iter().filter(|(name, _)| only.is_none_or(|o| name.contains(o))).flat_map(|(_, family)| family(b)).collect()
+    let timed = |(name, family): &(&str, fn(Backend) -> Vec<Measured>)| {
+        let start = std::time::Instant::now();
+        let rows = family(b);
+        eprintln!("conformance: {name} on {} in {:.1} s", b.name(), start.elapsed().as_secs_f64());
+        rows
+    };
+    FAMILIES.iter().filter(|(name, _)| only.is_none_or(|o| name.contains(o))).flat_map(timed).collect()
 }
 
 /// The closed-form verification cases and the energy balance.
