@@ -315,9 +315,9 @@ fn history_runs_give_bit_identical_states_and_springs() {
             let mut gpu = GpuSimulation::new(scene.clone()).unwrap();
             gpu.advance(1000);
             assert!(gpu.history_overflow().is_none());
-            (gpu.device_arrays(), gpu.springs())
+            (gpu.device_arrays(), gpu.springs(), gpu.spring_energies())
         };
-        let ((a, sa), (b, sb)) = (run(), run());
+        let ((a, sa, ea), (b, sb, eb)) = (run(), run());
         let bits = |v: &Vec<[f32; 4]>| v.iter().flat_map(|x| x.map(f32::to_bits)).collect::<Vec<u32>>();
         assert_eq!(bits(&a.pos), bits(&b.pos));
         assert_eq!(bits(&a.vel), bits(&b.vel));
@@ -325,12 +325,15 @@ fn history_runs_give_bit_identical_states_and_springs() {
         assert_eq!(bits(&a.force), bits(&b.force));
         assert_eq!(bits(&a.torque), bits(&b.torque));
         assert_eq!(sa, sb);
+        assert_eq!(ea, eb, "stored energies");
         assert!(sa.len() > 20, "springs held: {}", sa.len());
+        assert!(ea.values().any(|&e| f32::from_bits(e) > 0.0) && ea.keys().eq(sa.keys()), "every spring stores its energy");
         // Both sides of a pair hold the same spring with opposite sign (exactly).
         for (&(owner, key), xi) in &sa {
             if key & tumble_cpu::WALL_KEY == 0 {
                 let other = sb.get(&(key, owner)).unwrap_or_else(|| panic!("{owner} holds a spring for {key} but not the reverse"));
                 assert_eq!(xi.map(|x| -f32::from_bits(x)), other.map(f32::from_bits));
+                assert_eq!(ea[&(owner, key)], ea[&(key, owner)], "both sides store the same energy");
             }
         }
     });
