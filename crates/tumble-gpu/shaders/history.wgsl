@@ -55,7 +55,11 @@ fn keep_spring(owner: u32, used: u32, key: u32, spring: vec4<f32>) -> u32 {
     let slots = params.periodic.w;
     if used < slots {
         hist_new[owner * slots + used] = vec4<u32>(bitcast<vec3<u32>>(spring.xyz), key);
-        hist_new[history_energy_index(owner, used)][used % 4u] = bitcast<u32>(spring.w);
+        // The whole entry is rewritten (all four words are this particle's): plain vec4 stores on every backend.
+        let e = history_energy_index(owner, used);
+        var energies = hist_new[e];
+        energies[used % 4u] = bitcast<u32>(spring.w);
+        hist_new[e] = energies;
     }
     return used + 1u;
 }
