@@ -279,8 +279,8 @@ fn small_mill(backend: Backend) -> Vec<Measured> {
         against_cpu("small mill: lifter power [W]", power[1], Error::Relative, 0.2),
         against_cpu("small mill: shell power [W]", power[0], Error::Absolute, 0.3),
         against_cpu("small mill: charge COM angle [deg]", angle, Error::Absolute, 8.0),
-        // Springs that end while loaded take their energy along on the GPU (stored ξ only): ~2 %.
-        exact("small mill: energy balance (work − ΔE − dissipated) / work", ((o.wall_work - gain) / o.wall_work).abs(), 0.0, 1e-2, 3e-2),
+        // Both backends book the energy of springs whose contact ends as dissipated: ~0.6 % on each.
+        exact("small mill: energy balance (work − ΔE − dissipated) / work", ((o.wall_work - gain) / o.wall_work).abs(), 0.0, 1e-2, 1e-2),
     ]
 }
 

@@ -54,14 +54,14 @@ struct ContactForce {
     tangential: vec3<f32>,
     elastic: f32,
     dissipation: f32,
-    // |F_n| applied (rolling resistance) and the spring to keep (history; zero when none).
+    // |F_n| applied (rolling resistance) and the spring to keep: ξ, stored energy (history; zero when none).
     normal: f32,
-    spring: vec3<f32>,
+    spring: vec4<f32>,
 }
 
-// `old_spring`: the contact's tangential spring from the last step (history only, else zero).
-fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_rel: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec3<f32>) -> ContactForce {
-    var out = ContactForce(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, vec3<f32>(0.0));
+// `old_spring`: the contact's tangential spring from the last step and its stored energy (history only, else zero).
+fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_rel: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec4<f32>) -> ContactForce {
+    var out = ContactForce(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, vec4<f32>(0.0));
     let t0 = tables[3u * pair];
     let t1 = tables[3u * pair + 1u];
     let t2 = tables[3u * pair + 2u];
@@ -100,7 +100,7 @@ fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_r
         if HISTORY && t1.x >= 4.0 {
             let h = history_force(t1, t2, out.normal, overlap, r_star, m_star, old_spring, n, vt);
             ft = h.force;
-            out.spring = h.spring;
+            out.spring = vec4<f32>(h.spring, h.energy);
             energy += h.energy;
             slip_loss = h.dissipation + dot(ft, vt);
         } else if TANGENTIAL && t1.x != 0.0 {
@@ -137,8 +137,8 @@ struct PairOut {
     dissipation: f32,
     // δ / min(r_a, r_b), or negative when the bodies do not touch.
     ratio: f32,
-    // The pair's new spring as a holds it (history).
-    spring: vec3<f32>,
+    // The pair's new spring as a holds it: ξ, stored energy (history).
+    spring: vec4<f32>,
 }
 
 fn shape_of(j: u32) -> u32 {
@@ -184,7 +184,7 @@ fn twisting_torque(spread: f32, friction: f32, normal_force: f32, n: vec3<f32>, 
 // m* and R* from the volume-equivalent radii, the torque of the whole force about
 // each centre, twisting friction on the patch, and rolling resistance.
 fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
-    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec3<f32>(0.0));
+    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec4<f32>(0.0));
     let sa = shape_of(a);
     let sb = shape_of(b);
     var hit: PolyHit;
@@ -214,7 +214,7 @@ fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
     let ra = equivalent_radius(a);
     let rb = equivalent_radius(b);
     let r_star = ra * rb / (ra + rb);
-    var old_spring = vec3<f32>(0.0);
+    var old_spring = vec4<f32>(0.0);
     if HISTORY {
         old_spring = find_spring(props[a].z, props[b].z);
     }
@@ -269,7 +269,7 @@ fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> 
     let v_rel = seen_velocity(i) + cross(w, arm) - v_wall;
     let pair = props[i].y * params.counts.w + u32(tables[base].y);
     let r = equivalent_radius(i);
-    var old_spring = vec3<f32>(0.0);
+    var old_spring = vec4<f32>(0.0);
     if HISTORY {
         old_spring = find_spring(props[i].z, WALL_KEY | k);
     }
@@ -299,7 +299,7 @@ fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> 
 
 // The contact of slots a and b, a holding the lower id.
 fn pair_contact(a: u32, b: u32) -> PairOut {
-    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec3<f32>(0.0));
+    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec4<f32>(0.0));
     var d = pos[a].xyz - pos[b].xyz;
     if PERIODIC {
         d = minimum_image(d);
@@ -335,7 +335,7 @@ fn pair_contact(a: u32, b: u32) -> PairOut {
     }
     let m_star = 1.0 / (vel[a].w + vel[b].w);
     let r_star = ra * rb / (ra + rb);
-    var old_spring = vec3<f32>(0.0);
+    var old_spring = vec4<f32>(0.0);
     if HISTORY {
         // Both sides read a's copy.
         old_spring = find_spring(props[a].z, props[b].z);
@@ -409,12 +409,12 @@ fn add_pair(s: ptr<function, Sum>, i: u32, j: u32) {
     }
     let p = pair_contact(a, b);
     if HISTORY {
-        // a keeps +ξ keyed by b, b keeps −ξ keyed by a.
-        var xi = -p.spring;
+        // a keeps +ξ keyed by b, b keeps −ξ keyed by a; both keep the same stored energy.
+        var spring = vec4<f32>(-p.spring.xyz, p.spring.w);
         if mine {
-            xi = p.spring;
+            spring = p.spring;
         }
-        (*s).springs = keep_spring(props[i].z, (*s).springs, props[j].z, xi);
+        (*s).springs = keep_spring(props[i].z, (*s).springs, props[j].z, spring);
     }
     (*s).ratio = max((*s).ratio, p.ratio);
     if mine {
@@ -483,7 +483,7 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
             v_rel += cross(w, arm);
         }
         let pair = props[i].y * params.counts.w + u32(tables[base].y);
-        var old_spring = vec3<f32>(0.0);
+        var old_spring = vec4<f32>(0.0);
         if HISTORY {
             old_spring = find_spring(props[i].z, WALL_KEY | k);
         }
@@ -586,6 +586,10 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         if WALLS && !fixed_i {
             add_walls(&s, i);
+        }
+        if HISTORY && params.inv_cell.w > 0.0 {
+            // Springs whose contact ended take their stored energy with them: dissipated now.
+            s.dissipation += ended_spring_energy(props[i].z, s.springs) / params.inv_cell.w;
         }
     }
     force_out[i] = vec4<f32>(s.force, s.elastic);

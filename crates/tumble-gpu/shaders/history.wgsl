@@ -6,10 +6,14 @@
 // holds, per id, `params.periodic.w` slots of vec4<u32> (spring xyz as f32 bits,
 // key: the neighbour's id, or WALL_KEY | wall), then after all n * slots entries
 // one count entry per id: (slots in use, springs needed this step, most ever
-// needed, unused). The last two let the host report an overflow without atomics.
+// needed, unused), then per id ceil(slots / 4) entries of stored energies
+// (½ k_t |ξ|² as f32 bits, slot k in word k % 4 of entry k / 4). The counts let
+// the host report an overflow without atomics; the energies are what a spring
+// takes with it when its contact ends (k_t depends on the overlap then, so ξ
+// alone cannot give it back).
 // Two generations: the pass reads `hist_old` and writes `hist_new`; the host
 // swaps the two bind groups after every committed pass (not the t = 0 one).
-// Each invocation writes only its own particle's slots and count.
+// Each invocation writes only its own particle's slots, count and energy entries.
 
 @group(0) @binding(14) var<storage, read> hist_old: array<vec4<u32>>;
 @group(0) @binding(15) var<storage, read_write> hist_new: array<vec4<u32>>;
@@ -21,31 +25,71 @@ fn history_count_index(owner: u32) -> u32 {
     return params.counts.x * params.periodic.w + owner;
 }
 
-// The spring particle `owner` held for `key` last step, zero when the contact is new.
-fn find_spring(owner: u32, key: u32) -> vec3<f32> {
+// Index of the entry holding the stored energy of `owner`'s slot `k` (in word k % 4).
+fn history_energy_index(owner: u32, k: u32) -> u32 {
+    let slots = params.periodic.w;
+    return params.counts.x * (slots + 1u) + owner * ((slots + 3u) / 4u) + k / 4u;
+}
+
+// The spring particle `owner` held for `key` last step (ξ, stored energy), zero when the contact is new.
+fn find_spring(owner: u32, key: u32) -> vec4<f32> {
     let slots = params.periodic.w;
     let base = owner * slots;
     let used = min(hist_old[history_count_index(owner)].x, slots);
     for (var k = 0u; k < used; k++) {
         let e = hist_old[base + k];
         if e.w == key {
-            return bitcast<vec3<f32>>(e.xyz);
+            let energy = bitcast<f32>(hist_old[history_energy_index(owner, k)][k % 4u]);
+            return vec4<f32>(bitcast<vec3<f32>>(e.xyz), energy);
         }
     }
-    return vec3<f32>(0.0);
+    return vec4<f32>(0.0);
 }
 
-// Stores one spring of `owner` in slot `used` if there is room and returns the
-// springs counted (a zero spring is neither stored nor counted).
-fn keep_spring(owner: u32, used: u32, key: u32, xi: vec3<f32>) -> u32 {
-    if all(xi == vec3<f32>(0.0)) {
+// Stores one spring (ξ, stored energy) of `owner` in slot `used` if there is room and
+// returns the springs counted (a zero spring is neither stored nor counted).
+fn keep_spring(owner: u32, used: u32, key: u32, spring: vec4<f32>) -> u32 {
+    if all(spring.xyz == vec3<f32>(0.0)) {
         return used;
     }
     let slots = params.periodic.w;
     if used < slots {
-        hist_new[owner * slots + used] = vec4<u32>(bitcast<vec3<u32>>(xi), key);
+        hist_new[owner * slots + used] = vec4<u32>(bitcast<vec3<u32>>(spring.xyz), key);
+        // The whole entry is rewritten (all four words are this particle's): plain vec4 stores on every backend.
+        let e = history_energy_index(owner, used);
+        var energies = hist_new[e];
+        energies[used % 4u] = bitcast<u32>(spring.w);
+        hist_new[e] = energies;
     }
     return used + 1u;
+}
+
+// The energy `owner`'s springs of last step take with them because their contact ended
+// (not kept among the `used` written this pass): booked once per pair as on the CPU
+// (tumble_cpu's book_ended_springs), on the lower id's side, walls on the particle's.
+fn ended_spring_energy(owner: u32, used: u32) -> f32 {
+    let slots = params.periodic.w;
+    let base = owner * slots;
+    let old_used = min(hist_old[history_count_index(owner)].x, slots);
+    let kept = min(used, slots);
+    var ended = 0.0;
+    for (var k = 0u; k < old_used; k++) {
+        let key = hist_old[base + k].w;
+        if (key & WALL_KEY) == 0u && key < owner {
+            continue;
+        }
+        var found = false;
+        for (var m = 0u; m < kept; m++) {
+            if hist_new[base + m].w == key {
+                found = true;
+                break;
+            }
+        }
+        if !found {
+            ended += bitcast<f32>(hist_old[history_energy_index(owner, k)][k % 4u]);
+        }
+    }
+    return ended;
 }
 
 // Closes `owner`'s slots for this pass.
@@ -66,7 +110,10 @@ struct Spring {
 // k_t or G*, damping ratio or β), t2.w = linear damping η [N s/m]): the old
 // spring rotated into the tangent plane keeping its length, ξ += v_t Δt,
 // F_t = −k_t ξ − η_t v_t, capped at μ|F_n| with ξ reset to −(F_t + η_t v_t)/k_t.
-fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star: f32, m_star: f32, old: vec3<f32>, n: vec3<f32>, vt: vec3<f32>) -> Spring {
+// `old_spring` = (old ξ, its stored energy); the dissipation is the work done on the
+// contact minus the change of stored energy, as on the CPU (so a Mindlin k_t that
+// changed with the overlap is booked too).
+fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star: f32, m_star: f32, old_spring: vec4<f32>, n: vec3<f32>, vt: vec3<f32>) -> Spring {
     var k_t = t1.z;
     var eta_t = t2.w;
     if t1.x == 4.0 {
@@ -78,6 +125,7 @@ fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star
         eta_t = -2.0 * sqrt(5.0 / 6.0) * t1.w * sqrt(k_t * m_star);
     }
     let dt = params.inv_cell.w;
+    let old = old_spring.xyz;
     let old_len2 = dot(old, old);
     var xi = old - n * dot(n, old);
     if old_len2 > 0.0 {
@@ -86,7 +134,6 @@ fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star
             xi *= sqrt(old_len2 / len2);
         }
     }
-    let rotated = 0.5 * k_t * dot(xi, xi);
     xi += vt * dt;
     var force = -k_t * xi - eta_t * vt;
     let limit = t1.y * normal;
@@ -106,7 +153,7 @@ fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star
     let energy = 0.5 * k_t * dot(xi, xi);
     var dissipation = 0.0;
     if dt > 0.0 {
-        dissipation = -dot(force, vt) - (energy - rotated) / dt;
+        dissipation = -dot(force, vt) - (energy - old_spring.w) / dt;
     }
     return Spring(force, xi, energy, dissipation);
 }

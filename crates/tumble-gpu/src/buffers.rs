@@ -10,10 +10,16 @@ use wgpu::util::DeviceExt;
 /// 4 bytes each of cell index and cell list.
 pub const BYTES_PER_PARTICLE: u64 = 10 * 16 + 8 + 4 + 4;
 
-/// Device bytes per particle of contact history with `slots` slots: two
-/// generations of `slots` 16-byte slots (spring, key) and one 16-byte count entry.
+/// Device bytes per particle of contact history with `slots` slots: two generations of
+/// `slots` 16-byte slots (spring, key), one 16-byte count entry and the slots' stored
+/// energies (f32, four to a 16-byte entry; history.wgsl).
 pub fn history_bytes_per_particle(slots: usize) -> u64 {
-    2 * 16 * (slots as u64 + 1) * u64::from(slots > 0)
+    2 * 16 * history_entries_per_particle(slots)
+}
+
+/// 16-byte history entries per particle in one generation: slots, count, energies.
+pub(crate) fn history_entries_per_particle(slots: usize) -> u64 {
+    if slots == 0 { 0 } else { slots as u64 + 1 + (slots as u64).div_ceil(4) }
 }
 
 /// Device bytes per particle of a plan (history slots and orientations included).
@@ -118,7 +124,7 @@ impl Buffers {
     ) -> Result<Buffers, GpuError> {
         let n = arrays.pos.len() as u64;
         let cells = grid.cells() as u64 + 2;
-        let history_bytes = if history_slots > 0 { 16 * n * (history_slots as u64 + 1) } else { 0 };
+        let history_bytes = 16 * n * history_entries_per_particle(history_slots);
         let largest = (16 * n).max(4 * cells).max(16 * tables.len() as u64).max(history_bytes).max(8 * n * walls.groups);
         let available = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         if largest > available || cells > u32::MAX as u64 / 2 || n > u32::MAX as u64 / 2 {

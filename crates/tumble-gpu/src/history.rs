@@ -2,6 +2,7 @@
 //! back (history.wgsl holds the layout: slots per ORIGINAL id, two generations).
 
 use crate::GpuSimulation;
+use crate::buffers::history_entries_per_particle;
 use crate::upload::history_slots;
 use std::collections::BTreeMap;
 use tumble_cpu::HistoryOverflow;
@@ -43,17 +44,32 @@ impl GpuSimulation {
     /// Every stored spring as the device holds it: (owner id, key) → ξ (f32 bits),
     /// key = the neighbour's id or `WALL_KEY | wall`. Empty without history.
     pub fn springs(&self) -> BTreeMap<(u32, u32), [u32; 3]> {
+        self.stored_springs().into_iter().map(|(k, (xi, _))| (k, xi)).collect()
+    }
+
+    /// The energy each stored spring holds, ½ k_t |ξ|² (f32 bits), keyed as [`GpuSimulation::springs`]:
+    /// what is booked as dissipated if its contact ends. Empty without history.
+    pub fn spring_energies(&self) -> BTreeMap<(u32, u32), u32> {
+        self.stored_springs().into_iter().map(|(k, (_, energy))| (k, energy)).collect()
+    }
+
+    /// (owner id, key) → (ξ, stored energy) as f32 bits, from the latest generation.
+    fn stored_springs(&self) -> BTreeMap<(u32, u32), ([u32; 3], u32)> {
         let mut out = BTreeMap::new();
         if !self.plan.history {
             return out;
         }
         let n = self.slots as usize;
         let slots = history_slots(&self.plan);
-        let all: Vec<[u32; 4]> = self.read(self.latest_history(), n * (slots + 1));
+        let all: Vec<[u32; 4]> = self.read(self.latest_history(), n * history_entries_per_particle(slots) as usize);
+        // Energies follow the count entries, ceil(slots / 4) entries per id (history.wgsl).
+        let energies = &all[n * (slots + 1)..];
+        let rows = slots.div_ceil(4);
         for id in 0..n {
             let used = (all[n * slots + id][0] as usize).min(slots);
-            for e in &all[id * slots..id * slots + used] {
-                out.insert((id as u32, e[3]), [e[0], e[1], e[2]]);
+            for (k, e) in all[id * slots..id * slots + used].iter().enumerate() {
+                let energy = energies[id * rows + k / 4][k % 4];
+                out.insert((id as u32, e[3]), ([e[0], e[1], e[2]], energy));
             }
         }
         out

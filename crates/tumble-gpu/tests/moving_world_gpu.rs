@@ -161,8 +161,10 @@ fn a_small_mill_with_lifters_agrees_with_the_cpu() {
         }
         check("total power", &total, 0.05 * scale);
         assert!(failures.borrow().is_empty(), "{:#?}", failures.borrow());
-        // The GPU books the walls' work as the CPU does: it is what the charge gained and dissipated.
-        assert!((g.work - g.gain).abs() < 0.03 * g.work.abs(), "gpu wall work {} vs Δ(E + dissipated) {}", g.work, g.gain);
+        // The GPU books the walls' work as the CPU does: it is what the charge gained and dissipated
+        // (ended springs' energy included; measured 0.6 % on both, 2 % on the GPU without it).
+        assert!((c.work - c.gain).abs() < 0.01 * c.work.abs(), "cpu wall work {} vs Δ(E + dissipated) {}", c.work, c.gain);
+        assert!((g.work - g.gain).abs() < 0.01 * g.work.abs(), "gpu wall work {} vs Δ(E + dissipated) {}", g.work, g.gain);
     });
 }
 
