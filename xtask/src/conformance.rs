@@ -192,17 +192,22 @@ fn cube_plate_strike(backend: Backend) -> Vec<Measured> {
     ]
 }
 
-/// A short drum of cubes with lifters: drive and lifter power and the charge's centre-of-mass angle
-/// over the second half of the run, the wall work and the energy balance over the whole run. The
-/// balance does not close with cubes on either backend (docs/drum.md, "Energy bookkeeping with
-/// cubes"): the GPU's residual is held to the CPU's. Measured on lavapipe: drive power 1 %, lifter
-/// power 12 %, angle 0.02°, work 0.5 %, residual −0.139 (CPU) against −0.113 (GPU).
-fn cube_drum(backend: Backend) -> Vec<Measured> {
-    let scene = compiled(CUBE_DRUM);
+/// A drum scene's means over the second half of its run (`samples` profiles evenly spaced).
+struct DrumRun {
+    /// Mean power per wall group (Δwork / Δt).
+    power: Vec<f64>,
+    /// Mean charge centre-of-mass angle [deg].
+    angle: f64,
+    /// The observables at the end, and the mechanical energy gained plus dissipated over the run.
+    o: Observables,
+    gain: f64,
+}
+
+fn drum_run(backend: Backend, text: &str, samples: u64) -> DrumRun {
+    let scene = compiled(text);
     let steps = scene.plan.steps;
     let mut sim = verify::simulation_on(backend.scene_backend(), scene);
     let e0 = sim.observables();
-    let samples = 10;
     let every = steps / (2 * samples);
     sim.advance(steps - samples * every);
     let (w0, t0) = (sim.wall_work(), sim.time());
@@ -212,9 +217,19 @@ fn cube_drum(backend: Backend) -> Vec<Measured> {
         angle += sim.drum_profiles()[0].com_angle / samples as f64;
     }
     let (w1, t1) = (sim.wall_work(), sim.time());
-    let power: Vec<f64> = w1.iter().zip(&w0).map(|(a, b)| (a - b) / (t1 - t0)).collect();
+    let power = w1.iter().zip(&w0).map(|(a, b)| (a - b) / (t1 - t0)).collect();
     let o = sim.observables();
     let gain = o.mechanical_energy() + o.dissipated_energy - e0.mechanical_energy() - e0.dissipated_energy;
+    DrumRun { power, angle, o, gain }
+}
+
+/// A short drum of cubes with lifters: drive and lifter power and the charge's centre-of-mass angle
+/// over the second half of the run, the wall work and the energy balance over the whole run. The
+/// balance does not close with cubes on either backend (docs/drum.md, "Energy bookkeeping with
+/// cubes"): the GPU's residual is held to the CPU's. Measured on lavapipe: drive power 1 %, lifter
+/// power 12 %, angle 0.02°, work 0.5 %, residual −0.139 (CPU) against −0.113 (GPU).
+fn cube_drum(backend: Backend) -> Vec<Measured> {
+    let DrumRun { power, angle, o, gain } = drum_run(backend, CUBE_DRUM, 10);
     vec![
         against_cpu("cube drum: drive power [W]", power.iter().sum(), Error::Relative, 0.1),
         against_cpu("cube drum: lifter power [W]", power[1], Error::Relative, 0.3),
@@ -257,23 +272,7 @@ fn cohesive_cluster(backend: Backend) -> Vec<Measured> {
 /// 2.12–2.28 W drive and 1.89–2.05 W lifter power, so the f32 tolerances cover that spread
 /// (`a_small_mill_with_lifters_agrees_with_the_cpu` checks the GPU against the CPU ensemble).
 fn small_mill(backend: Backend) -> Vec<Measured> {
-    let scene = compiled(SMALL_MILL);
-    let steps = scene.plan.steps;
-    let mut sim = verify::simulation_on(backend.scene_backend(), scene);
-    let e0 = sim.observables();
-    let samples = 15;
-    let every = steps / (2 * samples);
-    sim.advance(steps - samples * every);
-    let (w0, t0) = (sim.wall_work(), sim.time());
-    let mut angle = 0.0;
-    for _ in 0..samples {
-        sim.advance(every);
-        angle += sim.drum_profiles()[0].com_angle / samples as f64;
-    }
-    let (w1, t1) = (sim.wall_work(), sim.time());
-    let power: Vec<f64> = w1.iter().zip(&w0).map(|(a, b)| (a - b) / (t1 - t0)).collect();
-    let o = sim.observables();
-    let gain = o.mechanical_energy() + o.dissipated_energy - e0.mechanical_energy() - e0.dissipated_energy;
+    let DrumRun { power, angle, o, gain } = drum_run(backend, SMALL_MILL, 15);
     vec![
         against_cpu("small mill: drive power [W]", power.iter().sum(), Error::Relative, 0.15),
         against_cpu("small mill: lifter power [W]", power[1], Error::Relative, 0.2),
@@ -350,11 +349,11 @@ fn verification_rows(b: Backend) -> Vec<Measured> {
     // Over 0.02 s the normal settling transient is still there (−1.5e-6 m/s on both backends):
     // 5e-6 m/s is 36 times below the viscous-Coulomb creep m g sinθ / c_t = 1.8e-4 m/s.
     rows.push(exact("history incline hold 15°: creep speed [m/s]", creep, 0.0, 5e-6, 5e-6));
-    let energy = match b {
-        Backend::CpuF64 => verify::energy_balance(2).0,
-        Backend::GpuF32 => verify::energy_balance_on(BackendName::Gpu).0,
-    };
-    rows.push(exact("energy balance |ΔE| / E0 (2,016 spheres)", energy, 0.0, 1e-2, 2e-2));
+    // Through the landing of the top layer (0.19 s), not the scene's 0.4 s: the rest is a settled
+    // bed, and 20,000 steps of 2,016 spheres are 4.5 minutes of CI on lavapipe (tests/verification.rs
+    // runs the whole case on the CPU).
+    let energy = verify::energy_balance_on(b.scene_backend(), 0.25).0;
+    rows.push(exact("energy balance |ΔE| / E0 (2,016 spheres, 0.25 s)", energy, 0.0, 1e-2, 2e-2));
     rows
 }
 

@@ -2,25 +2,12 @@
 //! determinism on the GPU. Without an adapter every test prints one skip line
 //! and passes. Tests share one device and run one at a time.
 
-use std::sync::Mutex;
+mod support;
+
+use support::{on_gpu, scene};
 use tumble_cpu::CpuSimulation;
 use tumble_gpu::GpuSimulation;
 use tumble_scene::{CompiledScene, compile, parse_scene};
-
-static SERIAL: Mutex<()> = Mutex::new(());
-
-/// Runs `f` on the GPU, or prints one skip line when there is no adapter.
-fn on_gpu(name: &str, f: impl FnOnce()) {
-    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    match tumble_gpu::gpu() {
-        Ok(_) => f(),
-        Err(e) => println!("skipped {name}: no GPU adapter ({e})"),
-    }
-}
-
-fn scene(text: &str) -> CompiledScene {
-    compile(&parse_scene(text).unwrap()).unwrap()
-}
 
 fn verify_scene(file: &str) -> String {
     std::fs::read_to_string(format!("{}/../../scenes/verify/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap()

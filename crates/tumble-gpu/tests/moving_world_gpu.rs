@@ -3,73 +3,14 @@
 //! drum as torque × ω, and run-to-run determinism with moving walls. Without an adapter
 //! every test prints one skip line and passes. Tests share one device and run one at a time.
 
+mod support;
+
 use glam::DVec3;
-use std::sync::Mutex;
+use support::{Drum, on_gpu, scene};
 use tumble_cpu::CpuSimulation;
 use tumble_gpu::GpuSimulation;
-use tumble_scene::{CompiledScene, compile, parse_scene};
-
-static SERIAL: Mutex<()> = Mutex::new(());
-
-/// Runs `f` on the GPU, or prints one skip line when there is no adapter.
-fn on_gpu(name: &str, f: impl FnOnce()) {
-    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    match tumble_gpu::gpu() {
-        Ok(_) => f(),
-        Err(e) => println!("skipped {name}: no GPU adapter ({e})"),
-    }
-}
-
-fn scene(text: &str) -> CompiledScene {
-    compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}"))
-}
 
 const SMALL_MILL: &str = include_str!("../../../scenes/conformance/small_mill.toml");
-
-/// Either backend, seen through the same few calls.
-trait Backend {
-    fn advance(&mut self, steps: u64);
-    fn time(&self) -> f64;
-    fn work(&self) -> Vec<f64>;
-    fn profile(&self) -> tumble_cpu::DrumProfile;
-    fn observables(&self) -> tumble_cpu::Observables;
-}
-
-impl Backend for CpuSimulation {
-    fn advance(&mut self, steps: u64) {
-        CpuSimulation::advance(self, steps)
-    }
-    fn time(&self) -> f64 {
-        CpuSimulation::time(self)
-    }
-    fn work(&self) -> Vec<f64> {
-        self.wall_work().to_vec()
-    }
-    fn profile(&self) -> tumble_cpu::DrumProfile {
-        self.drum_profiles()[0]
-    }
-    fn observables(&self) -> tumble_cpu::Observables {
-        CpuSimulation::observables(self)
-    }
-}
-
-impl Backend for GpuSimulation {
-    fn advance(&mut self, steps: u64) {
-        GpuSimulation::advance(self, steps)
-    }
-    fn time(&self) -> f64 {
-        GpuSimulation::time(self)
-    }
-    fn work(&self) -> Vec<f64> {
-        self.wall_work()
-    }
-    fn profile(&self) -> tumble_cpu::DrumProfile {
-        self.drum_profiles()[0]
-    }
-    fn observables(&self) -> tumble_cpu::Observables {
-        GpuSimulation::observables(self)
-    }
-}
 
 /// Mill observables averaged over the second half of the run: mean power per wall group
 /// (Δwork / Δt), and the mean charge centre-of-mass angle, toe, shoulder and torque-arm power.
@@ -85,7 +26,7 @@ struct MillMeans {
     gain: f64,
 }
 
-fn mill_means(sim: &mut dyn Backend, steps: u64) -> MillMeans {
+fn mill_means(sim: &mut dyn Drum, steps: u64) -> MillMeans {
     let e0 = sim.observables();
     let samples = 15;
     let every = steps / (2 * samples);

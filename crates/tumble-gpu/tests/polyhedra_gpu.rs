@@ -13,20 +13,12 @@
 //! The GPU receives f32 poses; tumble-geom gets the same f32-rounded poses in f64.
 //! Without an adapter every test prints one skip line and passes.
 
+mod support;
+
 use glam::{DQuat, DVec3};
-use std::sync::Mutex;
+use support::on_gpu;
 use tumble_geom::{Cylinder, Plane, PolyContact, Polyhedron, Pose, Prism, Quad, SurfaceShape, polyhedron_polyhedron, sphere_polyhedron};
 use tumble_gpu::shapes::{ContactAnswer, ContactQuery, evaluate};
-
-static SERIAL: Mutex<()> = Mutex::new(());
-
-fn on_gpu(name: &str, f: impl FnOnce()) {
-    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    match tumble_gpu::gpu() {
-        Ok(_) => f(),
-        Err(e) => println!("skipped {name}: no GPU adapter ({e})"),
-    }
-}
 
 /// A small deterministic generator (PCG-style LCG).
 struct Rng(u64);

@@ -7,25 +7,12 @@
 //! energy books); `scenes/drum_cubes.toml` accepted; two drum runs bit-identical. Without an adapter
 //! every test prints one skip line and passes. Tests share one device and run one at a time.
 
-use std::sync::Mutex;
+mod support;
+
+use support::{Drum, on_gpu, scene};
 use tumble_cpu::CpuSimulation;
 use tumble_gpu::GpuSimulation;
-use tumble_scene::{CompiledScene, compile, parse_scene};
-
-static SERIAL: Mutex<()> = Mutex::new(());
-
-/// Runs `f` on the GPU, or prints one skip line when there is no adapter.
-fn on_gpu(name: &str, f: impl FnOnce()) {
-    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    match tumble_gpu::gpu() {
-        Ok(_) => f(),
-        Err(e) => println!("skipped {name}: no GPU adapter ({e})"),
-    }
-}
-
-fn scene(text: &str) -> CompiledScene {
-    compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}"))
-}
+use tumble_scene::CompiledScene;
 
 /// One cube of 1 cm (7.8 g of steel) with friction and rolling resistance and one translating plane;
 /// `run`: further [run] lines. The single-cube tests build the same pipelines (a cold lavapipe
@@ -271,52 +258,7 @@ struct DrumRun {
     seconds: f64,
 }
 
-/// Either backend, seen through the few calls the drum needs.
-trait Backend {
-    fn advance(&mut self, steps: u64);
-    fn time(&self) -> f64;
-    fn work(&self) -> Vec<f64>;
-    fn profile(&self) -> tumble_cpu::DrumProfile;
-    fn observables(&self) -> tumble_cpu::Observables;
-}
-
-impl Backend for CpuSimulation {
-    fn advance(&mut self, steps: u64) {
-        CpuSimulation::advance(self, steps)
-    }
-    fn time(&self) -> f64 {
-        CpuSimulation::time(self)
-    }
-    fn work(&self) -> Vec<f64> {
-        self.wall_work().to_vec()
-    }
-    fn profile(&self) -> tumble_cpu::DrumProfile {
-        self.drum_profiles()[0]
-    }
-    fn observables(&self) -> tumble_cpu::Observables {
-        CpuSimulation::observables(self)
-    }
-}
-
-impl Backend for GpuSimulation {
-    fn advance(&mut self, steps: u64) {
-        GpuSimulation::advance(self, steps)
-    }
-    fn time(&self) -> f64 {
-        GpuSimulation::time(self)
-    }
-    fn work(&self) -> Vec<f64> {
-        self.wall_work()
-    }
-    fn profile(&self) -> tumble_cpu::DrumProfile {
-        self.drum_profiles()[0]
-    }
-    fn observables(&self) -> tumble_cpu::Observables {
-        GpuSimulation::observables(self)
-    }
-}
-
-fn drum_run(sim: &mut dyn Backend, steps: u64) -> DrumRun {
+fn drum_run(sim: &mut dyn Drum, steps: u64) -> DrumRun {
     let start = std::time::Instant::now();
     let e0 = sim.observables();
     let samples = 10;

@@ -4,25 +4,13 @@
 //! kinetic-energy decay), and run-to-run bit-identical states. Without an adapter every
 //! test prints one skip line and passes.
 
+mod support;
+
 use glam::DVec3;
-use std::sync::Mutex;
+use support::{on_gpu, scene};
 use tumble_cpu::CpuSimulation;
 use tumble_gpu::GpuSimulation;
-use tumble_scene::{CompiledScene, compile, parse_scene};
-
-static SERIAL: Mutex<()> = Mutex::new(());
-
-fn on_gpu(name: &str, f: impl FnOnce()) {
-    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    match tumble_gpu::gpu() {
-        Ok(_) => f(),
-        Err(e) => println!("skipped {name}: no GPU adapter ({e})"),
-    }
-}
-
-fn scene(text: &str) -> CompiledScene {
-    compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}"))
-}
+use tumble_scene::CompiledScene;
 
 /// A free body of the given shape spinning at `omega` (no gravity, no walls).
 fn spinning(shape: &str, omega: [f64; 3], dt: f64, duration: f64) -> String {
