@@ -781,7 +781,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         + if rotation { 8 * 7 } else { 0 } // angular velocity and acceleration, inverse inertia
         + if integrator == Integrator::Verlet { 24 * if rotation { 2 } else { 1 } } else { 0 }
         + if fluid.is_some() { 8 } else { 0 }
-        + if history { 2 * (2 + history_slots * (4 + 24)) } else { 0 } // two generations of spring slots: count, neighbour id, ξ
+        + if history { 2 * (2 + history_slots * (4 + 32)) } else { 0 } // two generations of spring slots: count, neighbour id, ξ and its energy
         + if polyhedra { 2 + 32 + 24 } else { 0 }; // shape index, orientation, principal inverse inertia
 
     Ok(CompiledScene {
