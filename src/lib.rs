@@ -2,7 +2,7 @@
 //!
 //! This facade ties the layers together: a scene file compiles into a plan
 //! ([`tumble_scene`]), a backend runs it ([`tumble_cpu`] in f64 or
-//! [`tumble_gpu`] in f32, behind [`Simulation`]), and [`run`] writes
+//! [`tumble_gpu`] in f32, each a [`Backend`] behind [`Simulation`]), and [`run`] writes
 //! the outputs (`summary.json`, `observables.csv`, `tracks.csv`) while the
 //! instability monitor watches every output interval.
 //!
@@ -27,5 +27,5 @@ pub use flow::FlowCounter;
 pub use monitor::{Instability, Monitor};
 pub use run::{RunError, RunOptions, RunSummary, load_scene, run_compiled, run_scene_file};
 pub use simulation::Simulation;
-pub use tumble_cpu::{DrumProfile, Observables, TrackRow};
+pub use tumble_state::{Backend, DrumProfile, Fault, Frame, Observables, Snapshot, SnapshotError, State, TrackRow};
 pub use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};

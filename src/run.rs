@@ -12,7 +12,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use tumble_scene::schema::{BackendName, DtSpec};
-use tumble_scene::{CompiledScene, SceneError, compile, read_scene};
+use tumble_scene::{CompiledScene, Plan, SceneError, compile, read_scene};
+use tumble_state::{Frame, State};
 
 /// Options of `tumble run`.
 #[derive(Clone, Debug)]
@@ -77,7 +78,7 @@ pub enum RunError {
         out_dir: PathBuf,
     },
     /// The backend could not be set up (no GPU adapter, scene too large for it).
-    Backend(tumble_gpu::GpuError),
+    Backend(String),
 }
 
 impl fmt::Display for RunError {
@@ -88,7 +89,7 @@ impl fmt::Display for RunError {
             RunError::Unstable(e) => write!(f, "{e}"),
             RunError::Capacity(e) => write!(f, "{e}"),
             RunError::Interrupted { step, out_dir } => write!(f, "interrupted at step {step}; outputs so far are in {}", out_dir.display()),
-            RunError::Backend(e) => write!(f, "backend gpu: {e}"),
+            RunError::Backend(e) => write!(f, "{e}"),
         }
     }
 }
@@ -123,11 +124,10 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let plan_text = compiled.plan.describe(compiled.particles.len());
     let backend = options.backend.unwrap_or(compiled.plan.backend);
     // The backend is set up before any file is written: a missing adapter changes nothing.
-    let mut sim = Simulation::on(backend, compiled, options.threads).map_err(RunError::Backend)?;
+    let mut sim = Simulation::on(backend, compiled, options.threads).map_err(|e| RunError::Backend(format!("backend {}: {e}", format!("{backend:?}").to_lowercase())))?;
     io(&out_dir, std::fs::create_dir_all(&out_dir))?;
     let fluid = sim.plan().fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, sim.plan()))?;
-    let mut extra = ExtraRows::new(&sim);
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir, sim.plan()))?;
     let mut agglo_csv = match sim.plan().agglomerates {
         true => Some(io(&out_dir, AgglomeratesCsv::create(&out_dir, sim.particles()))?),
@@ -138,15 +138,23 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         Some(_) => Some(io(&out_dir, SnapshotWriter::create(&out_dir, sim.plan()))?),
         None => None,
     };
-    let initial = sim.observables();
-    let monitor = Monitor::new(sim.plan(), &initial, potential_range(&sim));
-    io(&out_dir, obs_csv.row(&initial, fluid, &extra.row(&sim)))?;
-    io(&out_dir, tracks_csv.rows(0.0, &sim.tracks()))?;
-    if let Some(w) = agglo_csv.as_mut() {
-        let a = agglomerates_of(&sim);
-        io(&out_dir, w.row(0.0, &a))?;
-        last_agglomerates = Some(a);
-    }
+    // Flow planes and agglomerates need the particle arrays at every output row; nothing else does.
+    let rows_need_state = !sim.plan().flow_planes.is_empty() || sim.plan().agglomerates;
+    let mut extra = ExtraRows::new(sim.plan());
+    let initial = {
+        let frame = sim.frame(true);
+        let state = frame.state.as_deref().expect("asked for the state");
+        let monitor_range = potential_range(sim.plan(), state);
+        io(&out_dir, obs_csv.row(&frame.observables, fluid, &extra.row(sim.plan(), sim.time(), &frame)))?;
+        io(&out_dir, tracks_csv.rows(0.0, &frame.tracks))?;
+        if let Some(w) = agglo_csv.as_mut() {
+            let a = agglomerates_of(sim.plan(), state);
+            io(&out_dir, w.row(0.0, &a))?;
+            last_agglomerates = Some(a);
+        }
+        (frame.observables, monitor_range)
+    };
+    let monitor = Monitor::new(sim.plan(), &initial.0, initial.1);
     if let Some(w) = snapshots.as_mut() {
         io(&out_dir, w.write(0, &sim))?;
     }
@@ -168,10 +176,11 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         sim.advance(chunk);
         particle_steps += n * chunk as u128;
         if let Some(fault) = sim.fault() {
-            stopped = Some(Stop::Capacity(fault));
+            stopped = Some(Stop::Capacity(fault.to_string()));
             break;
         }
-        if options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed)) {
+        // Every part of a distributed run stops at the same step.
+        if sim.agree(options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))) {
             stopped = Some(Stop::Interrupted);
             break;
         }
@@ -179,21 +188,23 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         let output = step.is_multiple_of(every) || step == total;
         let snapshot = snapshot_every.is_some_and(|k| step.is_multiple_of(k));
         if output || snapshot {
-            // One pass over the particles serves the monitor, the rows and the NaN guard of snapshots.
-            let o = sim.observables();
+            // One frame (one read-back on a device) serves the monitor, the rows and the NaN guard of snapshots.
+            let frame = sim.frame(output && rows_need_state);
+            let o = frame.observables;
             if output {
                 if let Err(e) = monitor.check(step, &o) {
                     stopped = Some(Stop::Unstable(e));
                     break;
                 }
-                io(&out_dir, obs_csv.row(&o, fluid, &extra.row(&sim)))?;
-                io(&out_dir, tracks_csv.rows(o.time, &sim.tracks()))?;
-                if let Some(w) = agglo_csv.as_mut() {
-                    let a = agglomerates_of(&sim);
+                io(&out_dir, obs_csv.row(&o, fluid, &extra.row(sim.plan(), sim.time(), &frame)))?;
+                io(&out_dir, tracks_csv.rows(o.time, &frame.tracks))?;
+                if let (Some(w), Some(state)) = (agglo_csv.as_mut(), frame.state.as_deref()) {
+                    let a = agglomerates_of(sim.plan(), state);
                     io(&out_dir, w.row(o.time, &a))?;
                     last_agglomerates = Some(a);
                 }
             }
+            drop(frame);
             // Never write NaN: a non-finite state is stopped by the monitor at the next output.
             if let (true, true, Some(w), Some(k)) = (snapshot, o.finite, snapshots.as_mut(), snapshot_every) {
                 io(&out_dir, w.write((step / k) as usize, &sim))?;
@@ -233,10 +244,9 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     }
 }
 
-/// Agglomerate statistics of the current state (positions wrapped into the domain).
-fn agglomerates_of(sim: &Simulation) -> crate::agglomerates::AgglomerateStats {
-    let s = sim.state();
-    crate::agglomerates::agglomerates(&s.pos, &s.radius, Some(&sim.plan().domain))
+/// Agglomerate statistics of state `s` (positions wrapped into the domain).
+fn agglomerates_of(plan: &Plan, s: &State) -> crate::agglomerates::AgglomerateStats {
+    crate::agglomerates::agglomerates(&s.pos, &s.radius, Some(&plan.domain))
 }
 
 /// Wall power (mean over the output interval), drum profiles and flow-plane counts.
@@ -247,30 +257,36 @@ struct ExtraRows {
 }
 
 impl ExtraRows {
-    fn new(sim: &Simulation) -> Self {
-        let plan = sim.plan();
+    fn new(plan: &Plan) -> Self {
         let moving = (0..plan.wall_groups.len()).filter(|&g| plan.wall_groups[g].moving).collect();
-        ExtraRows { moving, last: None, flow: (!plan.flow_planes.is_empty()).then(|| FlowCounter::new(sim)) }
+        ExtraRows { moving, last: None, flow: None }
     }
 
-    fn row(&mut self, sim: &Simulation) -> ExtraColumns {
-        let plan = sim.plan();
+    /// The extra columns of the row at time `t` (the first row starts the flow count).
+    fn row(&mut self, plan: &Plan, t: f64, frame: &Frame) -> ExtraColumns {
         // Nothing to add.
-        if self.moving.is_empty() && plan.drums.is_empty() && self.flow.is_none() {
+        if self.moving.is_empty() && plan.drums.is_empty() && plan.flow_planes.is_empty() {
             return ExtraColumns::default();
         }
-        let (t, work) = (sim.time(), sim.wall_work());
+        let work = &frame.wall_work;
         let power = match &self.last {
             // Mean power since the last row: Δ(work) / Δt.
             Some((t0, w0)) if t > *t0 => self.moving.iter().map(|&g| (work[g] - w0[g]) / (t - t0)).collect(),
             // The first row: the power of the initial force pass.
-            _ => {
-                let power = sim.wall_power();
-                self.moving.iter().map(|&g| power[g]).collect()
-            }
+            _ => self.moving.iter().map(|&g| frame.wall_power[g]).collect(),
         };
-        self.last = Some((t, work));
-        ExtraColumns { power, drums: sim.drum_profiles(), flow: self.flow.as_mut().map_or(Vec::new(), |f| f.update(sim)) }
+        self.last = Some((t, work.clone()));
+        let flow = match (frame.state.as_deref(), plan.flow_planes.is_empty()) {
+            (Some(s), false) => match self.flow.as_mut() {
+                Some(f) => f.update_state(plan, s, t),
+                None => {
+                    let f = self.flow.insert(FlowCounter::from_state(plan, s, t));
+                    f.mass.iter().map(|&m| (0.0, m)).collect()
+                }
+            },
+            _ => Vec::new(),
+        };
+        ExtraColumns { power, drums: frame.drums.clone(), flow }
     }
 }
 
@@ -284,14 +300,12 @@ enum Stop {
 }
 
 /// Σ m |g| × the domain's extent along g: the potential energy gravity can release.
-fn potential_range(sim: &Simulation) -> f64 {
-    let plan = sim.plan();
+fn potential_range(plan: &Plan, s: &State) -> f64 {
     let g = plan.gravity;
     if g == glam::DVec3::ZERO {
         return 0.0;
     }
     let height = (plan.domain.extent() * g.abs()).element_sum();
-    let s = sim.state();
     (0..s.len()).filter(|&i| s.inv_mass[i] != 0.0).map(|i| s.mass[i] * height).sum()
 }
 

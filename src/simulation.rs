@@ -1,31 +1,28 @@
-//! The backend-independent handle on a running simulation.
+//! The backend-independent handle on a running simulation: one [`Backend`] object.
 
 use glam::DVec3;
 use std::borrow::Cow;
-use tumble_cpu::{CpuSimulation, Observables, State, TrackRow};
-use tumble_gpu::{AdapterDescription, GpuError, GpuSimulation};
+use tumble_cpu::CpuSimulation;
+use tumble_gpu::{GpuError, GpuSimulation};
 use tumble_scene::schema::BackendName;
 use tumble_scene::{CompiledScene, Plan};
+use tumble_state::{AdapterInfo, Backend, DrumProfile, Fault, Frame, Observables, Snapshot, SnapshotError, State, TrackRow};
 
-/// A simulation on one backend: the CPU reference (f64) or the GPU (f32).
+/// A simulation on one backend: the CPU reference (f64), the GPU (f32), or any other
+/// [`Backend`].
 pub struct Simulation {
-    backend: Backend,
-}
-
-enum Backend {
-    Cpu(CpuSimulation),
-    Gpu(Box<GpuSimulation>),
+    backend: Box<dyn Backend>,
 }
 
 impl Simulation {
     /// Sets up a compiled scene on the CPU backend with `threads` threads.
     pub fn new(scene: CompiledScene, threads: usize) -> Self {
-        Simulation { backend: Backend::Cpu(CpuSimulation::new(scene, threads)) }
+        Self::with_backend(Box::new(CpuSimulation::new(scene, threads)))
     }
 
     /// Sets up a compiled scene on the GPU backend (the process's adapter).
     pub fn gpu(scene: CompiledScene) -> Result<Self, GpuError> {
-        Ok(Simulation { backend: Backend::Gpu(Box::new(GpuSimulation::new(scene)?)) })
+        Ok(Self::with_backend(Box::new(GpuSimulation::new(scene)?)))
     }
 
     /// Sets up a compiled scene on the named backend (`threads` is for the CPU).
@@ -36,187 +33,155 @@ impl Simulation {
         }
     }
 
+    /// Wraps any backend.
+    pub fn with_backend(backend: Box<dyn Backend>) -> Self {
+        Simulation { backend }
+    }
+
+    /// The backend, for what this handle does not forward.
+    pub fn backend(&self) -> &dyn Backend {
+        self.backend.as_ref()
+    }
+
     pub fn plan(&self) -> &Plan {
-        match &self.backend {
-            Backend::Cpu(s) => s.plan(),
-            Backend::Gpu(s) => s.plan(),
-        }
+        self.backend.plan()
     }
 
     pub fn backend_name(&self) -> &'static str {
-        match &self.backend {
-            Backend::Cpu(_) => "cpu",
-            Backend::Gpu(_) => "gpu",
-        }
+        self.backend.info().name
     }
 
     pub fn device_name(&self) -> String {
-        match &self.backend {
-            Backend::Cpu(s) => format!("CPU, {} threads", s.threads()),
-            Backend::Gpu(s) => s.adapter().to_string(),
-        }
+        self.backend.info().device
     }
 
-    /// The GPU adapter, on the GPU backend.
-    pub fn adapter(&self) -> Option<&AdapterDescription> {
-        match &self.backend {
-            Backend::Cpu(_) => None,
-            Backend::Gpu(s) => Some(s.adapter()),
-        }
+    /// The GPU adapter, on a GPU backend.
+    pub fn adapter(&self) -> Option<AdapterInfo> {
+        self.backend.info().adapter
     }
 
     pub fn precision(&self) -> &'static str {
-        match &self.backend {
-            Backend::Cpu(_) => "f64",
-            Backend::Gpu(_) => "f32",
-        }
+        self.backend.info().precision
     }
 
     pub fn advance(&mut self, steps: u64) {
-        match &mut self.backend {
-            Backend::Cpu(s) => s.advance(steps),
-            Backend::Gpu(s) => s.advance(steps),
-        }
+        self.backend.advance(steps)
     }
 
     /// Why the backend stopped short of the requested steps (a fixed capacity ran out), if it did.
-    pub fn fault(&self) -> Option<String> {
-        match &self.backend {
-            Backend::Cpu(s) => s.history_overflow().map(|o| o.to_string()),
-            Backend::Gpu(s) => s.history_overflow().map(|o| o.to_string()),
-        }
+    pub fn fault(&self) -> Option<Fault> {
+        self.backend.fault()
     }
 
     pub fn steps(&self) -> u64 {
-        match &self.backend {
-            Backend::Cpu(s) => s.steps(),
-            Backend::Gpu(s) => s.steps(),
-        }
+        self.backend.steps()
     }
 
     pub fn time(&self) -> f64 {
-        match &self.backend {
-            Backend::Cpu(s) => s.time(),
-            Backend::Gpu(s) => s.time(),
-        }
+        self.backend.time()
     }
 
     pub fn particles(&self) -> usize {
-        match &self.backend {
-            Backend::Cpu(s) => s.state().len(),
-            Backend::Gpu(s) => s.particles(),
-        }
+        self.backend.particles()
     }
 
     pub fn removed(&self) -> usize {
-        match &self.backend {
-            Backend::Cpu(s) => s.removed(),
-            Backend::Gpu(s) => s.removed(),
-        }
+        self.backend.removed()
+    }
+
+    /// Everything one output row needs, in one read-back on a device.
+    pub fn frame(&self, with_state: bool) -> Frame<'_> {
+        self.backend.frame(with_state)
     }
 
     pub fn observables(&self) -> Observables {
-        match &self.backend {
-            Backend::Cpu(s) => s.observables(),
-            Backend::Gpu(s) => s.observables(),
-        }
+        self.backend.observables()
     }
 
     pub fn tracks(&self) -> Vec<TrackRow> {
-        match &self.backend {
-            Backend::Cpu(s) => s.tracks(),
-            Backend::Gpu(s) => s.tracks(),
-        }
+        self.backend.tracks()
     }
 
-    /// Every particle still in the domain (the GPU's are read back and widened to f64, in id order).
+    /// Every particle still in the domain (a device's are read back and widened to f64, in id order).
     pub fn state(&self) -> Cow<'_, State> {
-        match &self.backend {
-            Backend::Cpu(s) => Cow::Borrowed(s.state()),
-            Backend::Gpu(s) => Cow::Owned(s.state()),
-        }
+        self.backend.state()
     }
 
     /// Power delivered to the particles by each wall group at the last force pass (zero for static walls).
     pub fn wall_power(&self) -> Vec<f64> {
-        match &self.backend {
-            Backend::Cpu(s) => s.wall_power().to_vec(),
-            Backend::Gpu(s) => s.wall_power(),
-        }
+        self.backend.wall_power()
     }
 
     /// Work done on the particles by each wall group since t = 0.
     pub fn wall_work(&self) -> Vec<f64> {
-        match &self.backend {
-            Backend::Cpu(s) => s.wall_work().to_vec(),
-            Backend::Gpu(s) => s.wall_work(),
-        }
+        self.backend.wall_work()
     }
 
     /// The charge profile of each drum of the plan.
-    pub fn drum_profiles(&self) -> Vec<tumble_cpu::DrumProfile> {
-        match &self.backend {
-            Backend::Cpu(s) => s.drum_profiles(),
-            Backend::Gpu(s) => s.drum_profiles(),
-        }
+    pub fn drum_profiles(&self) -> Vec<DrumProfile> {
+        self.backend.drum_profiles()
     }
 
     /// The walls in their current pose.
     pub fn walls(&self) -> Cow<'_, [tumble_scene::Wall]> {
-        match &self.backend {
-            Backend::Cpu(s) => Cow::Borrowed(s.walls()),
-            Backend::Gpu(s) => Cow::Owned(s.walls()),
-        }
+        self.backend.walls()
     }
 
     /// Contact force on the particle with id `id` in the last force pass.
     pub fn contact_force(&self, id: u32) -> Option<DVec3> {
-        match &self.backend {
-            Backend::Cpu(s) => s.index_of(id).map(|i| s.contact_sums()[i].force),
-            Backend::Gpu(s) => s.contact_force(id),
-        }
+        self.backend.contact_force(id)
     }
 
     /// Neighbour-list rebuilds (the CPU's Verlet list; the GPU bins every step).
     pub fn neighbour_builds(&self) -> Option<u64> {
-        match &self.backend {
-            Backend::Cpu(s) => Some(s.neighbour_builds()),
-            Backend::Gpu(_) => None,
-        }
+        self.backend.neighbour_builds()
     }
 
     /// Memory this simulation's particle and grid arrays take, bytes (GPU: device memory).
     pub fn memory_bytes(&self) -> u64 {
-        match &self.backend {
-            Backend::Cpu(s) => s.plan().memory_bytes(s.state().len()) as u64,
-            Backend::Gpu(s) => s.memory_bytes(),
-        }
+        self.backend.memory_bytes()
     }
 
     /// Bytes per particle of this backend's state.
     pub fn bytes_per_particle(&self) -> u64 {
-        match &self.backend {
-            Backend::Cpu(s) => s.plan().bytes_per_particle as u64,
-            Backend::Gpu(s) => tumble_gpu::bytes_per_particle(s.plan()),
-        }
+        self.backend.bytes_per_particle()
+    }
+
+    /// Everything needed to continue this run bit-identically.
+    pub fn snapshot(&self) -> Snapshot {
+        self.backend.snapshot()
+    }
+
+    /// Continues from a snapshot of the same scene written by this backend.
+    pub fn restore(&mut self, snapshot: &Snapshot) -> Result<(), SnapshotError> {
+        self.backend.restore(snapshot)
+    }
+
+    /// A collective decision of the run (every part of a distributed backend answers the same).
+    pub fn agree(&self, local: bool) -> bool {
+        self.backend.agree(local)
+    }
+
+    /// The concrete backend `B`, for tests and tools that need its internals.
+    pub fn downcast<B: Backend>(&self) -> Option<&B> {
+        self.backend.as_any().downcast_ref::<B>()
+    }
+
+    /// The concrete backend `B`, mutably.
+    pub fn downcast_mut<B: Backend>(&mut self) -> Option<&mut B> {
+        self.backend.as_any_mut().downcast_mut::<B>()
     }
 
     /// The CPU simulation, for tests and tools that need its internals.
     ///
     /// # Panics
-    /// On the GPU backend; use the backend-independent methods there.
+    /// On any other backend; use the backend-independent methods there.
     pub fn cpu(&self) -> &CpuSimulation {
-        match &self.backend {
-            Backend::Cpu(s) => s,
-            Backend::Gpu(_) => panic!("Simulation::cpu() on a GPU simulation"),
-        }
+        self.downcast::<CpuSimulation>().expect("Simulation::cpu() on a simulation that is not on the CPU backend")
     }
 
     /// The GPU simulation, on the GPU backend.
     pub fn gpu_simulation(&mut self) -> Option<&mut GpuSimulation> {
-        match &mut self.backend {
-            Backend::Cpu(_) => None,
-            Backend::Gpu(s) => Some(s),
-        }
+        self.downcast_mut::<GpuSimulation>()
     }
 }

@@ -2,33 +2,15 @@
 //! torque. A pair is computed in canonical order (lower id first) and negated
 //! for the other side, so pair forces are exactly equal and opposite.
 
-use crate::history::{Spring, WALL_KEY};
 use crate::neighbours::NeighbourList;
 use crate::polyhedra::{equivalent_radius, polyhedron_pair, polyhedron_wall};
-use crate::state::State;
+use tumble_state::{ContactSum, Spring, State, WALL_KEY};
 use glam::DVec3;
 use tumble_contact::{
     TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, history_force, normal_force, rolling_torque, tangential_force,
 };
 use tumble_geom::sphere_sphere;
 use tumble_scene::{PairParams, Plan, SPHERE, Wall};
-
-/// What the contact pass gives one particle.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct ContactSum {
-    pub force: DVec3,
-    pub torque: DVec3,
-    /// Elastic energy of the contacts this particle owns (pairs where it has the lower id, and walls).
-    pub elastic: f64,
-    /// Power dissipated (≥ 0) in the contacts this particle owns.
-    pub dissipation: f64,
-    /// Body contacts this particle owns.
-    pub contacts: u32,
-    /// Largest δ / min(r_i, r_j) over all of its contacts.
-    pub max_overlap_ratio: f64,
-    /// Contacts holding a tangential spring (may exceed the slots: then the run stops).
-    pub springs: u32,
-}
 
 /// A particle's copy in cell order, for the candidate scan.
 #[derive(Clone, Copy, Debug, Default)]

@@ -33,18 +33,14 @@
 //! assert!((sim.state().vel[0].z + 1.0).abs() < 1e-12);
 //! ```
 
+mod backend;
 mod forces;
-mod history;
 mod neighbours;
 mod observables;
 mod polyhedra;
-mod state;
 mod step;
 
-pub use forces::ContactSum;
-pub use history::{HistoryOverflow, HistorySlots, Spring, WALL_KEY};
-pub use observables::{DrumProfile, Observables, TrackRow, drum_profiles};
-pub use state::State;
+pub use tumble_state::{ContactSum, DrumProfile, HistoryOverflow, HistorySlots, Observables, Spring, State, TrackRow, WALL_KEY, drum_profiles};
 
 use forces::{PairOut, SortedEntry};
 use glam::DVec3;

@@ -7,7 +7,7 @@
 //! in a fixed order: no atomics, the same result for any thread count.
 
 use crate::forces::SortedEntry;
-use crate::state::State;
+use tumble_state::State;
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
@@ -37,6 +37,16 @@ pub struct NeighbourList {
 impl NeighbourList {
     pub fn new(skin: f64) -> Self {
         NeighbourList { skin, ..Default::default() }
+    }
+
+    /// Positions at the last build, in array order.
+    pub fn reference(&self) -> &[DVec3] {
+        &self.reference
+    }
+
+    /// False once invalidated: the next check rebuilds.
+    pub fn is_valid(&self) -> bool {
+        self.valid
     }
 
     /// Forces a rebuild at the next check (particles were reordered or removed).

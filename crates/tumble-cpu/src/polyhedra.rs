@@ -5,7 +5,7 @@
 //! force about each centre (a normal force on a polyhedron need not pass through its centre).
 
 use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
-use crate::history::Spring;
+use tumble_state::Spring;
 use glam::DVec3;
 use tumble_contact::{normal_force, rolling_torque};
 use tumble_geom::{PolyContact, Polyhedron, Pose, polyhedron_polyhedron, sphere_polyhedron};

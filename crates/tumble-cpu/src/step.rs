@@ -1,8 +1,8 @@
-//! The step: broad phase, contacts, body forces, integration (architecture.md, "The step").
+//! The step: broad phase, contacts, body forces, integration (ARCHITECTURE.md, "The step (CPU)").
 
 use crate::CpuSimulation;
 use crate::forces::{ContactInputs, SortedEntry, SpringSlots, gather, pair_contact};
-use crate::history::{HistoryOverflow, Spring};
+use tumble_state::{HistoryOverflow, Spring};
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
@@ -47,14 +47,22 @@ impl CpuSimulation {
         if !self.walls_moved_too_far() && !self.pool.install(|| self.neighbours.needs_rebuild(&self.state.pos, &domain)) {
             return;
         }
-        self.grid = CellGrid::new(&self.grid_bounds(), self.plan.cell_size + self.plan.skin);
-        self.grid.build(&self.state.pos);
         if self.last_resort.is_none_or(|last| self.step >= last + self.plan.resort_interval as u64) {
+            self.grid = CellGrid::new(&self.grid_bounds(), self.plan.cell_size + self.plan.skin);
+            self.grid.build(&self.state.pos);
             let order = self.grid.order().to_vec();
             self.state.permute(&order);
-            self.grid.build(&self.state.pos);
             self.last_resort = Some(self.step);
         }
+        self.build_list();
+    }
+
+    /// Builds the neighbour list over the current positions and array order (no re-sort):
+    /// a function of the positions, the array order and the walls' pose alone.
+    pub(crate) fn build_list(&mut self) {
+        let domain = self.plan.domain;
+        self.grid = CellGrid::new(&self.grid_bounds(), self.plan.cell_size + self.plan.skin);
+        self.grid.build(&self.state.pos);
         let (pos, reach) = (&self.state.pos, &self.state.reach);
         let order = self.grid.order();
         let sorted = &mut self.sorted;
@@ -67,7 +75,7 @@ impl CpuSimulation {
     }
 
     /// Moves the walls to their pose at time `t`.
-    fn place_walls(&mut self, t: f64) {
+    pub(crate) fn place_walls(&mut self, t: f64) {
         self.walls_time = t;
         if !self.moving_walls {
             return;

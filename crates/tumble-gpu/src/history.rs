@@ -5,7 +5,7 @@ use crate::GpuSimulation;
 use crate::buffers::history_entries_per_particle;
 use crate::upload::history_slots;
 use std::collections::BTreeMap;
-use tumble_cpu::HistoryOverflow;
+use tumble_state::HistoryOverflow;
 
 impl GpuSimulation {
     /// The generation the last committed contact pass wrote (the one read next).

@@ -23,6 +23,7 @@
 //! println!("{} on {}", sim.observables().kinetic_energy, sim.adapter());
 //! ```
 
+mod backend;
 mod buffers;
 mod context;
 mod history;
@@ -67,7 +68,9 @@ pub struct GpuSimulation {
     /// Committed contact passes: history generation `generation % 2` is the one read next.
     generation: u64,
     /// The first contact-history overflow found (the run stops there).
-    overflow: Cell<Option<tumble_cpu::HistoryOverflow>>,
+    overflow: Cell<Option<tumble_state::HistoryOverflow>>,
+    /// Read-backs from the device so far (each one submission and one mapping).
+    readbacks: Cell<u64>,
     /// Particles still in the domain, when known since the last step.
     alive: Cell<Option<usize>>,
     /// Some wall moves: its pose is uploaded before every contact pass.
@@ -90,7 +93,7 @@ impl GpuSimulation {
             return Err(GpuError::Feature(format!("{why}; use backend = \"cpu\"")));
         }
         let gpu = context::gpu()?;
-        let state = tumble_cpu::State::from_scene(&scene);
+        let state = tumble_state::State::from_scene(&scene);
         let plan = scene.plan;
         let arrays = upload::ParticleArrays::from_state(&state, &plan);
         let slots = arrays.pos.len() as u32;
@@ -120,6 +123,7 @@ impl GpuSimulation {
             last_resort: None,
             generation: 0,
             overflow: Cell::new(None),
+            readbacks: Cell::new(0),
             alive: Cell::new(Some(slots as usize)),
             moving,
             wall_entries,
@@ -234,5 +238,10 @@ impl GpuSimulation {
     /// Particles that left the domain through a non-periodic side.
     pub fn removed(&self) -> usize {
         self.slots as usize - self.particles()
+    }
+
+    /// Read-backs from the device so far: each is one submission, one mapping and one wait.
+    pub fn readbacks(&self) -> u64 {
+        self.readbacks.get()
     }
 }

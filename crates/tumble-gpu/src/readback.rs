@@ -5,7 +5,7 @@ use crate::GpuSimulation;
 use crate::upload::FLAG_DEAD;
 use bytemuck::Pod;
 use glam::DVec3;
-use tumble_cpu::{Observables, State, TrackRow};
+use tumble_state::{Frame, Observables, State, TrackRow};
 
 /// Everything the device holds per particle, in f32 as it is there.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -47,6 +47,7 @@ impl GpuSimulation {
     /// Copies the first bytes of several buffers back in one submission and one mapping.
     pub(crate) fn read_bytes(&self, parts: &[(&wgpu::Buffer, u64)]) -> Vec<Vec<u8>> {
         let total: u64 = parts.iter().map(|p| p.1).sum();
+        self.readbacks.set(self.readbacks.get() + 1);
         if total == 0 {
             return parts.iter().map(|_| Vec::new()).collect();
         }
@@ -82,9 +83,14 @@ impl GpuSimulation {
 
     /// Every per-particle array as the device holds it (slot order).
     pub fn device_arrays(&self) -> DeviceArrays {
+        self.read_arrays(&[]).0
+    }
+
+    /// The particle arrays and `extra` buffer prefixes, in one read-back.
+    fn read_arrays(&self, extra: &[(&wgpu::Buffer, u64)]) -> (DeviceArrays, Vec<Vec<u8>>) {
         let b = &self.buffers;
         let n = self.slots as u64;
-        let v = self.read_bytes(&[
+        let mut parts = vec![
             (&b.pos, 16 * n),
             (&b.vel, 16 * n),
             (&b.omega, 16 * n),
@@ -96,11 +102,14 @@ impl GpuSimulation {
             (&b.torque, 16 * n),
             (&b.stats, 8 * n),
             (&b.orient, if b.oriented { 16 * n } else { 0 }),
-        ]);
+        ];
+        parts.extend_from_slice(extra);
+        let mut v = self.read_bytes(&parts);
+        let rest = v.split_off(11);
         fn cast<T: Pod>(bytes: &[u8]) -> Vec<T> {
             bytemuck::pod_collect_to_vec(bytes)
         }
-        DeviceArrays {
+        let arrays = DeviceArrays {
             pos: cast(&v[0]),
             vel: cast(&v[1]),
             omega: cast(&v[2]),
@@ -112,7 +121,21 @@ impl GpuSimulation {
             torque: cast(&v[8]),
             stats: cast(&v[9]),
             orient: cast(&v[10]),
-        }
+        };
+        (arrays, rest)
+    }
+
+    /// One output row from one read-back: the particle arrays and the wall entries.
+    pub fn frame(&self, with_state: bool) -> Frame<'static> {
+        let power_bytes = self.wall_entry_bytes(4);
+        let work_bytes = self.wall_entry_bytes(8);
+        let (a, walls) = self.read_arrays(&[(&self.buffers.wall_power, power_bytes), (&self.buffers.wall_work, work_bytes)]);
+        let wall_power = self.group_sums_of(&walls[0], crate::walls::wall_power_value);
+        let wall_work = self.group_sums_of(&walls[1], crate::walls::wall_work_value);
+        let s = self.state_from(&a);
+        let observables = self.observables_of(&a, &s, &wall_work);
+        let drums = if self.plan.drums.is_empty() { Vec::new() } else { tumble_state::drum_profiles(&self.plan, &s) };
+        Frame { observables, tracks: tumble_state::tracks(&s), wall_power, wall_work, drums, state: with_state.then(|| std::borrow::Cow::Owned(s)) }
     }
 
     /// The particles still in the domain as a host [`State`] in f64, in id order.
@@ -165,58 +188,22 @@ impl GpuSimulation {
         s
     }
 
-    /// Whole-system observables, summed in f64 on the host in id order.
+    /// Whole-system observables, summed in f64 on the host in id order (one read-back).
     pub fn observables(&self) -> Observables {
-        let a = self.device_arrays();
-        let s = self.state_from(&a);
-        let g = self.plan.gravity;
-        let mut o = Observables { time: self.time(), particles: s.len(), finite: true, ..Default::default() };
-        for i in 0..s.len() {
-            o.finite &= s.pos[i].is_finite() && s.vel[i].is_finite();
-            if s.inv_mass[i] != 0.0 {
-                o.kinetic_energy += 0.5 * s.mass[i] * s.vel[i].length_squared();
-                o.potential_energy -= s.mass[i] * g.dot(s.pos[i]);
-                if self.plan.rotation {
-                    o.finite &= s.omega[i].is_finite();
-                    o.rotational_energy += s.rotational_energy(i);
-                }
-            }
-            o.dissipated_energy += s.dissipated[i];
-            if self.plan.fluid.is_some() {
-                o.fluid_work += s.fluid_work[i];
-            }
-        }
-        for i in a.alive_by_id() {
-            o.elastic_energy += a.force[i][3] as f64;
-            o.contacts += a.stats[i][0] as u64;
-            o.max_overlap_ratio = o.max_overlap_ratio.max(f32::from_bits(a.stats[i][1]) as f64);
-        }
-        o.wall_work = self.wall_work().iter().sum();
-        o.finite &= o.elastic_energy.is_finite() && o.dissipated_energy.is_finite();
-        o
+        self.frame(false).observables
     }
 
-    /// Tracked particles, by id (reads back positions, velocities, spins and properties only).
+    fn observables_of(&self, a: &DeviceArrays, s: &State, wall_work: &[f64]) -> Observables {
+        let mut o = Observables::of_particles(s, self.plan.gravity, self.time());
+        for i in a.alive_by_id() {
+            o.add_contacts(a.force[i][3] as f64, a.stats[i][0] as u64, f32::from_bits(a.stats[i][1]) as f64);
+        }
+        o.finish(wall_work)
+    }
+
+    /// Tracked particles, by id, with their orientations (one read-back).
     pub fn tracks(&self) -> Vec<TrackRow> {
-        let b = &self.buffers;
-        let n = self.slots as u64;
-        let v = self.read_bytes(&[(&b.pos, 16 * n), (&b.vel, 16 * n), (&b.omega, 16 * n), (&b.props, 16 * n)]);
-        let (pos, vel, omega): (Vec<[f32; 4]>, Vec<[f32; 4]>, Vec<[f32; 4]>) =
-            (bytemuck::pod_collect_to_vec(&v[0]), bytemuck::pod_collect_to_vec(&v[1]), bytemuck::pod_collect_to_vec(&v[2]));
-        let props: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&v[3]);
-        let origin = crate::upload::centre(&self.plan);
-        let mut rows: Vec<TrackRow> = (0..pos.len())
-            .filter(|&i| props[i][3] & FLAG_DEAD == 0 && self.track[props[i][2] as usize])
-            .map(|i| TrackRow {
-                id: props[i][2],
-                position: v3(pos[i]) + origin,
-                velocity: v3(vel[i]),
-                angular_velocity: if self.plan.rotation { v3(omega[i]) } else { DVec3::ZERO },
-                orientation: glam::DQuat::IDENTITY,
-            })
-            .collect();
-        rows.sort_by_key(|r| r.id);
-        rows
+        self.frame(false).tracks
     }
 
     /// The broad phase's tables after the last binning: cell of each slot, cell starts

@@ -5,7 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use tumble_contact::{FlowField, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter};
-use tumble_cpu::State;
+use tumble_state::State;
 use tumble_geom::SurfaceShape;
 use tumble_scene::Plan;
 

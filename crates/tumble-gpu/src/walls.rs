@@ -3,7 +3,7 @@
 //! drum charge profiles (from read-back state).
 
 use crate::GpuSimulation;
-use tumble_cpu::DrumProfile;
+use tumble_state::DrumProfile;
 use tumble_scene::Wall;
 
 impl GpuSimulation {
@@ -12,14 +12,19 @@ impl GpuSimulation {
         self.plan.walls.iter().map(|w| if w.motion.is_some() { Wall { shape: w.shape_at(self.wall_time), ..w.clone() } } else { w.clone() }).collect()
     }
 
-    /// Per wall group, the sum over particles (in id order, f64) of `entry(id, group)`.
-    fn group_sums<T: bytemuck::Pod>(&self, buffer: &wgpu::Buffer, value: impl Fn(&T) -> f64) -> Vec<f64> {
+    /// Bytes of the per-(id, group) wall entries of `element_bytes` each (zero without moving walls).
+    pub(crate) fn wall_entry_bytes(&self, element_bytes: u64) -> u64 {
+        if self.moving { element_bytes * self.slots as u64 * self.plan.wall_groups.len() as u64 } else { 0 }
+    }
+
+    /// Per wall group, the sum over particles (in id order, f64) of `entry(id, group)` read back as `bytes`.
+    pub(crate) fn group_sums_of<T: bytemuck::Pod>(&self, bytes: &[u8], value: impl Fn(&T) -> f64) -> Vec<f64> {
         let groups = self.plan.wall_groups.len();
         let mut out = vec![0.0; groups];
-        if !self.moving || groups == 0 {
+        if bytes.is_empty() || groups == 0 {
             return out;
         }
-        let all: Vec<T> = self.read(buffer, self.slots as usize * groups);
+        let all: Vec<T> = bytemuck::pod_collect_to_vec(bytes);
         for per_id in all.chunks(groups) {
             for (o, e) in out.iter_mut().zip(per_id) {
                 *o += value(e);
@@ -28,16 +33,24 @@ impl GpuSimulation {
         out
     }
 
+    fn group_sums<T: bytemuck::Pod>(&self, buffer: &wgpu::Buffer, value: impl Fn(&T) -> f64) -> Vec<f64> {
+        let bytes = self.wall_entry_bytes(std::mem::size_of::<T>() as u64);
+        if bytes == 0 {
+            return vec![0.0; self.plan.wall_groups.len()];
+        }
+        self.group_sums_of(&self.read_bytes(&[(buffer, bytes)])[0], value)
+    }
+
     /// Power delivered to the particles by each wall group at the last force pass,
     /// Σ F_on_particle · v_wall at the contact point (+ Ω_wall · the rolling and, for polyhedra,
     /// twisting couples); zero for static walls.
     pub fn wall_power(&self) -> Vec<f64> {
-        self.group_sums(&self.buffers.wall_power, |p: &f32| *p as f64)
+        self.group_sums(&self.buffers.wall_power, wall_power_value)
     }
 
     /// Work done on the particles by each wall group since t = 0 (Σ power Δt over committed passes).
     pub fn wall_work(&self) -> Vec<f64> {
-        self.group_sums(&self.buffers.wall_work, |w: &[f32; 2]| w[0] as f64 - w[1] as f64)
+        self.group_sums(&self.buffers.wall_work, wall_work_value)
     }
 
     /// The charge profile of each drum of the plan, from the read-back state.
@@ -45,6 +58,16 @@ impl GpuSimulation {
         if self.plan.drums.is_empty() {
             return Vec::new();
         }
-        tumble_cpu::drum_profiles(&self.plan, &self.state())
+        tumble_state::drum_profiles(&self.plan, &self.state())
     }
+}
+
+/// One (id, group) entry of the wall power buffer.
+pub(crate) fn wall_power_value(p: &f32) -> f64 {
+    *p as f64
+}
+
+/// One (id, group) entry of the wall work buffer: a Kahan pair (sum, compensation).
+pub(crate) fn wall_work_value(w: &[f32; 2]) -> f64 {
+    w[0] as f64 - w[1] as f64
 }

@@ -4,12 +4,13 @@
 //! opposite sign; the pair pass reads the lower id's copy.
 
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 
 /// Marks a key as a wall index rather than a particle id.
 pub const WALL_KEY: u32 = 1 << 31;
 
 /// One contact's tangential spring and the energy it stores.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Spring {
     pub xi: DVec3,
     /// ½ k_t |ξ|² as booked at the last step: what is dissipated if the contact ends now.
@@ -17,7 +18,7 @@ pub struct Spring {
 }
 
 /// One generation of spring slots: `slots` per particle, the first `count[i]` in use.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct HistorySlots {
     pub slots: usize,
     pub count: Vec<u16>,
@@ -87,7 +88,7 @@ impl HistorySlots {
 }
 
 /// A particle had more contacts with history than it has slots.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct HistoryOverflow {
     pub id: u32,
     pub contacts: usize,

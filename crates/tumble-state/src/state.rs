@@ -2,11 +2,12 @@
 
 use crate::history::HistorySlots;
 use glam::{DQuat, DVec3};
+use serde::{Deserialize, Serialize};
 use tumble_broad::permute;
 use tumble_scene::{CompiledScene, Drag};
 
 /// Per-particle state. Arrays the plan does not need (rotation, drag) stay empty.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct State {
     pub id: Vec<u32>,
     pub pos: Vec<DVec3>,

@@ -1,0 +1,174 @@
+//! The CPU simulation behind the run loop's [`Backend`] seam, and its snapshots.
+
+use crate::CpuSimulation;
+use glam::DVec3;
+use std::any::Any;
+use std::borrow::Cow;
+use tumble_scene::{Plan, Wall};
+use tumble_state::{Backend, BackendInfo, Fault, Frame, NeighbourState, SNAPSHOT_VERSION, Snapshot, SnapshotError, State, WallState};
+
+impl CpuSimulation {
+    /// Everything needed to continue this run bit-identically (arrays in memory order).
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            version: SNAPSHOT_VERSION,
+            scene: self.plan.name.clone(),
+            dt: self.plan.dt,
+            backend: "cpu".into(),
+            precision: "f64".into(),
+            step: self.step,
+            time: self.time(),
+            removed: self.removed as u64,
+            state: self.state.clone(),
+            last_pass: self.sums.clone(),
+            walls: WallState {
+                time: self.walls_time,
+                built_at: self.walls_built_at,
+                power: self.group_power.clone(),
+                work: self.group_work.clone(),
+                work_compensation: Vec::new(),
+            },
+            neighbours: Some(NeighbourState {
+                reference: self.neighbours.reference().to_vec(),
+                valid: self.neighbours.is_valid(),
+                builds: self.neighbours.builds,
+            }),
+            last_resort: self.last_resort,
+            fault: self.history_overflow.map(Fault::from),
+            rng: Vec::new(),
+        }
+    }
+
+    /// Continues from a snapshot this backend wrote for the same scene: the next steps are
+    /// bit-identical to those of the run that wrote it (the neighbour list is rebuilt from its
+    /// reference positions in the same array order, so every pair and sum keeps its order).
+    pub fn restore(&mut self, snap: &Snapshot) -> Result<(), SnapshotError> {
+        snap.check_fits(&self.plan)?;
+        if snap.backend != "cpu" {
+            return Err(SnapshotError::Mismatch(format!("written by the {} backend; restore it there", snap.backend)));
+        }
+        let s = &snap.state;
+        let n = s.len();
+        let consistent = [s.id.len(), s.vel.len(), s.acc.len(), s.radius.len(), s.reach.len(), s.mass.len(), s.inv_mass.len()].iter().all(|&l| l == n)
+            && s.omega.len() == if self.plan.rotation { n } else { 0 }
+            && s.orient.len() == if self.plan.polyhedra { n } else { 0 }
+            && s.history.slots == self.state.history.slots
+            && (snap.last_pass.is_empty() || snap.last_pass.len() == n)
+            && snap.walls.power.len() == self.group_power.len();
+        if !consistent {
+            return Err(SnapshotError::Mismatch("its arrays do not match this plan's model (rotation, polyhedra, history slots, wall groups)".into()));
+        }
+        self.state = snap.state.clone();
+        self.step = snap.step;
+        self.removed = snap.removed as usize;
+        self.sums = snap.last_pass.clone();
+        self.pair_out.clear();
+        self.history_overflow = snap.fault.map(|Fault::HistoryOverflow(o)| o);
+        self.last_resort = snap.last_resort;
+        self.group_power.clone_from(&snap.walls.power);
+        self.group_work.clone_from(&snap.walls.work);
+        self.neighbours.invalidate();
+        if let Some(list) = &snap.neighbours {
+            if list.valid && list.reference.len() == n {
+                // The list as it was built: positions of that build, walls in that build's pose.
+                self.place_walls(snap.walls.built_at);
+                let now = std::mem::replace(&mut self.state.pos, list.reference.clone());
+                self.build_list();
+                self.state.pos = now;
+            }
+            self.neighbours.builds = list.builds;
+        }
+        self.place_walls(snap.walls.time);
+        self.walls_built_at = snap.walls.built_at;
+        Ok(())
+    }
+}
+
+impl Backend for CpuSimulation {
+    fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    fn info(&self) -> BackendInfo {
+        BackendInfo { name: "cpu", precision: "f64", device: format!("CPU, {} threads", self.threads), adapter: None }
+    }
+
+    fn advance(&mut self, steps: u64) {
+        CpuSimulation::advance(self, steps)
+    }
+
+    fn steps(&self) -> u64 {
+        self.step
+    }
+
+    fn particles(&self) -> usize {
+        self.state.len()
+    }
+
+    fn removed(&self) -> usize {
+        self.removed
+    }
+
+    fn fault(&self) -> Option<Fault> {
+        self.history_overflow.map(Fault::from)
+    }
+
+    fn frame(&self, with_state: bool) -> Frame<'_> {
+        Frame {
+            observables: self.observables(),
+            tracks: self.tracks(),
+            wall_power: self.group_power.clone(),
+            wall_work: self.group_work.clone(),
+            drums: self.drum_profiles(),
+            state: with_state.then_some(Cow::Borrowed(&self.state)),
+        }
+    }
+
+    fn state(&self) -> Cow<'_, State> {
+        Cow::Borrowed(&self.state)
+    }
+
+    fn wall_power(&self) -> Vec<f64> {
+        self.group_power.clone()
+    }
+
+    fn wall_work(&self) -> Vec<f64> {
+        self.group_work.clone()
+    }
+
+    fn walls(&self) -> Cow<'_, [Wall]> {
+        Cow::Borrowed(&self.walls)
+    }
+
+    fn contact_force(&self, id: u32) -> Option<DVec3> {
+        self.index_of(id).and_then(|i| self.sums.get(i)).map(|s| s.force)
+    }
+
+    fn neighbour_builds(&self) -> Option<u64> {
+        Some(self.neighbours.builds)
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        self.plan.memory_bytes(self.state.len()) as u64
+    }
+
+    fn bytes_per_particle(&self) -> u64 {
+        self.plan.bytes_per_particle as u64
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        CpuSimulation::snapshot(self)
+    }
+
+    fn restore(&mut self, snapshot: &Snapshot) -> Result<(), SnapshotError> {
+        CpuSimulation::restore(self, snapshot)
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}

@@ -1,0 +1,75 @@
+//! A run continued from a snapshot is bit-identical to the run that wrote it.
+
+use std::path::PathBuf;
+use tumble_cpu::CpuSimulation;
+use tumble_state::{Snapshot, SnapshotError};
+
+fn scene_file(name: &str) -> tumble_scene::CompiledScene {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);
+    tumble_scene::compile(&tumble_scene::read_scene(&path).unwrap()).unwrap()
+}
+
+/// Runs `before` steps, snapshots through bytes, then compares `after` more steps of the
+/// original with the same steps of a fresh simulation restored from the bytes.
+fn continues_bit_identically(name: &str, before: u64, after: u64, threads: usize) {
+    let mut original = CpuSimulation::new(scene_file(name), threads);
+    original.advance(before);
+    let bytes = original.snapshot().to_bytes();
+    let observed_at_snapshot = original.observables();
+    let builds_at_snapshot = original.neighbour_builds();
+    original.advance(after);
+    assert!(original.neighbour_builds() > builds_at_snapshot, "{name}: the list should be rebuilt after the restore too");
+
+    let mut restored = CpuSimulation::new(scene_file(name), threads);
+    restored.restore(&Snapshot::from_bytes(&bytes).unwrap()).unwrap();
+    assert_eq!(restored.steps(), before);
+    assert_eq!(restored.observables(), observed_at_snapshot, "{name}: the restored state reads differently");
+    restored.advance(after);
+    let (a, b) = (original.snapshot(), restored.snapshot());
+    assert!(a.state.len() > 10, "{name}: particles left: {}", a.state.len());
+    assert_eq!(a.to_bytes(), b.to_bytes(), "{name}: the continued run differs from the original");
+    assert_eq!(original.observables(), restored.observables());
+}
+
+#[test]
+fn a_heap_with_tangential_springs_continues_bit_identically() {
+    // Springs, box walls, rotation; 3,000+ particles.
+    continues_bit_identically("heap_history.toml", 1_000, 400, 2);
+}
+
+#[test]
+fn a_drum_of_cubes_with_lifters_continues_bit_identically() {
+    // Polyhedra, a turning shell with lifters and end plates (wall work), springs.
+    continues_bit_identically("drum_cubes.toml", 700, 300, 2);
+}
+
+#[test]
+fn a_periodic_cascade_continues_bit_identically_on_another_thread_count() {
+    // A periodic axis, two materials, cohesion, a fixed particle; restored on 1 thread, written on 2.
+    let mut original = CpuSimulation::new(scene_file("pipe_cascade.toml"), 2);
+    original.advance(500);
+    let snapshot = original.snapshot();
+    original.advance(500);
+    let mut restored = CpuSimulation::new(scene_file("pipe_cascade.toml"), 1);
+    restored.restore(&snapshot).unwrap();
+    restored.advance(500);
+    assert_eq!(original.snapshot().to_bytes(), restored.snapshot().to_bytes());
+}
+
+#[test]
+fn a_snapshot_of_another_scene_or_version_is_refused_and_changes_nothing() {
+    let mut heap = CpuSimulation::new(scene_file("heap_history.toml"), 1);
+    heap.advance(10);
+    let mut box_settle = CpuSimulation::new(scene_file("box_settle.toml"), 1);
+    let before = box_settle.snapshot().to_bytes();
+    let err = box_settle.restore(&heap.snapshot()).unwrap_err();
+    assert!(matches!(err, SnapshotError::Mismatch(_)), "{err}");
+    assert!(err.to_string().contains("heap"), "{err}");
+    assert_eq!(box_settle.snapshot().to_bytes(), before);
+
+    let mut bytes = heap.snapshot().to_bytes();
+    bytes[8] = bytes[8].wrapping_add(1);
+    assert!(matches!(Snapshot::from_bytes(&bytes), Err(SnapshotError::Version { found: 2, expected: 1 })));
+    let bytes = heap.snapshot().to_bytes();
+    assert!(matches!(Snapshot::from_bytes(&bytes[..bytes.len() - 3]), Err(SnapshotError::Corrupt(_))));
+}

@@ -1,0 +1,136 @@
+//! The Snapshot: everything a backend needs to continue a run bit-identically,
+//! serialisable with serde and versioned.
+
+use crate::{ContactSum, Fault, State};
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+/// The layout version written into every snapshot; a reader refuses any other.
+pub const SNAPSHOT_VERSION: u32 = 1;
+
+/// The first bytes of an encoded snapshot.
+const MAGIC: &[u8; 8] = b"TUMBLESN";
+
+/// A run frozen between two steps.
+///
+/// Per-particle arrays are in the backend's memory order (not id order), so a
+/// restore reproduces every summation order and the continuation is bit-identical.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Snapshot {
+    pub version: u32,
+    /// The scene's name and time step: a restore refuses a snapshot of another scene.
+    pub scene: String,
+    pub dt: f64,
+    /// The backend that wrote it (`cpu`, `gpu`) and its precision (`f64`, `f32`).
+    pub backend: String,
+    pub precision: String,
+    pub step: u64,
+    pub time: f64,
+    /// Particles that left the domain through a non-periodic side so far.
+    pub removed: u64,
+    /// Every per-particle array, contact springs with their stored energies included.
+    pub state: State,
+    /// Each particle's share of the last contact pass (empty when a removal made it stale).
+    pub last_pass: Vec<ContactSum>,
+    pub walls: WallState,
+    /// The neighbour list's build state (backends that keep one).
+    pub neighbours: Option<NeighbourState>,
+    /// The step of the last re-sort by cell, if any.
+    pub last_resort: Option<u64>,
+    pub fault: Option<Fault>,
+    /// Random-number state of models that draw at run time (none does yet: empty).
+    pub rng: Vec<u64>,
+}
+
+/// The world's moving geometry and its energy books.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WallState {
+    /// The time of the walls' current pose (each wall's pose follows from its motion).
+    pub time: f64,
+    /// `time` when the neighbour list's wall candidates were built.
+    pub built_at: f64,
+    /// Per wall group: power at the last force pass and work done since t = 0.
+    pub power: Vec<f64>,
+    pub work: Vec<f64>,
+    /// Kahan compensation of `work`, where a backend keeps one (empty otherwise).
+    pub work_compensation: Vec<f64>,
+}
+
+/// What a Verlet list needs to be rebuilt exactly as it was.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NeighbourState {
+    /// Positions at the last build, in memory order.
+    pub reference: Vec<DVec3>,
+    /// False when the list was invalidated (it is rebuilt at the next step anyway).
+    pub valid: bool,
+    /// Rebuilds so far.
+    pub builds: u64,
+}
+
+/// A snapshot that cannot be read or does not fit the run it is given to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SnapshotError {
+    /// Not a tumble snapshot, or cut short.
+    Corrupt(String),
+    /// Written by another layout version.
+    Version { found: u32, expected: u32 },
+    /// Written for another scene, time step or backend.
+    Mismatch(String),
+    /// The backend cannot restore (yet).
+    Unsupported(String),
+}
+
+impl std::fmt::Display for SnapshotError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SnapshotError::Corrupt(why) => write!(f, "not a readable tumble snapshot: {why}"),
+            SnapshotError::Version { found, expected } => {
+                write!(f, "snapshot layout version {found}, but this tumble reads version {expected}")
+            }
+            SnapshotError::Mismatch(why) => write!(f, "snapshot does not fit this run: {why}"),
+            SnapshotError::Unsupported(why) => write!(f, "{why}"),
+        }
+    }
+}
+
+impl std::error::Error for SnapshotError {}
+
+impl Snapshot {
+    /// Encodes as magic, version (little-endian u32), then the postcard body (f64 bit-exact).
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = MAGIC.to_vec();
+        out.extend_from_slice(&self.version.to_le_bytes());
+        out.extend(postcard::to_stdvec(self).expect("a snapshot always encodes"));
+        out
+    }
+
+    /// Decodes what [`Snapshot::to_bytes`] wrote, refusing other versions.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Snapshot, SnapshotError> {
+        if bytes.len() < 12 || &bytes[..8] != MAGIC {
+            return Err(SnapshotError::Corrupt("missing the TUMBLESN header".into()));
+        }
+        let found = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
+        if found != SNAPSHOT_VERSION {
+            return Err(SnapshotError::Version { found, expected: SNAPSHOT_VERSION });
+        }
+        let (snapshot, rest): (Snapshot, &[u8]) = postcard::take_from_bytes(&bytes[12..]).map_err(|e| SnapshotError::Corrupt(e.to_string()))?;
+        if !rest.is_empty() {
+            return Err(SnapshotError::Corrupt(format!("{} bytes after the end", rest.len())));
+        }
+        Ok(snapshot)
+    }
+
+    /// Refuses a snapshot of another scene or time step than `plan`'s.
+    pub fn check_fits(&self, plan: &tumble_scene::Plan) -> Result<(), SnapshotError> {
+        if self.version != SNAPSHOT_VERSION {
+            return Err(SnapshotError::Version { found: self.version, expected: SNAPSHOT_VERSION });
+        }
+        if self.scene != plan.name {
+            return Err(SnapshotError::Mismatch(format!("written for scene `{}`, this run is `{}`", self.scene, plan.name)));
+        }
+        if self.dt.to_bits() != plan.dt.to_bits() {
+            return Err(SnapshotError::Mismatch(format!("written with dt = {:e} s, this run has dt = {:e} s", self.dt, plan.dt)));
+        }
+        Ok(())
+    }
+}
