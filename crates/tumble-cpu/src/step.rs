@@ -1,4 +1,4 @@
-//! The step: broad phase, contacts, body forces, integration (architecture.md, "The step").
+//! The step: broad phase, contacts, body forces, integration (ARCHITECTURE.md, "The step (CPU)").
 
 use crate::CpuSimulation;
 use crate::forces::{ContactInputs, SortedEntry, SpringSlots, gather, pair_contact};
