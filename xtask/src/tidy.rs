@@ -184,12 +184,11 @@ fn path_tokens(line: &str) -> Vec<String> {
             chars.next();
         }
         // A usage line's optional argument, `[out.md]`, names no file of the repository.
-        let placeholder = line[..start].ends_with('[') && line[end..].starts_with(']') && !line[end..].starts_with("](");
-        // A sentence may end right after a path.
-        let token = line[start..end].trim_end_matches('.');
-        if placeholder {
+        if line[..start].ends_with('[') && line[end..].starts_with(']') && !line[end..].starts_with("](") {
             continue;
         }
+        // A sentence may end right after a path.
+        let token = line[start..end].trim_end_matches('.');
         let slash = token.contains('/');
         let markdown_name = token.ends_with(".md") && token.len() > 3;
         if (!slash && !markdown_name) || token.contains(PATTERN_CHARS) || token.starts_with('/') {
