@@ -1,4 +1,4 @@
-//! The command line (scene-and-cli.md, "Command line").
+//! The command line (docs/cli.md, "Commands").
 
 use crate::{RunError, RunOptions, load_scene, run_compiled};
 use clap::{Parser, Subcommand};

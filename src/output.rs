@@ -1,4 +1,4 @@
-//! Output files: observables.csv and tracks.csv (scene-and-cli.md, "Outputs").
+//! Output files: observables.csv and tracks.csv (docs/cli.md, "Outputs").
 
 use crate::{DrumProfile, Observables, TrackRow};
 use std::fs::File;

@@ -1,5 +1,5 @@
 //! Tangential springs with history and rolling resistance against closed forms,
-//! and where the history-free models fail (physics.md, "Tangential force").
+//! and where the history-free models fail (docs/physics.md, "Tangential force").
 
 mod common;
 

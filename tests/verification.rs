@@ -1,4 +1,4 @@
-//! Analytic verification cases 1–5, 7, 8, 9 (verification.md) on the CPU backend:
+//! Analytic verification cases 1–5, 7, 8, 9 (docs/verification.md) on the CPU backend:
 //! error at the finest Δt and the measured convergence order per integrator.
 
 use tumble::verify::{self, ErrorRow, fitted_order};

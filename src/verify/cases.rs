@@ -1,4 +1,4 @@
-//! The closed-form cases (verification.md 1–5, 7–9).
+//! The closed-form cases (docs/verification.md, cases 1–5, 7–9).
 
 use super::{DIVISORS, ErrorRow, scene_with, simulation_on, trajectory, trajectory_on};
 use crate::Simulation;

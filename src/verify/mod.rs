@@ -1,4 +1,4 @@
-//! The analytic verification cases of verification.md, shared by the tests,
+//! The analytic verification cases of docs/verification.md, shared by the tests,
 //! `cargo xtask verify` and (later) `tumble verify`.
 //!
 //! Each case loads its scene from `scenes/verify/`, runs it at a sequence of

@@ -1,4 +1,4 @@
-//! Linear cohesion with an effect surface (physics.md, "Cohesion").
+//! Linear cohesion with an effect surface (docs/physics.md, "Cohesion").
 
 /// Cohesive force along n (negative: attraction) for effect overlap δ_e.
 #[inline]

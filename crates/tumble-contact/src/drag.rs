@@ -6,7 +6,7 @@ use glam::DVec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FlowField {
     Uniform(DVec3),
-    /// Taylor–Green vortex with amplitude A and frequency a (physics.md).
+    /// Taylor–Green vortex with amplitude A and frequency a (docs/physics.md, "Drag and flow fields").
     TaylorGreen {
         amplitude: f64,
         frequency: f64,

@@ -1,5 +1,5 @@
 //! Tangential spring with history (Cundall–Strack, Mindlin) and rolling resistance
-//! (physics.md, "Tangential force" and "Rolling resistance").
+//! (docs/physics.md, "The spring with history" and "Rolling resistance").
 
 use glam::DVec3;
 

@@ -1,4 +1,4 @@
-//! Force laws for tumble as pure functions (physics.md).
+//! Force laws for tumble as pure functions (docs/physics.md).
 //!
 //! Sign conventions: `n` points from j to i, forces act on i, the normal force
 //! is a signed magnitude along `n` (positive pushes i away from j).

@@ -63,7 +63,7 @@ mod tests {
 
     #[test]
     fn damped_duration_matches_the_damped_frequency() {
-        // t_col = π / √(k/m − (η/2m)²), the form physics.md gives first.
+        // t_col = π / √(k/m − (η/2m)²), the form docs/physics.md gives first.
         let (k, m, e) = (1.0e5, 0.005, 0.8);
         let eta = linear_damping(e, m, k);
         let direct = std::f64::consts::PI / (k / m - (eta / (2.0 * m)).powi(2)).sqrt();

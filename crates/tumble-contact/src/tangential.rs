@@ -1,4 +1,4 @@
-//! Tangential laws (physics.md, "Tangential force"): the history-free ones here,
+//! Tangential laws (docs/physics.md, "Tangential force"): the history-free ones here,
 //! the spring with history in `history.rs`.
 
 use crate::SpringLaw;

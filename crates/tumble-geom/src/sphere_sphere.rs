@@ -1,6 +1,6 @@
 use crate::DVec3;
 
-/// Geometry of two spheres i and j (see physics.md, "Pair geometry").
+/// Geometry of two spheres i and j (see docs/physics.md, "Pair geometry").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpherePair {
     /// Unit normal from j to i.

@@ -1,4 +1,4 @@
-// Body forces and the update rules of the five integrators (physics.md,
+// Body forces and the update rules of the five integrators (docs/physics.md,
 // "Integrators"), one invocation per particle:
 //
 // kick_drift  Verlet's first half: half kick with the stored acceleration, drift

@@ -1,4 +1,4 @@
-//! Recording the step into command buffers (architecture.md, "The step"):
+//! Recording the step into command buffers (ARCHITECTURE.md, "The step (GPU)"):
 //! broad phase (bin, scan, scatter, order cells; every few steps a re-sort of
 //! the particle arrays by cell), the contact pass, then the update.
 

@@ -1,4 +1,4 @@
-//! Time integrators (physics.md, "Integrators") as per-particle update rules.
+//! Time integrators (docs/physics.md, "Integrators") as per-particle update rules.
 //!
 //! A backend calls them in the order [`Integrator::forces_first`] says:
 //! Verlet drifts before the force pass, the others update after it.

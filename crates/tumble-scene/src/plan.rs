@@ -1,4 +1,4 @@
-//! The plan: the smallest model a scene needs, and why (architecture.md, "The plan").
+//! The plan: the smallest model a scene needs, and why (ARCHITECTURE.md, "The plan").
 
 use crate::SceneError;
 use crate::particles::{InitialParticles, generate};
@@ -151,7 +151,7 @@ pub struct FlowPlane {
     pub plane: Plane,
 }
 
-/// The step limit from moving geometry: Δt ≤ 0.025 r_min / v_wall (physics.md).
+/// The step limit from moving geometry: Δt ≤ 0.025 r_min / v_wall (docs/physics.md, "Time step").
 #[derive(Clone, Debug, PartialEq)]
 pub struct WallStepLimit {
     pub dt: f64,

@@ -1,4 +1,4 @@
-//! The scene file as written by users (scene-and-cli.md). Every field is documented in docs/scene.md.
+//! The scene file as written by users. Every field is documented in docs/scene.md.
 
 use serde::Deserialize;
 

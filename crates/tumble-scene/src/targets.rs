@@ -1,5 +1,5 @@
 //! Scene helpers for particle-laden flows: properties from target dimensionless numbers
-//! (physics.md): the Stokes number Stk = ρ d² u_0 / (18 μ l_0) in a Taylor–Green vortex,
+//! (docs/physics.md): the Stokes number Stk = ρ d² u_0 / (18 μ l_0) in a Taylor–Green vortex,
 //! and the stickiness number Sy = L_e √k_c / (e √(L_e² k_c + u² m*)).
 //!
 //! Representative values are taken over the movable particles: the mean of ρd² (so Stk is the

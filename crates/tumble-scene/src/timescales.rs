@@ -1,5 +1,5 @@
 //! Time scales of a scene: contact durations, stability limits and the step the plan picks
-//! (physics.md, "Time step").
+//! (docs/physics.md, "Time step").
 
 use crate::particles::InitialParticles;
 use crate::plan::{Fluid, Material, PairParams, Wall};
@@ -131,7 +131,7 @@ pub(crate) fn timescales(
     if t_col.is_finite() {
         ts.collision_time = Some(t_col);
     }
-    // Linear contacts: t_col / 50; Hertz: 0.2 Δt_R (physics.md, "Time step").
+    // Linear contacts: t_col / 50; Hertz: 0.2 Δt_R (docs/physics.md, "Time step").
     if t_col_linear.is_finite() {
         default_dt = t_col_linear / 50.0;
     }
