@@ -177,6 +177,31 @@ impl Buffers {
         })
     }
 
+    /// The buffer a kernel binding of this name reads (tumble-shaders' bindings.rs), where the
+    /// name alone decides it.
+    pub fn named(&self, binding: &str) -> Option<&wgpu::Buffer> {
+        Some(match binding {
+            "params" => &self.params,
+            "pos" => &self.pos,
+            "vel" => &self.vel,
+            "omega" => &self.omega,
+            "acc" => &self.acc,
+            "alpha" => &self.alpha,
+            "props" => &self.props,
+            "energy" => &self.energy,
+            "cell" => &self.cell,
+            "count" => &self.count,
+            "cell_start" => &self.cell_start,
+            "cursor" => &self.cursor,
+            "cell_list" => &self.cell_list,
+            "tables" => &self.tables,
+            "orient" => &self.orient,
+            "wall_power" => &self.wall_power,
+            "wall_work" => &self.wall_work,
+            _ => return None,
+        })
+    }
+
     /// The per-particle arrays the re-sort moves, in a fixed order.
     pub fn particle_arrays(&self) -> Vec<&wgpu::Buffer> {
         let mut arrays = vec![&self.pos, &self.vel, &self.omega, &self.acc, &self.alpha, &self.props, &self.energy];

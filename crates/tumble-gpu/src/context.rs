@@ -22,6 +22,16 @@ pub enum GpuError {
     },
     /// The adapter lacks a limit the kernels need.
     Unsupported(String),
+    /// The plan's pipelines need more of an adapter limit than the adapter allows.
+    Limit {
+        /// What needs it, as a sentence start ("the contact pass (forces.wgsl) binds 18 storage buffers and").
+        what: String,
+        /// The `wgpu::Limits` field.
+        limit: &'static str,
+        needed: u64,
+        allowed: u64,
+        adapter: String,
+    },
     /// The scene uses a model the GPU backend does not run yet.
     Feature(String),
 }
@@ -40,6 +50,10 @@ impl fmt::Display for GpuError {
                 mib(*available)
             ),
             GpuError::Unsupported(e) => write!(f, "the GPU adapter cannot run tumble's kernels: {e}"),
+            GpuError::Limit { what, limit, needed, allowed, adapter } => write!(
+                f,
+                "{what} needs {limit} ≥ {needed}; adapter {adapter} allows {allowed}: use a Vulkan, Metal or DX12 adapter (WGPU_BACKEND), or backend = \"cpu\""
+            ),
             GpuError::Feature(e) => write!(f, "the GPU backend cannot run this scene: {e}"),
         }
     }
@@ -72,9 +86,6 @@ pub struct Gpu {
     pub timestamps: bool,
 }
 
-/// Storage buffers the contact kernel binds at once.
-pub const STORAGE_BUFFERS_NEEDED: u32 = 16;
-
 static GPU: OnceLock<Result<Arc<Gpu>, GpuError>> = OnceLock::new();
 
 /// The process-wide device, created on first use.
@@ -92,13 +103,8 @@ async fn create() -> Result<Gpu, GpuError> {
     let options = wgpu::RequestAdapterOptions { power_preference: wgpu::PowerPreference::HighPerformance, ..Default::default() };
     let adapter = instance.request_adapter(&options).await.map_err(|e| GpuError::NoAdapter(e.to_string()))?;
     let info = adapter.get_info();
+    // Each plan's pipelines are checked against these before they are built (kernels.rs).
     let limits = adapter.limits();
-    if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
-        return Err(GpuError::Unsupported(format!(
-            "{} storage buffers per shader stage are needed, {} allows {}",
-            STORAGE_BUFFERS_NEEDED, info.name, limits.max_storage_buffers_per_shader_stage
-        )));
-    }
     let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
     let required_features = if timestamps { wgpu::Features::TIMESTAMP_QUERY } else { wgpu::Features::empty() };
     let descriptor = wgpu::DeviceDescriptor { label: Some("tumble"), required_features, required_limits: limits.clone(), ..Default::default() };

@@ -2,32 +2,24 @@
 //! and the bind groups that tie them to one simulation's buffers.
 
 use crate::buffers::Buffers;
-use crate::context::Gpu;
-use crate::shaders::{ShaderSource, Switches, sources};
-use crate::upload::{MAX_GROUPS_X, SCAN_THREADS, ScanParams};
+use crate::context::{AdapterDescription, Gpu, GpuError};
+use crate::shaders::{ShaderSource, Switches, sources_for};
+use crate::upload::{MAX_GROUPS_X, Params, SCAN_THREADS, ScanParams, WORKGROUP};
 use std::collections::HashMap;
+use tumble_shaders::{Access, Binding, Feature};
 use wgpu::util::DeviceExt;
 
-/// How a binding is used (binding number = position in the list).
-#[derive(Clone, Copy)]
-enum Use {
-    Uniform,
-    Read,
-    Write,
-}
-
-fn layout(gpu: &Gpu, label: &str, uses: &[Use]) -> wgpu::BindGroupLayout {
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = uses
-        .iter()
-        .enumerate()
-        .map(|(k, u)| wgpu::BindGroupLayoutEntry {
-            binding: k as u32,
+/// The bind group layout of a module: its bindings that `switches` needs, each at its number.
+fn layout(gpu: &Gpu, shader: &ShaderSource, switches: &Switches) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = bound(shader.module.bindings, switches)
+        .map(|(k, b)| wgpu::BindGroupLayoutEntry {
+            binding: k,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
-                ty: match u {
-                    Use::Uniform => wgpu::BufferBindingType::Uniform,
-                    Use::Read => wgpu::BufferBindingType::Storage { read_only: true },
-                    Use::Write => wgpu::BufferBindingType::Storage { read_only: false },
+                ty: match b.access {
+                    Access::Uniform => wgpu::BufferBindingType::Uniform,
+                    Access::Read => wgpu::BufferBindingType::Storage { read_only: true },
+                    Access::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
                 },
                 has_dynamic_offset: false,
                 min_binding_size: None,
@@ -35,13 +27,66 @@ fn layout(gpu: &Gpu, label: &str, uses: &[Use]) -> wgpu::BindGroupLayout {
             count: None,
         })
         .collect();
-    gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries })
+    gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(shader.name), entries: &entries })
 }
 
-fn bind(gpu: &Gpu, label: &str, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> =
-        buffers.iter().enumerate().map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() }).collect();
-    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
+/// The bindings of a table that `switches` needs, with their numbers.
+fn bound<'a>(bindings: &'a [Binding], switches: &'a Switches) -> impl Iterator<Item = (u32, &'a Binding)> + 'a {
+    bindings.iter().enumerate().filter(|(_, b)| switches.feature(b.feature)).map(|(k, b)| (k as u32, b))
+}
+
+/// A bind group of a module: each binding it needs gets the buffer `buffer` names for it.
+fn bind<'a>(
+    gpu: &Gpu,
+    (shader, layout): (&ShaderSource, &wgpu::BindGroupLayout),
+    switches: &Switches,
+    buffer: impl Fn(&str) -> Option<&'a wgpu::Buffer>,
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = bound(shader.module.bindings, switches)
+        .map(|(k, b)| {
+            let resource = buffer(b.name).unwrap_or_else(|| panic!("{}: no buffer for the binding {}", shader.name, b.name)).as_entire_binding();
+            wgpu::BindGroupEntry { binding: k, resource }
+        })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(shader.name), layout, entries: &entries })
+}
+
+/// Checks the adapter's limits against what the plan's pipelines need, before any is built.
+pub fn check_limits(limits: &wgpu::Limits, adapter: &AdapterDescription, switches: &Switches) -> Result<(), GpuError> {
+    let refuse = |what: String, limit: &'static str, needed: u64, allowed: u64| {
+        if needed <= allowed { Ok(()) } else { Err(GpuError::Limit { what, limit, needed, allowed, adapter: adapter.to_string() }) }
+    };
+    let features: Vec<&str> = [(Feature::History, "contact history"), (Feature::Moving, "moving walls"), (Feature::Polyhedra, "polyhedra")]
+        .into_iter()
+        .filter(|(f, _)| switches.feature(*f))
+        .map(|(_, name)| name)
+        .collect();
+    let with = if features.is_empty() { String::new() } else { format!(" with {}", features.join(", ")) };
+    refuse("the kernels use one bind group and".into(), "max_bind_groups", 1, limits.max_bind_groups as u64)?;
+    for shader in sources_for(switches) {
+        let storage = shader.storage_buffers(switches) as u64;
+        let pass = pass_name(shader.name);
+        refuse(format!("{pass} binds {storage} storage buffers{with} and"), "max_storage_buffers_per_shader_stage", storage, limits.max_storage_buffers_per_shader_stage as u64)?;
+        let bindings = shader.module.bindings.len() as u64;
+        refuse(format!("{pass} numbers its bindings up to {} and", bindings - 1), "max_bindings_per_bind_group", bindings, limits.max_bindings_per_bind_group as u64)?;
+    }
+    let uniform = std::mem::size_of::<Params>().max(std::mem::size_of::<ScanParams>()) as u64;
+    refuse(format!("the step parameters take {uniform} bytes and"), "max_uniform_buffer_binding_size", uniform, limits.max_uniform_buffer_binding_size)?;
+    let threads = WORKGROUP.max(SCAN_THREADS) as u64;
+    refuse(format!("the scan runs {threads} threads per workgroup and"), "max_compute_workgroup_size_x", threads, limits.max_compute_workgroup_size_x as u64)?;
+    refuse(format!("the scan runs {threads} threads per workgroup and"), "max_compute_invocations_per_workgroup", threads, limits.max_compute_invocations_per_workgroup as u64)?;
+    refuse(format!("the scan shares {} bytes per workgroup and", 4 * SCAN_THREADS), "max_compute_workgroup_storage_size", 4 * SCAN_THREADS as u64, limits.max_compute_workgroup_storage_size as u64)?;
+    refuse(format!("dispatch rows of {MAX_GROUPS_X} workgroups need"), "max_compute_workgroups_per_dimension", MAX_GROUPS_X as u64, limits.max_compute_workgroups_per_dimension as u64)
+}
+
+/// How an error names a module's pass.
+fn pass_name(module: &str) -> String {
+    match module {
+        "forces" => "the contact pass (forces.wgsl)".into(),
+        "integrate" => "the update (integrate.wgsl)".into(),
+        "broad" => "the broad phase (broad.wgsl)".into(),
+        other => format!("the {other} pass ({other}.wgsl)"),
+    }
 }
 
 /// The pipelines and bind groups of one simulation.
@@ -60,66 +105,47 @@ pub struct Kernels {
 }
 
 impl Kernels {
-    pub fn new(gpu: &Gpu, buffers: &Buffers, switches: &Switches) -> Kernels {
-        use Use::*;
-        let layouts: HashMap<&str, wgpu::BindGroupLayout> = [
-            ("broad", layout(gpu, "broad", &[Uniform, Read, Read, Write, Write, Read, Write, Write])),
-            ("scan", layout(gpu, "scan", &[Uniform, Write, Write])),
-            ("reorder", layout(gpu, "reorder", &[Uniform, Read, Read, Write])),
-            (
-                "forces",
-                layout(
-                    gpu,
-                    "forces",
-                    &[Uniform, Read, Read, Read, Read, Read, Read, Read, Read, Read, Read, Write, Write, Write, Read, Write, Write, Write, Read],
-                ),
-            ),
-            ("integrate", layout(gpu, "integrate", &[Uniform, Write, Write, Write, Write, Write, Write, Read, Read, Write, Write, Read])),
-        ]
-        .into_iter()
-        .collect();
+    /// The plan's pipelines and their bind groups, once the adapter's limits are checked.
+    pub fn new(gpu: &Gpu, buffers: &Buffers, switches: &Switches) -> Result<Kernels, GpuError> {
+        check_limits(&gpu.limits, &gpu.adapter, switches)?;
+        let shaders = sources_for(switches);
+        let layouts: Vec<wgpu::BindGroupLayout> = shaders.iter().map(|s| layout(gpu, s, switches)).collect();
         let mut pipelines = HashMap::new();
-        for shader in sources() {
-            create_pipelines(gpu, &shader, &layouts[shader.name], switches, &mut pipelines);
+        for (shader, layout) in shaders.iter().zip(&layouts) {
+            create_pipelines(gpu, shader, layout, switches, &mut pipelines);
         }
+        let module = |name: &str| {
+            let k = shaders.iter().position(|s| s.name == name).expect("a module of the backend");
+            (&shaders[k], &layouts[k])
+        };
         let b = buffers;
-        let broad = bind(gpu, "broad", &layouts["broad"], &[&b.params, &b.pos, &b.props, &b.cell, &b.count, &b.cell_start, &b.cursor, &b.cell_list]);
+        let broad = bind(gpu, module("broad"), switches, |n| b.named(n));
         let forces = [0, 1].map(|g| {
-            bind(
-                gpu,
-                "forces",
-                &layouts["forces"],
-                &[
-                    &b.params,
-                    &b.pos,
-                    &b.vel,
-                    &b.omega,
-                    &b.acc,
-                    &b.alpha,
-                    &b.props,
-                    &b.cell,
-                    &b.cell_start,
-                    &b.cell_list,
-                    &b.tables,
-                    &b.force,
-                    &b.torque,
-                    &b.stats,
-                    &b.history[g],
-                    &b.history[1 - g],
-                    &b.wall_power,
-                    &b.wall_work,
-                    &b.orient,
-                ],
-            )
+            bind(gpu, module("forces"), switches, |n| match n {
+                "hist_old" => Some(&b.history[g]),
+                "hist_new" => Some(&b.history[1 - g]),
+                "force_out" => Some(&b.force),
+                "torque_out" => Some(&b.torque),
+                "stats_out" => Some(&b.stats),
+                _ => b.named(n),
+            })
         });
-        let integrate = bind(
-            gpu,
-            "integrate",
-            &layouts["integrate"],
-            &[&b.params, &b.pos, &b.vel, &b.omega, &b.acc, &b.alpha, &b.props, &b.force, &b.torque, &b.energy, &b.orient, &b.tables],
-        );
-        let reorder =
-            b.particle_arrays().iter().map(|a| bind(gpu, "reorder", &layouts["reorder"], &[&b.params, &b.cell_list, a, &b.scratch])).collect();
+        let integrate = bind(gpu, module("integrate"), switches, |n| match n {
+            "force_in" => Some(&b.force),
+            "torque_in" => Some(&b.torque),
+            _ => b.named(n),
+        });
+        let reorder = b
+            .particle_arrays()
+            .into_iter()
+            .map(|array| {
+                bind(gpu, module("reorder"), switches, |n| match n {
+                    "src" => Some(array),
+                    "dst" => Some(&b.scratch),
+                    _ => b.named(n),
+                })
+            })
+            .collect();
         // Scan level l reads level l and writes/reads the sums of level l + 1 (none above the top).
         let levels = b.scan_sizes.len();
         let mut scan = Vec::new();
@@ -127,16 +153,21 @@ impl Kernels {
         for l in 0..levels {
             let data = if l == 0 { &b.cell_start } else { &b.scan_levels[l - 1] };
             let sums = if l + 1 < levels { &b.scan_levels[l] } else { &b.count };
-            let p = ScanParams { n: b.scan_sizes[l], offsets: u32::from(l + 1 < levels), row: MAX_GROUPS_X * SCAN_THREADS, pad: 0 };
+            let p = ScanParams { n: b.scan_sizes[l], offsets: u32::from(l + 1 < levels), row: MAX_GROUPS_X * SCAN_THREADS, _pad: 0 };
             let u = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("scan params"),
                 contents: bytemuck::bytes_of(&p),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
-            scan.push(bind(gpu, "scan", &layouts["scan"], &[&u, data, sums]));
+            scan.push(bind(gpu, module("scan"), switches, |n| match n {
+                "scan" => Some(&u),
+                "data" => Some(data),
+                "sums" => Some(sums),
+                _ => None,
+            }));
             scan_params.push(u);
         }
-        Kernels { pipelines, broad, forces, integrate, reorder, scan, _scan_params: scan_params }
+        Ok(Kernels { pipelines, broad, forces, integrate, reorder, scan, _scan_params: scan_params })
     }
 
     pub fn pipeline(&self, entry: &str) -> &wgpu::ComputePipeline {
@@ -171,5 +202,53 @@ fn create_pipelines(
             cache: None,
         });
         out.insert(entry, pipeline);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn gl() -> AdapterDescription {
+        AdapterDescription { name: "llvmpipe (LLVM 19.1.7, 256 bits)".into(), backend: "Gl".into(), driver: "llvmpipe".into(), device_type: "Cpu".into() }
+    }
+
+    /// A desktop Vulkan adapter's limits as far as the kernels care.
+    fn roomy() -> wgpu::Limits {
+        wgpu::Limits { max_storage_buffers_per_shader_stage: 64, ..wgpu::Limits::default() }
+    }
+
+    #[test]
+    fn an_adapter_with_16_storage_buffers_is_refused_the_contact_pass_of_every_feature_with_what_it_would_take() {
+        let gl_limits = wgpu::Limits { max_storage_buffers_per_shader_stage: 16, ..roomy() };
+        let everything = Switches::everything();
+        let e = check_limits(&gl_limits, &gl(), &everything).unwrap_err();
+        let text = e.to_string();
+        for part in ["contact pass", "18 storage buffers", "contact history, moving walls, polyhedra", "max_storage_buffers_per_shader_stage", "allows 16", "llvmpipe", "Gl", "Vulkan", "backend = \"cpu\""] {
+            assert!(text.contains(part), "{part}: {text}");
+        }
+        assert!(matches!(e, GpuError::Limit { needed: 18, allowed: 16, .. }), "{e:?}");
+        // Spheres against static walls bind 13; history with moving walls 17; either alone fits.
+        let spheres = Switches { history: false, moving: false, polyhedra: false, ..everything };
+        assert_eq!(check_limits(&gl_limits, &gl(), &spheres), Ok(()));
+        assert!(check_limits(&gl_limits, &gl(), &Switches { polyhedra: false, ..everything }).is_err());
+        assert_eq!(check_limits(&gl_limits, &gl(), &Switches { moving: false, polyhedra: false, ..everything }), Ok(()));
+        assert_eq!(check_limits(&roomy(), &gl(), &everything), Ok(()));
+    }
+
+    #[test]
+    fn workgroup_and_uniform_limits_are_checked_too() {
+        let everything = Switches::everything();
+        for (limits, name) in [
+            (wgpu::Limits { max_compute_workgroup_size_x: 128, ..roomy() }, "max_compute_workgroup_size_x"),
+            (wgpu::Limits { max_compute_invocations_per_workgroup: 128, ..roomy() }, "max_compute_invocations_per_workgroup"),
+            (wgpu::Limits { max_compute_workgroup_storage_size: 512, ..roomy() }, "max_compute_workgroup_storage_size"),
+            (wgpu::Limits { max_compute_workgroups_per_dimension: 1024, ..roomy() }, "max_compute_workgroups_per_dimension"),
+            (wgpu::Limits { max_uniform_buffer_binding_size: 64, ..roomy() }, "max_uniform_buffer_binding_size"),
+            (wgpu::Limits { max_bindings_per_bind_group: 12, ..roomy() }, "max_bindings_per_bind_group"),
+        ] {
+            let e = check_limits(&limits, &gl(), &everything).unwrap_err();
+            assert!(matches!(&e, GpuError::Limit { limit, .. } if *limit == name), "{name}: {e}");
+        }
     }
 }

@@ -109,7 +109,7 @@ impl GpuSimulation {
             stage_bytes: 16 * (wall_entries as u64) * STEPS_PER_SUBMIT,
         };
         let buffers = Buffers::new(&gpu, &arrays, &tables, &params, &grid, upload::history_slots(&plan), walls)?;
-        let kernels = Kernels::new(&gpu, &buffers, &shaders::Switches::from_plan(&plan));
+        let kernels = Kernels::new(&gpu, &buffers, &shaders::Switches::from_plan(&plan))?;
         let mut sim = GpuSimulation {
             group: state.group.clone(),
             track: state.track.clone(),

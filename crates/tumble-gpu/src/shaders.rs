@@ -1,69 +1,59 @@
-//! The WGSL sources and the plan's feature switches (pipeline-overridable constants).
+//! The WGSL modules (tumble-shaders) and the plan's feature switches (pipeline-overridable
+//! constants).
 //!
-//! Each kernel file is assembled with the shared declarations it needs; the
-//! switches are WGSL `override` constants set per pipeline from the plan, so
-//! code behind a switch that is off is removed when the pipeline is built.
-//! `tests/naga_validation.rs` validates every source and every combination of
-//! switches a plan can produce.
+//! Each module is assembled from the prelude of shared constants, its binding declarations and
+//! its files; the switches are WGSL `override` constants set per pipeline from the plan, so
+//! code behind a switch that is off is removed when the pipeline is built, and a buffer only
+//! a switched-off feature uses is not bound at all. `tests/naga_validation.rs` validates every
+//! source and every combination of switches a plan can produce.
 
+pub use tumble_shaders::{Feature, MODULES, Module, POLYHEDRA_TEST_MODULE, prelude};
 use tumble_integrate::Integrator;
 use tumble_scene::{Drag, Plan};
 
-/// Step parameters, switches and index helpers shared by the particle kernels.
-pub const COMMON: &str = include_str!("../shaders/common.wgsl");
-/// Sphere–wall proximity and the minimum image.
-pub const GEOMETRY: &str = include_str!("../shaders/geometry.wgsl");
-/// Cell index and counting sort.
-pub const BROAD: &str = include_str!("../shaders/broad.wgsl");
-/// Reduce-then-scan prefix sum.
-pub const SCAN: &str = include_str!("../shaders/scan.wgsl");
-/// Re-sort of per-particle arrays by cell.
-pub const REORDER: &str = include_str!("../shaders/reorder.wgsl");
-/// The gather-style contact pass.
-pub const FORCES: &str = include_str!("../shaders/forces.wgsl");
-/// Contact history slots, the tangential spring and rolling resistance (used by the contact pass).
-pub const HISTORY: &str = include_str!("../shaders/history.wgsl");
-/// Moving world geometry: wall velocities, wall power and lifter prisms (used by the contact pass).
-pub const WALLS_MOVING: &str = include_str!("../shaders/walls_moving.wgsl");
-/// Quaternions and the rigid-body rotation updates.
-pub const QUATERNION: &str = include_str!("../shaders/quaternion.wgsl");
-/// Convex polyhedra: the shape table and the narrow phase (needs QUATERNION).
-pub const POLYHEDRA: &str = include_str!("../shaders/polyhedra.wgsl");
-/// The test harness of the polyhedra narrow phase ([`crate::shapes::evaluate`]).
-pub const POLYHEDRA_TEST: &str = include_str!("../shaders/polyhedra_test.wgsl");
-/// Body forces and the integrators.
-pub const INTEGRATE: &str = include_str!("../shaders/integrate.wgsl");
-
-/// One shader module: its name, its own text, and the complete source.
+/// One shader module as a plan's pipelines build it: its name, the text that decides which
+/// switches it uses, and the complete source.
 #[derive(Clone, Debug)]
 pub struct ShaderSource {
     pub name: &'static str,
-    /// The kernel file alone (decides which switches the module uses).
-    pub body: &'static str,
+    /// The module's text apart from common.wgsl's declarations (decides which switches it uses).
+    pub body: String,
     pub source: String,
     pub entry_points: &'static [&'static str],
+    pub module: Module,
 }
 
-/// Every shader module of the backend.
+impl ShaderSource {
+    /// `module` with the buffers `switches` needs bound.
+    pub fn new(module: &Module, switches: &Switches) -> Self {
+        ShaderSource {
+            name: module.name,
+            body: module.own_text(),
+            source: module.source(|f| switches.feature(f)),
+            entry_points: module.entry_points,
+            module: *module,
+        }
+    }
+
+    /// Storage buffers the module binds.
+    pub fn storage_buffers(&self, switches: &Switches) -> u32 {
+        self.module.storage_buffers(|f| switches.feature(f))
+    }
+}
+
+/// Every shader module of the backend with every feature's buffers bound.
 pub fn sources() -> Vec<ShaderSource> {
-    let with_common = |name, body: &'static str, prefix: &[&str], entry_points| ShaderSource {
-        name,
-        body,
-        source: prefix.iter().copied().chain([body]).collect::<Vec<_>>().join("\n"),
-        entry_points,
-    };
-    vec![
-        with_common("broad", BROAD, &[COMMON], &["bin", "scatter", "order_cells"]),
-        with_common("scan", SCAN, &[], &["reduce", "scan_block"]),
-        with_common("reorder", REORDER, &[COMMON], &["permute"]),
-        with_common("forces", FORCES, &[COMMON, GEOMETRY, HISTORY, WALLS_MOVING, QUATERNION, POLYHEDRA], &["forces"]),
-        with_common("integrate", INTEGRATE, &[COMMON, QUATERNION, POLYHEDRA], &["initial", "kick_drift", "finish"]),
-    ]
+    sources_for(&Switches::everything())
+}
+
+/// Every shader module of the backend as `switches` builds it.
+pub fn sources_for(switches: &Switches) -> Vec<ShaderSource> {
+    MODULES.iter().map(|m| ShaderSource::new(m, switches)).collect()
 }
 
 /// The polyhedra narrow phase with its test harness (entry point `evaluate`; no overrides).
 pub fn polyhedra_test_source() -> String {
-    [QUATERNION, POLYHEDRA, POLYHEDRA_TEST].join("\n")
+    POLYHEDRA_TEST_MODULE.source(|_| true)
 }
 
 /// The plan's feature switches, one per WGSL `override` in common.wgsl.
@@ -87,20 +77,20 @@ pub struct Switches {
     /// Convex polyhedral particles (orientations, the shape table); always with rotation,
     /// never with cohesion or drag (the plan refuses those with polyhedra).
     pub polyhedra: bool,
-    /// 0: no fluid, 1: Stokes, 2: quadratic.
+    /// DRAG_NONE, DRAG_STOKES or DRAG_QUADRATIC (tumble-shaders' codes).
     pub drag: u32,
     pub taylor_green: bool,
     pub integrator: Integrator,
 }
 
-/// Integrator codes of the shaders (common.wgsl).
+/// Integrator codes of the shaders (the INTEGRATOR override).
 pub fn integrator_code(i: Integrator) -> u32 {
     match i {
-        Integrator::Euler => 0,
-        Integrator::SymplecticEuler => 1,
-        Integrator::Verlet => 2,
-        Integrator::ImplicitDrag => 3,
-        Integrator::ImplicitDragSymplectic => 4,
+        Integrator::Euler => tumble_shaders::INTEGRATOR_EULER,
+        Integrator::SymplecticEuler => tumble_shaders::INTEGRATOR_SYMPLECTIC_EULER,
+        Integrator::Verlet => tumble_shaders::INTEGRATOR_VERLET,
+        Integrator::ImplicitDrag => tumble_shaders::INTEGRATOR_IMPLICIT_DRAG,
+        Integrator::ImplicitDragSymplectic => tumble_shaders::INTEGRATOR_IMPLICIT_DRAG_SYMPLECTIC,
     }
 }
 
@@ -122,9 +112,9 @@ impl Switches {
             prisms: plan.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))),
             polyhedra: plan.polyhedra,
             drag: match plan.fluid.map(|f| f.drag) {
-                None => 0,
-                Some(Drag::Stokes { .. }) => 1,
-                Some(Drag::Quadratic { .. }) => 2,
+                None => tumble_shaders::DRAG_NONE,
+                Some(Drag::Stokes { .. }) => tumble_shaders::DRAG_STOKES,
+                Some(Drag::Quadratic { .. }) => tumble_shaders::DRAG_QUADRATIC,
             },
             taylor_green: matches!(plan.fluid.map(|f| f.flow), Some(tumble_contact::FlowField::TaylorGreen { .. })),
             integrator: plan.integrator,
@@ -140,7 +130,9 @@ impl Switches {
             if (b(7) && !b(5)) || (b(8) && !b(0)) || ((b(9) || b(10)) && !b(6)) {
                 continue;
             }
-            for (drag, taylor_green, polyhedra) in [(0, false, false), (1, false, false), (1, true, false), (2, false, false), (0, false, true)] {
+            use tumble_shaders::{DRAG_NONE, DRAG_QUADRATIC, DRAG_STOKES};
+            let drags = [(DRAG_NONE, false, false), (DRAG_STOKES, false, false), (DRAG_STOKES, true, false), (DRAG_QUADRATIC, false, false), (DRAG_NONE, false, true)];
+            for (drag, taylor_green, polyhedra) in drags {
                 // Polyhedra rotate and neither cohere nor feel drag.
                 if polyhedra && (!b(0) || b(1)) {
                     continue;
@@ -169,6 +161,37 @@ impl Switches {
         out
     }
 
+    /// Every feature on (every binding of every module declared).
+    pub fn everything() -> Switches {
+        Switches {
+            rotation: true,
+            cohesion: true,
+            periodic: true,
+            linear: true,
+            hertz: true,
+            tangential: true,
+            walls: true,
+            history: true,
+            rolling: true,
+            moving: true,
+            prisms: true,
+            polyhedra: true,
+            drag: tumble_shaders::DRAG_STOKES,
+            taylor_green: true,
+            integrator: Integrator::Verlet,
+        }
+    }
+
+    /// Whether the buffers of `feature` are bound.
+    pub fn feature(&self, feature: Feature) -> bool {
+        match feature {
+            Feature::Always => true,
+            Feature::History => self.history,
+            Feature::Moving => self.moving,
+            Feature::Polyhedra => self.polyhedra,
+        }
+    }
+
     /// All override values by name.
     pub fn constants(&self) -> [(&'static str, f64); 15] {
         let f = |b: bool| if b { 1.0 } else { 0.0 };
@@ -193,7 +216,7 @@ impl Switches {
 
     /// The override values a module uses (those named in its own kernel text).
     pub fn constants_for(&self, shader: &ShaderSource) -> Vec<(&'static str, f64)> {
-        self.constants().into_iter().filter(|(name, _)| uses(shader.body, name)).collect()
+        self.constants().into_iter().filter(|(name, _)| uses(&shader.body, name)).collect()
     }
 }
 
@@ -210,27 +233,27 @@ fn uses(text: &str, ident: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::upload::{SCAN_BLOCK, SCAN_THREADS, WORKGROUP};
-
-    #[test]
-    fn host_and_shader_constants_agree() {
-        assert!(COMMON.contains(&format!("const WORKGROUP: u32 = {WORKGROUP}u;")));
-        assert!(SCAN.contains(&format!("const BLOCK: u32 = {SCAN_BLOCK}u;")));
-        assert!(SCAN.contains(&format!("const SCAN_THREADS: u32 = {SCAN_THREADS}u;")));
-        assert!(COMMON.contains(&format!("const FLAG_DEAD: u32 = {}u;", crate::upload::FLAG_DEAD)));
-        assert!(COMMON.contains(&format!("const FLAG_FIXED: u32 = {}u;", crate::upload::FLAG_FIXED)));
-        assert!(POLYHEDRA.contains(&format!("const SHAPE_HEADER_WORDS: u32 = {}u;", crate::shapes::HEADER_WORDS)));
-    }
 
     #[test]
     fn every_switch_is_an_override_and_modules_get_only_the_ones_they_use() {
         let all = Switches::all();
         for (name, _) in all[0].constants() {
-            assert!(COMMON.contains(&format!("override {name}:")), "{name}");
+            assert!(tumble_shaders::COMMON.contains(&format!("override {name}:")), "{name}");
         }
         let broad = sources().into_iter().find(|s| s.name == "broad").unwrap();
         assert!(all[0].constants_for(&broad).is_empty());
         let forces = sources().into_iter().find(|s| s.name == "forces").unwrap();
         assert!(all[0].constants_for(&forces).iter().any(|(n, _)| *n == "COHESION"));
+    }
+
+    #[test]
+    fn a_feature_that_is_off_binds_nothing() {
+        let off = Switches { history: false, moving: false, polyhedra: false, ..Switches::everything() };
+        let forces = |s: &Switches| sources_for(s).into_iter().find(|m| m.name == "forces").unwrap();
+        assert_eq!(forces(&Switches::everything()).storage_buffers(&Switches::everything()), 18);
+        assert_eq!(forces(&off).storage_buffers(&off), 13);
+        let source = forces(&off).source;
+        assert!(source.contains("var<private> hist_old: array<vec4<u32>, 1>;") && !source.contains("@binding(14)"), "{source}");
+        assert!(source.contains("@group(0) @binding(13) var<storage, read_write> stats_out: array<vec2<u32>>;"));
     }
 }

@@ -1,5 +1,5 @@
 //! The polyhedron shape table on the device, and a batch evaluator of the
-//! polyhedron narrow phase (`shaders/polyhedra.wgsl`) for tests and diagnostics.
+//! polyhedron narrow phase (tumble-shaders' `polyhedra.wgsl` and its pair files) for tests and diagnostics.
 //!
 //! The table is one array of 16-byte words (`vec4<f32>`); every index and count
 //! is stored as an f32 holding a whole number (exact below 2²⁴), so no bit
@@ -28,12 +28,14 @@ use glam::{DQuat, DVec3};
 use tumble_geom::Polyhedron;
 
 /// Most vertices in one face loop on the device (the clipped polygon holds twice this).
-pub const MAX_FACE_VERTICES: usize = 16;
+pub const MAX_FACE_VERTICES: usize = tumble_shaders::MAX_FACE_VERTICES as usize;
 /// Most vertices of one shape on the device (a manifold against a wall holds every vertex).
-pub const MAX_VERTICES: usize = 32;
+pub const MAX_VERTICES: usize = tumble_shaders::MAX_VERTICES as usize;
 
 /// Header words per shape.
-pub const HEADER_WORDS: usize = 3;
+pub const HEADER_WORDS: usize = tumble_shaders::SHAPE_HEADER_WORDS as usize;
+/// Face-loop vertex indices per word.
+const LOOP_INDICES: usize = tumble_shaders::LOOP_INDICES_PER_WORD as usize;
 
 /// The radius of the sphere of the polyhedron's volume (R* of the contact laws).
 pub fn equivalent_radius(p: &Polyhedron) -> f64 {
@@ -93,9 +95,9 @@ pub fn shape_table(shapes: &[Polyhedron]) -> Result<Vec<[f32; 4]>, ShapeError> {
     }
     let loop_start = words.len();
     for (word, component) in loop_fixups {
-        words[word][0] = (4 * loop_start + component) as f32;
+        words[word][0] = (LOOP_INDICES * loop_start + component) as f32;
     }
-    for chunk in loops.chunks(4) {
+    for chunk in loops.chunks(LOOP_INDICES) {
         let mut w = [0.0f32; 4];
         for (k, &i) in chunk.iter().enumerate() {
             w[k] = i as f32;
@@ -114,11 +116,11 @@ pub fn shape_table(shapes: &[Polyhedron]) -> Result<Vec<[f32; 4]>, ShapeError> {
 /// Kinds of [`ContactQuery`].
 pub mod query {
     /// Polyhedron `shape_a` against polyhedron `shape_b`.
-    pub const POLYHEDRON: u32 = 0;
+    pub const POLYHEDRON: u32 = tumble_shaders::QUERY_POLYHEDRA;
     /// A sphere (radius `sphere_radius`, at `pos_a`) against polyhedron `shape_b`.
-    pub const SPHERE: u32 = 1;
+    pub const SPHERE: u32 = tumble_shaders::QUERY_SPHERE;
     /// Polyhedron `shape_a` against the wall in `wall` (6 words, the layout of geometry.wgsl).
-    pub const WALL: u32 = 2;
+    pub const WALL: u32 = tumble_shaders::QUERY_WALL;
 }
 
 /// One narrow-phase query for [`evaluate`]: positions are relative to any common origin
@@ -132,9 +134,9 @@ pub struct ContactQuery {
     pub quat_a: [f32; 4],
     pub pos_b: [f32; 4],
     pub quat_b: [f32; 4],
-    /// A wall entry: (kind 0 plane, 1 quad, 2 cylinder; unused; two-sided / inside; unused), then the corners,
-    /// points and directions of geometry.wgsl.
-    pub wall: [[f32; 4]; 6],
+    /// A wall entry (geometry.wgsl's layout, [`crate::upload::wall_entry`]): (kind WALL_PLANE, WALL_QUAD or
+    /// WALL_CYLINDER; unused; two-sided / inside; unused), then the corners, points and directions.
+    pub wall: [[f32; 4]; tumble_shaders::WALL_ENTRY_WORDS as usize],
 }
 
 impl ContactQuery {
@@ -148,7 +150,7 @@ impl ContactQuery {
             quat_a: q(quat_a),
             pos_b: v(pos_b),
             quat_b: q(quat_b),
-            wall: [[0.0; 4]; 6],
+            wall: [[0.0; 4]; tumble_shaders::WALL_ENTRY_WORDS as usize],
         }
     }
 
@@ -202,7 +204,7 @@ impl ContactAnswer {
 }
 
 /// Evaluates a batch of narrow-phase queries on the device with the kernels of
-/// `shaders/polyhedra.wgsl` (one invocation per query).
+/// tumble-shaders' narrow-phase files (one invocation per query).
 pub fn evaluate(shapes: &[Polyhedron], queries: &[ContactQuery]) -> Result<Vec<ContactAnswer>, crate::GpuError> {
     use wgpu::util::DeviceExt;
     let gpu = crate::context::gpu()?;
@@ -255,7 +257,7 @@ pub fn evaluate(shapes: &[Polyhedron], queries: &[ContactQuery]) -> Result<Vec<C
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("polyhedra test"), timestamp_writes: None });
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
+        pass.dispatch_workgroups((queries.len() as u32).div_ceil(tumble_shaders::WORKGROUP), 1, 1);
     }
     encoder.copy_buffer_to_buffer(&answers, 0, &staging, 0, bytes);
     gpu.queue.submit([encoder.finish()]);

@@ -10,44 +10,68 @@ use tumble_geom::SurfaceShape;
 use tumble_scene::Plan;
 
 use crate::prisms::PrismHulls;
+use tumble_shaders as codes;
+pub use tumble_shaders::{FLAG_DEAD, FLAG_FIXED, SCAN_BLOCK, SCAN_THREADS, SHAPE_SHIFT, WORKGROUP};
 
-/// Particle flags (common.wgsl).
-pub const FLAG_FIXED: u32 = 1;
-pub const FLAG_DEAD: u32 = 2;
-
-/// props.w holds the shape index from this bit on (forces.wgsl `shape_of`).
-pub const SHAPE_SHIFT: u32 = 16;
-
-/// Threads per workgroup of the particle kernels (common.wgsl WORKGROUP).
-pub const WORKGROUP: u32 = 64;
-/// Values per workgroup of the scan (scan.wgsl BLOCK) and its threads.
-pub const SCAN_BLOCK: u32 = 1024;
-pub const SCAN_THREADS: u32 = 256;
 /// Most workgroups along one dispatch axis.
 pub const MAX_GROUPS_X: u32 = 65_535;
 
-/// The step parameters (common.wgsl `Params`).
+/// The step parameters, field for field common.wgsl's `Params` (uniform layout: a vec3 is
+/// 16-byte aligned, so each is followed by a named pad; a test compares the offsets with naga's).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Params {
-    pub counts: [u32; 4],
-    pub dims: [u32; 4],
-    pub periodic: [u32; 4],
-    pub inv_cell: [f32; 4],
-    pub extent: [f32; 4],
-    pub gravity: [f32; 4],
-    pub flow: [f32; 4],
-    pub origin: [f32; 4],
+    /// Particle slots (removed particles keep theirs, flagged).
+    pub particles: u32,
+    /// Live cells (the removed-particle bucket is index `cells`).
+    pub cells: u32,
+    pub walls: u32,
+    pub materials: u32,
+    /// Contact-history slots per particle (0 without history).
+    pub history_slots: u32,
+    /// Wall groups (moving walls: power is booked per group).
+    pub wall_groups: u32,
+    /// The first word of the shape table in the tables buffer (polyhedra).
+    pub shape_base: u32,
+    /// Threads per dispatch row (x groups × WORKGROUP).
+    pub row_threads: u32,
+    /// Cells per axis.
+    pub dims: [u32; 3],
+    pub _pad_dims: u32,
+    /// 1 where the axis is periodic.
+    pub periodic: [u32; 3],
+    pub _pad_periodic: u32,
+    pub dt: f32,
+    pub taylor_green_amplitude: f32,
+    pub taylor_green_frequency: f32,
+    pub _pad_scalars: f32,
+    /// Inverse cell widths per axis.
+    pub inv_cell: [f32; 3],
+    pub _pad_inv_cell: f32,
+    /// Domain extent per axis (positions span [−extent/2, extent/2]).
+    pub extent: [f32; 3],
+    pub _pad_extent: f32,
+    pub gravity: [f32; 3],
+    pub _pad_gravity: f32,
+    /// Uniform flow velocity (zero for a Taylor–Green flow).
+    pub flow: [f32; 3],
+    pub _pad_flow: f32,
+    /// The domain's centre in world coordinates (for the flow field).
+    pub origin: [f32; 3],
+    pub _pad_origin: f32,
 }
 
 /// One level of the scan (scan.wgsl `ScanParams`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct ScanParams {
+    /// Values at this level.
     pub n: u32,
+    /// 1 when the sums hold block offsets.
     pub offsets: u32,
+    /// Threads per dispatch row.
     pub row: u32,
-    pub pad: u32,
+    pub _pad: u32,
 }
 
 /// The uniform cell grid over the domain: cells at least one interaction
@@ -89,23 +113,32 @@ pub fn dispatch(threads: u32, per_group: u32) -> (u32, u32) {
 
 /// The step parameters; `shape_base`: the first word of the shape table in the tables buffer.
 pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params {
-    let e = plan.domain.extent();
-    let f4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
-    let flow = match plan.fluid.map(|f| f.flow) {
-        Some(FlowField::Uniform(u)) => f4(u, 0.0),
-        Some(FlowField::TaylorGreen { amplitude, frequency }) => [amplitude as f32, frequency as f32, 0.0, 0.0],
-        None => [0.0; 4],
+    let f3 = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32];
+    let (flow, taylor_green) = match plan.fluid.map(|f| f.flow) {
+        Some(FlowField::Uniform(u)) => (f3(u), [0.0; 2]),
+        Some(FlowField::TaylorGreen { amplitude, frequency }) => ([0.0; 3], [amplitude as f32, frequency as f32]),
+        None => ([0.0; 3], [0.0; 2]),
     };
     Params {
-        counts: [slots, grid.cells(), plan.walls.len() as u32, plan.materials.len() as u32],
-        dims: [grid.dims[0], grid.dims[1], grid.dims[2], MAX_GROUPS_X * WORKGROUP],
-        periodic: [plan.domain.periodic[0] as u32, plan.domain.periodic[1] as u32, plan.domain.periodic[2] as u32, history_slots(plan) as u32],
-        inv_cell: [grid.inv_width[0] as f32, grid.inv_width[1] as f32, grid.inv_width[2] as f32, plan.dt as f32],
-        extent: f4(e, 0.0),
-        gravity: f4(plan.gravity, shape_base as f64),
+        particles: slots,
+        cells: grid.cells(),
+        walls: plan.walls.len() as u32,
+        materials: plan.materials.len() as u32,
+        history_slots: history_slots(plan) as u32,
+        wall_groups: plan.wall_groups.len() as u32,
+        shape_base: shape_base as u32,
+        row_threads: MAX_GROUPS_X * WORKGROUP,
+        dims: grid.dims,
+        periodic: plan.domain.periodic.map(u32::from),
+        dt: plan.dt as f32,
+        taylor_green_amplitude: taylor_green[0],
+        taylor_green_frequency: taylor_green[1],
+        inv_cell: grid.inv_width.map(|w| w as f32),
+        extent: f3(plan.domain.extent()),
+        gravity: f3(plan.gravity),
         flow,
-        // w: wall groups (walls_moving.wgsl).
-        origin: f4(centre(plan), plan.wall_groups.len() as f64),
+        origin: f3(centre(plan)),
+        ..Params::default()
     }
 }
 
@@ -208,26 +241,38 @@ pub fn tables(plan: &Plan, hulls: &PrismHulls) -> Vec<[f32; 4]> {
     t
 }
 
-/// The pair table: 3 vec4 per material pair (forces.wgsl).
+/// A code of tumble-shaders' layout as the f32 tables hold it: an exact small whole number
+/// (the shaders read it back with `u32()`).
+fn code(c: u32) -> f32 {
+    c as f32
+}
+
+/// The pair table: PAIR_ENTRY_WORDS vec4 per material pair (forces.wgsl).
 pub fn pair_table(plan: &Plan) -> Vec<[f32; 4]> {
     let mut t = Vec::new();
     for p in &plan.pairs {
         let e = p.normal.restitution();
         let factor = (std::f64::consts::PI.powi(2) + e.ln().powi(2)).sqrt();
         t.push(match p.normal {
-            NormalLaw::Linear { stiffness, damping_ratio, .. } => [0.0, stiffness as f32, damping_ratio as f32, factor as f32],
-            NormalLaw::Hertz { e_star, beta, .. } => [1.0, e_star as f32, beta as f32, factor as f32],
+            NormalLaw::Linear { stiffness, damping_ratio, .. } => [code(codes::NORMAL_LINEAR), stiffness as f32, damping_ratio as f32, factor as f32],
+            NormalLaw::Hertz { e_star, beta, .. } => [code(codes::NORMAL_HERTZ), e_star as f32, beta as f32, factor as f32],
         });
         t.push(match p.tangential {
-            TangentialLaw::None => [0.0; 4],
-            TangentialLaw::ViscousCoulomb { friction, viscous: ViscousParameter::Coefficient(c) } => [1.0, friction as f32, c as f32, 0.0],
-            TangentialLaw::ViscousCoulomb { friction, viscous: ViscousParameter::Stiffness(k) } => [1.0, friction as f32, k as f32, 1.0],
-            TangentialLaw::StickLimited { friction } => [2.0, friction as f32, 0.0, 0.0],
-            TangentialLaw::DynamicOnly { friction } => [3.0, friction as f32, 0.0, 0.0],
-            TangentialLaw::History { friction, spring: SpringLaw::Linear { stiffness, damping_ratio, .. } } => {
-                [4.0, friction as f32, stiffness as f32, damping_ratio as f32]
+            TangentialLaw::None => [code(codes::TANGENTIAL_NONE), 0.0, 0.0, 0.0],
+            TangentialLaw::ViscousCoulomb { friction, viscous: ViscousParameter::Coefficient(c) } => {
+                [code(codes::TANGENTIAL_VISCOUS_COULOMB), friction as f32, c as f32, 0.0]
             }
-            TangentialLaw::History { friction, spring: SpringLaw::Mindlin { g_star, beta } } => [5.0, friction as f32, g_star as f32, beta as f32],
+            TangentialLaw::ViscousCoulomb { friction, viscous: ViscousParameter::Stiffness(k) } => {
+                [code(codes::TANGENTIAL_VISCOUS_COULOMB), friction as f32, k as f32, 1.0]
+            }
+            TangentialLaw::StickLimited { friction } => [code(codes::TANGENTIAL_STICK_LIMITED), friction as f32, 0.0, 0.0],
+            TangentialLaw::DynamicOnly { friction } => [code(codes::TANGENTIAL_DYNAMIC_ONLY), friction as f32, 0.0, 0.0],
+            TangentialLaw::History { friction, spring: SpringLaw::Linear { stiffness, damping_ratio, .. } } => {
+                [code(codes::TANGENTIAL_HISTORY_LINEAR), friction as f32, stiffness as f32, damping_ratio as f32]
+            }
+            TangentialLaw::History { friction, spring: SpringLaw::Mindlin { g_star, beta } } => {
+                [code(codes::TANGENTIAL_HISTORY_MINDLIN), friction as f32, g_star as f32, beta as f32]
+            }
         });
         let history_damping = match p.tangential {
             TangentialLaw::History { spring: SpringLaw::Linear { damping, .. }, .. } => damping,
@@ -243,24 +288,27 @@ pub fn moving_walls(plan: &Plan) -> bool {
     plan.walls.iter().any(|w| w.motion.is_some())
 }
 
-/// The wall section of the table (it follows the pair table, at `3 · materials²`) with every
-/// wall in its pose at time `t`: 6 vec4 per wall (geometry.wgsl), then each wall's extras
+/// The wall section of the table (it follows the pair table, at `PAIR_ENTRY_WORDS · materials²`)
+/// with every wall in its pose at time `t`: WALL_ENTRY_WORDS vec4 per wall (geometry.wgsl), then each wall's extras
 /// (walls_moving.wgsl: its motion when some wall moves, a prism's faces and, with polyhedral
 /// particles, its hull's pose), whose first index is the entry's w0.w.
 pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
-    let walls_base = 3 * plan.pairs.len();
+    let entry_words = codes::WALL_ENTRY_WORDS as usize;
+    let walls_base = codes::PAIR_ENTRY_WORDS as usize * plan.pairs.len();
     let moving = moving_walls(plan);
     let origin = centre(plan);
-    let mut main = Vec::with_capacity(6 * plan.walls.len());
+    let mut main = Vec::with_capacity(entry_words * plan.walls.len());
     let mut extras = Vec::new();
     for (k, w) in plan.walls.iter().enumerate() {
-        let extra = (walls_base + 6 * plan.walls.len() + extras.len()) as f32;
+        let extra = (walls_base + entry_words * plan.walls.len() + extras.len()) as f32;
+        let first_extra = extras.len();
         if moving {
             // ω and the velocity at the domain's centre: v(x) = ω × (x − centre) + v(centre).
             let spin = w.angular_velocity();
             extras.push([spin.x as f32, spin.y as f32, spin.z as f32, w.group as f32]);
             let v = w.velocity_at(origin);
             extras.push([v.x as f32, v.y as f32, v.z as f32, 0.0]);
+            debug_assert_eq!(extras.len() - first_extra, codes::WALL_MOTION_WORDS as usize);
         }
         let shape = if w.motion.is_some() { std::borrow::Cow::Owned(w.shape_at(t)) } else { std::borrow::Cow::Borrowed(&w.shape) };
         let mut entry = wall_entry(shape.as_ref(), w.material as usize, origin);
@@ -270,6 +318,7 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
                 [x.x as f32, x.y as f32, x.z as f32, 0.0]
             };
             let dir = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+            let prism_start = extras.len();
             let centre = rel(p.centre);
             extras.push([centre[0], centre[1], centre[2], p.bound as f32]);
             let axis_point = rel(p.axis_point);
@@ -279,6 +328,7 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
                 extras.extend(f.corners.map(rel));
                 extras.push(dir(f.normal));
             }
+            debug_assert_eq!(extras.len() - prism_start, codes::PRISM_HULL as usize);
             if let Some((hull, pose)) = hulls.pose(k, p) {
                 // The hull's centre (w: its shape index) and orientation, for polyhedral particles.
                 let x = rel(pose.position);
@@ -302,44 +352,56 @@ pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
         return Some("its wall surfaces are not in wall-group order".into());
     }
     // Table indices are stored as f32 (exact below 2^24).
-    let entries = 3 * plan.pairs.len() + wall_table(plan, 0.0, hulls).len();
+    let entries = codes::PAIR_ENTRY_WORDS as usize * plan.pairs.len() + wall_table(plan, 0.0, hulls).len();
     if entries >= 1 << 24 {
         return Some(format!("its pair and wall tables have {entries} entries (at most 2^24)"));
     }
     None
 }
 
-/// One wall's table entry (6 vec4, geometry.wgsl), coordinates relative to `origin`; w0.w
-/// (the extras' index) is left 0 for [`wall_table`] to fill.
-pub fn wall_entry(shape: &SurfaceShape, material: usize, origin: DVec3) -> [[f32; 4]; 6] {
+/// The kind code of a wall surface (geometry.wgsl's `wall_kind`). The match names every
+/// surface: a new one does not compile until it has a code the shaders dispatch on.
+pub fn wall_kind(shape: &SurfaceShape) -> u32 {
+    match shape {
+        SurfaceShape::Plane(_) => codes::WALL_PLANE,
+        SurfaceShape::Quad(_) => codes::WALL_QUAD,
+        SurfaceShape::Cylinder(_) => codes::WALL_CYLINDER,
+        SurfaceShape::Prism(_) => codes::WALL_PRISM,
+    }
+}
+
+/// One wall's table entry (WALL_ENTRY_WORDS vec4, geometry.wgsl), coordinates relative to
+/// `origin`; w0.w (the extras' index) is left 0 for [`wall_table`] to fill.
+pub fn wall_entry(shape: &SurfaceShape, material: usize, origin: DVec3) -> [[f32; 4]; codes::WALL_ENTRY_WORDS as usize] {
     let rel = |p: DVec3| {
         let x = p - origin;
         [x.x as f32, x.y as f32, x.z as f32, 0.0]
     };
     let dir = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
     let m = material as f32;
-    let mut entry = [[0.0f32; 4]; 6];
+    let flag = |b: bool| if b { 1.0 } else { 0.0 };
+    let mut entry = [[0.0f32; 4]; codes::WALL_ENTRY_WORDS as usize];
+    entry[0] = [code(wall_kind(shape)), m, 0.0, 0.0];
     match shape {
         SurfaceShape::Plane(p) => {
-            entry[0] = [0.0, m, 0.0, 0.0];
             entry[1] = rel(p.point);
             entry[5] = dir(p.normal);
         }
         SurfaceShape::Quad(q) => {
-            entry[0] = [1.0, m, if q.two_sided { 1.0 } else { 0.0 }, 0.0];
+            entry[0][2] = flag(q.two_sided);
             for k in 0..4 {
                 entry[1 + k] = rel(q.corners[k]);
             }
             entry[5] = dir(q.normal);
         }
         SurfaceShape::Cylinder(c) => {
-            entry[0] = [2.0, m, if c.inside { 1.0 } else { 0.0 }, 0.0];
+            entry[0][2] = flag(c.inside);
             entry[1] = rel(c.point);
             entry[2] = dir(c.axis);
             entry[3] = [c.radius as f32, c.length as f32, 0.0, 0.0];
         }
         // A prism's geometry lives in the wall's extras (wall_table, walls_moving.wgsl).
-        SurfaceShape::Prism(_) => entry[0] = [3.0, m, 0.0, 0.0],
+        SurfaceShape::Prism(_) => {}
     }
     entry
 }
@@ -364,5 +426,63 @@ mod tests {
         let e = crate::GpuError::TooLarge { needed: 3 << 30, largest_array: 1 << 30, available: 128 << 20, adapter: "test adapter".into() };
         let text = e.to_string();
         assert!(text.contains("3072.0 MiB") && text.contains("1024.0 MiB") && text.contains("128.0 MiB") && text.contains("test adapter"), "{text}");
+    }
+
+    /// The members (name, offset) and size of a WGSL struct, as naga lays it out.
+    fn wgsl_struct(module: &str, name: &str) -> (Vec<(String, usize)>, usize) {
+        let source = crate::shaders::sources().into_iter().find(|s| s.name == module).unwrap().source;
+        let parsed = naga::front::wgsl::parse_str(&source).unwrap();
+        let ty = parsed.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap().1;
+        let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
+        (members.iter().map(|m| (m.name.clone().unwrap(), m.offset as usize)).collect(), *span as usize)
+    }
+
+    #[test]
+    fn params_is_the_wgsl_struct_field_for_field() {
+        use std::mem::offset_of;
+        let host = [
+            ("particles", offset_of!(Params, particles)),
+            ("cells", offset_of!(Params, cells)),
+            ("walls", offset_of!(Params, walls)),
+            ("materials", offset_of!(Params, materials)),
+            ("history_slots", offset_of!(Params, history_slots)),
+            ("wall_groups", offset_of!(Params, wall_groups)),
+            ("shape_base", offset_of!(Params, shape_base)),
+            ("row_threads", offset_of!(Params, row_threads)),
+            ("dims", offset_of!(Params, dims)),
+            ("_pad_dims", offset_of!(Params, _pad_dims)),
+            ("periodic", offset_of!(Params, periodic)),
+            ("_pad_periodic", offset_of!(Params, _pad_periodic)),
+            ("dt", offset_of!(Params, dt)),
+            ("taylor_green_amplitude", offset_of!(Params, taylor_green_amplitude)),
+            ("taylor_green_frequency", offset_of!(Params, taylor_green_frequency)),
+            ("_pad_scalars", offset_of!(Params, _pad_scalars)),
+            ("inv_cell", offset_of!(Params, inv_cell)),
+            ("_pad_inv_cell", offset_of!(Params, _pad_inv_cell)),
+            ("extent", offset_of!(Params, extent)),
+            ("_pad_extent", offset_of!(Params, _pad_extent)),
+            ("gravity", offset_of!(Params, gravity)),
+            ("_pad_gravity", offset_of!(Params, _pad_gravity)),
+            ("flow", offset_of!(Params, flow)),
+            ("_pad_flow", offset_of!(Params, _pad_flow)),
+            ("origin", offset_of!(Params, origin)),
+            ("_pad_origin", offset_of!(Params, _pad_origin)),
+        ]
+        .map(|(n, o)| (n.to_string(), o));
+        for module in ["broad", "reorder", "forces", "integrate"] {
+            assert_eq!(wgsl_struct(module, "Params"), (host.to_vec(), std::mem::size_of::<Params>()), "{module}");
+        }
+        let scan = [("n", offset_of!(ScanParams, n)), ("offsets", offset_of!(ScanParams, offsets)), ("row", offset_of!(ScanParams, row)), ("_pad", offset_of!(ScanParams, _pad))]
+            .map(|(n, o)| (n.to_string(), o));
+        assert_eq!(wgsl_struct("scan", "ScanParams"), (scan.to_vec(), std::mem::size_of::<ScanParams>()));
+    }
+
+    #[test]
+    fn every_surface_has_its_kind_code_in_the_entry() {
+        use tumble_geom::{Cylinder, Plane};
+        let plane = SurfaceShape::Plane(Plane { point: DVec3::ZERO, normal: DVec3::Z });
+        assert_eq!(wall_entry(&plane, 3, DVec3::ZERO)[0], [codes::WALL_PLANE as f32, 3.0, 0.0, 0.0]);
+        let drum = SurfaceShape::Cylinder(Cylinder { point: DVec3::ZERO, axis: DVec3::Z, radius: 1.0, length: 2.0, inside: true });
+        assert_eq!(wall_entry(&drum, 1, DVec3::ZERO)[0], [codes::WALL_CYLINDER as f32, 1.0, 1.0, 0.0]);
     }
 }

@@ -1,10 +1,11 @@
 //! Every WGSL module parses and validates with naga, and so does every variant
-//! the plan's switches can produce (override constants substituted and the
-//! module validated again). Needs no GPU.
+//! the plan's switches can produce (its bindings declared or stood in for, override
+//! constants substituted and the module validated again); every constant of the
+//! prelude has its host value in every module. Needs no GPU.
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
-use std::collections::BTreeSet;
-use tumble_gpu::shaders::{Switches, sources};
+use std::collections::{BTreeMap, BTreeSet};
+use tumble_gpu::shaders::{MODULES, ShaderSource, Switches, sources};
 
 fn validator() -> Validator {
     Validator::new(ValidationFlags::all(), Capabilities::all())
@@ -24,25 +25,64 @@ fn every_shader_module_validates() {
 #[test]
 fn every_shader_variant_validates() {
     let mut checked = 0;
-    for shader in sources() {
-        let module = naga::front::wgsl::parse_str(&shader.source).unwrap();
-        let info = validator().validate(&module).unwrap();
-        // Distinct override sets this module sees across every plan.
-        let variants: BTreeSet<Vec<(&str, u64)>> =
-            Switches::all().iter().map(|s| s.constants_for(&shader).into_iter().map(|(k, v)| (k, v.to_bits())).collect()).collect();
-        for variant in &variants {
-            let mut constants = naga::back::PipelineConstants::default();
-            for (name, bits) in variant {
-                constants.insert(name.to_string(), f64::from_bits(*bits));
+    for module in MODULES {
+        // Distinct (source, override set) pairs this module sees across every plan: the source
+        // differs by the buffers the plan's features bind.
+        let mut variants: BTreeMap<String, BTreeSet<Vec<(&str, u64)>>> = BTreeMap::new();
+        for switches in Switches::all() {
+            let shader = ShaderSource::new(module, &switches);
+            let constants = switches.constants_for(&shader).into_iter().map(|(k, v)| (k, v.to_bits())).collect();
+            variants.entry(shader.source).or_default().insert(constants);
+        }
+        for (source, sets) in &variants {
+            let parsed = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}: {}", module.name, e.emit_to_string(source)));
+            let info = validator().validate(&parsed).unwrap_or_else(|e| panic!("{}: {}", module.name, e.emit_to_string(source)));
+            for variant in sets {
+                let mut constants = naga::back::PipelineConstants::default();
+                for (name, bits) in variant {
+                    constants.insert(name.to_string(), f64::from_bits(*bits));
+                }
+                let (specialised, _) = naga::back::pipeline_constants::process_overrides(&parsed, &info, None, &constants)
+                    .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", module.name));
+                validator().validate(&specialised).unwrap_or_else(|e| panic!("{} {variant:?}: {e:?}", module.name));
+                checked += 1;
             }
-            let (specialised, _) = naga::back::pipeline_constants::process_overrides(&module, &info, None, &constants)
-                .unwrap_or_else(|e| panic!("{} {variant:?}: {e}", shader.name));
-            validator().validate(&specialised).unwrap_or_else(|e| panic!("{} {variant:?}: {e:?}", shader.name));
-            checked += 1;
+        }
+        // The contact pass has one source per subset of history, moving walls and polyhedra.
+        if module.name == "forces" {
+            assert_eq!(variants.len(), 8, "forces sources");
         }
     }
     println!("{checked} shader variants validated");
     assert!(checked > 100);
+}
+
+/// The value of every named `u32` constant of a parsed module.
+fn u32_constants(module: &naga::Module) -> BTreeMap<String, u32> {
+    module
+        .constants
+        .iter()
+        .filter_map(|(_, c)| match (&c.name, &module.global_expressions[c.init]) {
+            (Some(name), naga::Expression::Literal(naga::Literal::U32(v))) => Some((name.clone(), *v)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn every_shared_constant_has_its_host_value_in_every_module() {
+    let mut sources: Vec<(String, String)> = sources().into_iter().map(|s| (s.name.to_string(), s.source)).collect();
+    sources.push(("polyhedra test".into(), tumble_gpu::shaders::polyhedra_test_source()));
+    for (name, source) in sources {
+        let module = naga::front::wgsl::parse_str(&source).unwrap();
+        let values = u32_constants(&module);
+        for (constant, host) in tumble_shaders::SHARED {
+            assert_eq!(values.get(*constant), Some(host), "{name}: {constant}");
+        }
+    }
+    // Twins the host keeps in other crates.
+    assert_eq!(tumble_shaders::WALL_KEY, tumble_cpu::WALL_KEY);
+    assert_eq!(tumble_shaders::SPHERE_SHAPE, tumble_scene::SPHERE as u32);
 }
 
 #[test]

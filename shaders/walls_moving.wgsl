@@ -8,23 +8,20 @@
 // the domain's centre), so the proximity code only ever sees the current pose.
 //
 // Wall table extras: w0.w of a wall's entry is the index of its first extra vec4.
-//   with MOVING, every wall: e0 = (angular velocity ω, wall group), e1 = (velocity of the
-//                            wall material at the domain's centre, 0); a static wall has zeros.
-//   prism (kind 3), after the motion entries when MOVING:
+//   with MOVING, every wall (WALL_MOTION_WORDS): e0 = (angular velocity ω, wall group),
+//                            e1 = (velocity of the wall material at the domain's centre, 0);
+//                            a static wall has zeros.
+//   prism (WALL_PRISM), after the motion entries when MOVING:
 //     p0 = (centre of the enclosing sphere, its radius), p1 = (drum axis point, inner radius),
-//     p2 = (drum axis, 0), then per face (6): 4 corners and the outward normal (5 vec4);
-//     with POLYHEDRA, then the bar's hull (prisms.rs): (its centre, its shape index), its
-//     orientation quaternion (x, y, z, w), in the pose of the contact pass.
+//     p2 = (drum axis, 0) (PRISM_HEAD_WORDS), then per face (PRISM_FACES): 4 corners and the
+//     outward normal (PRISM_FACE_WORDS); with POLYHEDRA, from PRISM_HULL on, the bar's hull
+//     (prisms.rs): (its centre, its shape index), its orientation quaternion (x, y, z, w), in
+//     the pose of the contact pass.
 //
 // Wall power (MOVING): per particle ORIGINAL id and wall group, F_on_particle · v_wall
 // (+ Ω_wall · rolling couple, + Ω_wall · twisting couple for polyhedra) of the last pass, and the work Σ power Δt as a Kahan pair.
-// Each invocation writes only its own id's entries; the host sums them in id order.
-
-@group(0) @binding(16) var<storage, read_write> wall_power: array<f32>;
-@group(0) @binding(17) var<storage, read_write> wall_work: array<vec2<f32>>;
-
-// The hull's entries follow the three prism words and the six faces (5 vec4 each).
-const PRISM_HULL: u32 = 33u;
+// Each invocation writes only its own id's entries (`wall_power`, `wall_work`); the host sums
+// them in id order.
 
 fn wall_extras(base: u32) -> u32 {
     return u32(tables[base].w);
@@ -45,9 +42,9 @@ fn wall_group(base: u32) -> u32 {
     return u32(tables[wall_extras(base)].w);
 }
 
-// Number of wall groups (params.origin.w, an exact small integer).
+// Number of wall groups.
 fn wall_groups() -> u32 {
-    return u32(params.origin.w);
+    return params.wall_groups;
 }
 
 // Kahan summation: (sum, compensation) plus x.
@@ -63,7 +60,7 @@ fn book_wall_power(id: u32, group: u32, power: f32) {
     let k = id * wall_groups() + group;
     wall_power[k] = power;
     if power != 0.0 {
-        wall_work[k] = work_add(wall_work[k], power * params.inv_cell.w);
+        wall_work[k] = work_add(wall_work[k], power * params.dt);
     }
 }
 
@@ -114,11 +111,11 @@ fn prism_proximity(base: u32, centre: vec3<f32>, radius: f32, reach: f32) -> Pro
     if near > 0.0 && dot(radial, radial) < near * near {
         return no_proximity();
     }
-    var h: array<f32, 6>;
+    var h: array<f32, PRISM_FACES>;
     var deepest = 0u;
     var outside = false;
-    for (var k = 0u; k < 6u; k++) {
-        let f = p + 3u + 5u * k;
+    for (var k = 0u; k < PRISM_FACES; k++) {
+        let f = p + PRISM_HEAD_WORDS + PRISM_FACE_WORDS * k;
         h[k] = dot(tables[f + 4u].xyz, centre - tables[f].xyz);
         if h[k] >= range {
             return no_proximity();
@@ -130,7 +127,7 @@ fn prism_proximity(base: u32, centre: vec3<f32>, radius: f32, reach: f32) -> Pro
     }
     if !outside {
         // Centre inside: leave by the nearest face (the least penetration).
-        let n = tables[p + 3u + 5u * deepest + 4u].xyz;
+        let n = tables[p + PRISM_HEAD_WORDS + PRISM_FACE_WORDS * deepest + 4u].xyz;
         let overlap = radius - h[deepest];
         return Proximity(true, n, overlap, centre - n * (h[deepest] + 0.5 * overlap));
     }
@@ -138,11 +135,11 @@ fn prism_proximity(base: u32, centre: vec3<f32>, radius: f32, reach: f32) -> Pro
     var best = -1.0;
     var closest = vec3<f32>(0.0);
     var normal = vec3<f32>(0.0);
-    for (var k = 0u; k < 6u; k++) {
+    for (var k = 0u; k < PRISM_FACES; k++) {
         if h[k] <= 0.0 {
             continue;
         }
-        let f = p + 3u + 5u * k;
+        let f = p + PRISM_HEAD_WORDS + PRISM_FACE_WORDS * k;
         let q = prism_face_closest(f, centre);
         let d2 = dot(centre - q, centre - q);
         if best < 0.0 || d2 < best {
@@ -157,7 +154,7 @@ fn prism_proximity(base: u32, centre: vec3<f32>, radius: f32, reach: f32) -> Pro
 fn prism_data(base: u32) -> u32 {
     var e = wall_extras(base);
     if MOVING {
-        e += 2u;
+        e += WALL_MOTION_WORDS;
     }
     return e;
 }

@@ -9,33 +9,14 @@
 // Then periodic axes are wrapped and particles that left through another side
 // are flagged as removed (they sort into the removed bucket from then on).
 
-@group(0) @binding(0) var<uniform> params: Params;
-// Position (xyz, relative to the domain's centre) and radius.
-@group(0) @binding(1) var<storage, read_write> pos: array<vec4<f32>>;
-// Velocity and inverse mass (0: fixed).
-@group(0) @binding(2) var<storage, read_write> vel: array<vec4<f32>>;
-// Angular velocity and inverse moment of inertia.
-@group(0) @binding(3) var<storage, read_write> omega: array<vec4<f32>>;
-// Acceleration of the last force pass and the drag parameter (τ_p, or α/m).
-@group(0) @binding(4) var<storage, read_write> acc: array<vec4<f32>>;
-// Angular acceleration and mass.
-@group(0) @binding(5) var<storage, read_write> alpha: array<vec4<f32>>;
-@group(0) @binding(6) var<storage, read_write> props: array<vec4<u32>>;
-@group(0) @binding(7) var<storage, read> force_in: array<vec4<f32>>;
-@group(0) @binding(8) var<storage, read> torque_in: array<vec4<f32>>;
-// Dissipated energy, fluid work, and their compensation terms (Kahan sums).
-@group(0) @binding(9) var<storage, read_write> energy: array<vec4<f32>>;
-// Orientation (unit quaternion, body to world); polyhedra only (else one dummy entry).
-@group(0) @binding(10) var<storage, read_write> orient: array<vec4<f32>>;
-// The pair and wall tables, then the shape table (polyhedra).
-@group(0) @binding(11) var<storage, read> tables: array<vec4<f32>>;
+// Bindings: tumble-shaders' bindings.rs (INTEGRATE).
 
 fn shape_of(j: u32) -> u32 {
-    return props[j].w >> 16u;
+    return props[j].w >> SHAPE_SHIFT;
 }
 
 fn shape_word(i: u32) -> vec4<f32> {
-    return tables[u32(params.gravity.w) + i];
+    return tables[params.shape_base + i];
 }
 
 // Principal inverse inertia (body frame) of particle i: zero for fixed bodies.
@@ -62,17 +43,12 @@ fn drift_orientation(i: u32) {
     omega[i] = vec4<f32>(r.omega, omega[i].w);
 }
 
-const EULER: u32 = 0u;
-const SYMPLECTIC_EULER: u32 = 1u;
-const VERLET: u32 = 2u;
-const IMPLICIT_DRAG_SYMPLECTIC: u32 = 4u;
-
 fn dt() -> f32 {
-    return params.inv_cell.w;
+    return params.dt;
 }
 
 fn implicit() -> bool {
-    return INTEGRATOR >= 3u;
+    return INTEGRATOR == INTEGRATOR_IMPLICIT_DRAG || INTEGRATOR == INTEGRATOR_IMPLICIT_DRAG_SYMPLECTIC;
 }
 
 // Kahan summation: (sum, compensation) plus x.
@@ -85,24 +61,24 @@ fn kahan(acc_in: vec2<f32>, x: f32) -> vec2<f32> {
 // The fluid velocity at a position relative to the domain's centre.
 fn flow_velocity(x_rel: vec3<f32>) -> vec3<f32> {
     if TAYLOR_GREEN {
-        let x = x_rel + params.origin.xyz;
-        let a = params.flow.x;
-        let k = params.flow.y;
+        let x = x_rel + params.origin;
+        let a = params.taylor_green_amplitude;
+        let k = params.taylor_green_frequency;
         let h = 1.5707963267948966;
         let p = k * x + vec3<f32>(h);
         let s = sin(p);
         let c = cos(p);
         return vec3<f32>(a * c.x * s.y * s.z, a * s.x * c.y * s.z, -2.0 * a * s.x * s.y * c.z);
     }
-    return params.flow.xyz;
+    return params.flow;
 }
 
 // Explicit drag acceleration at (x, v) for drag parameter k.
 fn drag_acceleration(x: vec3<f32>, v: vec3<f32>, k: f32) -> vec3<f32> {
-    if DRAG == 1u {
+    if DRAG == DRAG_STOKES {
         return (flow_velocity(x) - v) / k;
     }
-    if DRAG == 2u {
+    if DRAG == DRAG_QUADRATIC {
         return -v * (k * length(v));
     }
     return vec3<f32>(0.0);
@@ -135,7 +111,7 @@ fn boundaries(i: u32) {
 }
 
 fn alive(i: u32) -> bool {
-    return i < params.counts.x && (props[i].w & FLAG_DEAD) == 0u;
+    return i < params.particles && (props[i].w & FLAG_DEAD) == 0u;
 }
 
 // Accelerations from the contact sums, gravity and explicit drag at velocity v;
@@ -145,8 +121,8 @@ fn accelerations(i: u32, v: vec3<f32>, explicit_drag: bool, book: bool) -> vec3<
     var a = vec3<f32>(0.0);
     var e = energy[i];
     if inv_mass != 0.0 {
-        a = force_in[i].xyz * inv_mass + params.gravity.xyz;
-        if DRAG != 0u && explicit_drag {
+        a = force_in[i].xyz * inv_mass + params.gravity;
+        if DRAG != DRAG_NONE && explicit_drag {
             let ad = drag_acceleration(pos[i].xyz, v, acc[i].w);
             a += ad;
             if book {
@@ -208,7 +184,7 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let step = dt();
     let inv_mass = vel[i].w;
-    if INTEGRATOR == VERLET {
+    if INTEGRATOR == INTEGRATOR_VERLET {
         // Velocity-dependent forces saw v_half + a_old Δt/2.
         let seen = vel[i].xyz + acc[i].xyz * (0.5 * step);
         let a = accelerations(i, seen, true, true);
@@ -226,25 +202,25 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
         let v = vel[i].xyz;
         var x_new = x;
         var v_new = v;
-        if INTEGRATOR == EULER {
+        if INTEGRATOR == INTEGRATOR_EULER {
             x_new = x + v * step;
             v_new = v + a * step;
-        } else if INTEGRATOR == SYMPLECTIC_EULER {
+        } else if INTEGRATOR == INTEGRATOR_SYMPLECTIC_EULER {
             v_new = v + a * step;
             x_new = x + v_new * step;
-        } else {
+        } else if implicit() {
             // Implicit drag with rate λ = 1/τ: v_new = (v + a Δt + λ u Δt) / (1 + λ Δt).
             var rate = 0.0;
             var u = vec3<f32>(0.0);
-            if DRAG == 1u {
+            if DRAG == DRAG_STOKES {
                 rate = 1.0 / acc[i].w;
                 u = flow_velocity(x);
-            } else if DRAG == 2u {
+            } else if DRAG == DRAG_QUADRATIC {
                 // Quadratic drag linearised at the current speed: λ = α|v|/m.
                 rate = acc[i].w * length(v);
             }
             v_new = (v + a * step + u * (rate * step)) / (1.0 + rate * step);
-            if INTEGRATOR == IMPLICIT_DRAG_SYMPLECTIC {
+            if INTEGRATOR == INTEGRATOR_IMPLICIT_DRAG_SYMPLECTIC {
                 x_new = x + v_new * step;
             } else {
                 x_new = x + (v + v_new) * (0.5 * step);

@@ -5,46 +5,26 @@
 // pair forces are exactly equal and opposite. No float atomics, no shared
 // writes: the result is the same on every run.
 //
-// Pair table entry k = a * materials + b (3 vec4):
-//   t0 = (normal: 0 linear, 1 Hertz; k_n or E*; damping ratio or β; √(π² + ln² e))
-//   t1 = (tangential: 0 none, 1 viscous-Coulomb, 2 stick-limited, 3 dynamic-only; μ; c_t or k_f; 1 when k_f)
-//        or (4 history linear, 5 history Mindlin; μ; k_t or G*; damping ratio or β) (history.wgsl)
+// Pair table entry k = a * materials + b (PAIR_ENTRY_WORDS vec4; codes as exact f32, read with u32()):
+//   t0 = (normal: NORMAL_LINEAR or NORMAL_HERTZ; k_n or E*; damping ratio or β; √(π² + ln² e))
+//   t1 = (tangential: TANGENTIAL_NONE, _VISCOUS_COULOMB, _STICK_LIMITED or _DYNAMIC_ONLY; μ;
+//         c_t or k_f; 1 when k_f)
+//        or (TANGENTIAL_HISTORY_LINEAR or _MINDLIN; μ; k_t or G*; damping ratio or β) (history.wgsl)
 //   t2 = (k_c, 1 when attraction is clamped, rolling friction μ_r, linear history damping η)
-// Walls follow the pair table (geometry.wgsl).
-
-@group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> pos: array<vec4<f32>>;
-@group(0) @binding(2) var<storage, read> vel: array<vec4<f32>>;
-@group(0) @binding(3) var<storage, read> omega: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> acc: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read> alpha: array<vec4<f32>>;
-@group(0) @binding(6) var<storage, read> props: array<vec4<u32>>;
-@group(0) @binding(7) var<storage, read> cell: array<u32>;
-@group(0) @binding(8) var<storage, read> cell_start: array<u32>;
-@group(0) @binding(9) var<storage, read> cell_list: array<u32>;
-@group(0) @binding(10) var<storage, read> tables: array<vec4<f32>>;
-// Force (xyz) and elastic energy owned (w).
-@group(0) @binding(11) var<storage, read_write> force_out: array<vec4<f32>>;
-// Torque (xyz) and dissipated power owned (w).
-@group(0) @binding(12) var<storage, read_write> torque_out: array<vec4<f32>>;
-// Contacts owned, largest overlap ratio (f32 bits).
-@group(0) @binding(13) var<storage, read_write> stats_out: array<vec2<u32>>;
-// Orientation (unit quaternion x, y, z, w, body to world); polyhedra only (else one dummy entry).
-@group(0) @binding(18) var<storage, read> orient: array<vec4<f32>>;
-
-const VERLET: u32 = 2u;
+// A law code not listed here gives no normal or tangential force. Walls follow the pair table (geometry.wgsl).
+// Bindings: tumble-shaders' bindings.rs (FORCES).
 
 // The velocity the forces see: Verlet's second-order estimate v_half + a_old Δt/2 of v_{n+1}.
 fn seen_velocity(j: u32) -> vec3<f32> {
-    if INTEGRATOR == VERLET {
-        return vel[j].xyz + acc[j].xyz * (0.5 * params.inv_cell.w);
+    if INTEGRATOR == INTEGRATOR_VERLET {
+        return vel[j].xyz + acc[j].xyz * (0.5 * params.dt);
     }
     return vel[j].xyz;
 }
 
 fn seen_spin(j: u32) -> vec3<f32> {
-    if INTEGRATOR == VERLET {
-        return omega[j].xyz + alpha[j].xyz * (0.5 * params.inv_cell.w);
+    if INTEGRATOR == INTEGRATOR_VERLET {
+        return omega[j].xyz + alpha[j].xyz * (0.5 * params.dt);
     }
     return omega[j].xyz;
 }
@@ -62,9 +42,11 @@ struct ContactForce {
 // `old_spring`: the contact's tangential spring from the last step and its stored energy (history only, else zero).
 fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_rel: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec4<f32>) -> ContactForce {
     var out = ContactForce(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, vec4<f32>(0.0));
-    let t0 = tables[3u * pair];
-    let t1 = tables[3u * pair + 1u];
-    let t2 = tables[3u * pair + 2u];
+    let t0 = tables[PAIR_ENTRY_WORDS * pair];
+    let t1 = tables[PAIR_ENTRY_WORDS * pair + 1u];
+    let t2 = tables[PAIR_ENTRY_WORDS * pair + 2u];
+    let normal_law = u32(t0.x);
+    let tangential_law = u32(t1.x);
     if COHESION && t2.x > 0.0 && effect_overlap > 0.0 {
         out.force = n * (-t2.x * effect_overlap);
         out.elastic = -0.5 * t2.x * effect_overlap * effect_overlap;
@@ -75,13 +57,13 @@ fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_r
         var damping = 0.0;
         var energy = 0.0;
         var stiffness = 0.0;
-        if LINEAR && t0.x == 0.0 {
+        if LINEAR && normal_law == NORMAL_LINEAR {
             stiffness = t0.y;
             spring = stiffness * overlap;
             damping = -2.0 * t0.z * sqrt(m_star * stiffness) * vn;
             energy = 0.5 * stiffness * overlap * overlap;
         }
-        if HERTZ && t0.x == 1.0 {
+        if HERTZ && normal_law == NORMAL_HERTZ {
             let root = sqrt(r_star * overlap);
             let k = 4.0 / 3.0 * t0.y * root;
             stiffness = 2.0 * t0.y * root;
@@ -97,25 +79,31 @@ fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_r
         out.normal = abs(applied);
         var ft = vec3<f32>(0.0);
         var slip_loss = 0.0;
-        if HISTORY && t1.x >= 4.0 {
+        if HISTORY && (tangential_law == TANGENTIAL_HISTORY_LINEAR || tangential_law == TANGENTIAL_HISTORY_MINDLIN) {
             let h = history_force(t1, t2, out.normal, overlap, r_star, m_star, old_spring, n, vt);
             ft = h.force;
             out.spring = vec4<f32>(h.spring, h.energy);
             energy += h.energy;
             slip_loss = h.dissipation + dot(ft, vt);
-        } else if TANGENTIAL && t1.x != 0.0 {
+        } else if TANGENTIAL && (tangential_law == TANGENTIAL_VISCOUS_COULOMB || tangential_law == TANGENTIAL_STICK_LIMITED || tangential_law == TANGENTIAL_DYNAMIC_ONLY) {
             let speed = length(vt);
             if speed > 0.0 {
                 var magnitude = t1.y * abs(applied);
-                if t1.x == 1.0 {
-                    var c_t = t1.z;
-                    if t1.w != 0.0 {
-                        // c_t = k_f t_col of this contact.
-                        c_t = t1.z * sqrt(m_star / stiffness) * t0.w;
+                switch tangential_law {
+                    case TANGENTIAL_VISCOUS_COULOMB: {
+                        var c_t = t1.z;
+                        if t1.w != 0.0 {
+                            // c_t = k_f t_col of this contact.
+                            c_t = t1.z * sqrt(m_star / stiffness) * t0.w;
+                        }
+                        magnitude = min(magnitude, c_t * speed);
                     }
-                    magnitude = min(magnitude, c_t * speed);
-                } else if t1.x == 2.0 {
-                    magnitude = min(magnitude, m_star * speed / params.inv_cell.w);
+                    case TANGENTIAL_STICK_LIMITED: {
+                        magnitude = min(magnitude, m_star * speed / params.dt);
+                    }
+                    default: {
+                        // Dynamic-only: the Coulomb limit alone.
+                    }
                 }
                 ft = vt * (-magnitude / speed);
             }
@@ -139,162 +127,6 @@ struct PairOut {
     ratio: f32,
     // The pair's new spring as a holds it: ξ, stored energy (history).
     spring: vec4<f32>,
-}
-
-fn shape_of(j: u32) -> u32 {
-    return props[j].w >> 16u;
-}
-
-// Word i of the shape table, which follows the walls in `tables`.
-fn shape_word(i: u32) -> vec4<f32> {
-    return tables[u32(params.gravity.w) + i];
-}
-
-// R* and overlap-ratio radius of particle j: the radius of the sphere of equal volume.
-fn equivalent_radius(j: u32) -> f32 {
-    let s = shape_of(j);
-    if s == SPHERE_SHAPE {
-        return pos[j].w;
-    }
-    return shape_inertia(s).w;
-}
-
-// n · I_w⁻¹ n of particle j: its inverse moment of inertia about the axis n.
-fn inverse_inertia_about(j: u32, n: vec3<f32>) -> f32 {
-    let s = shape_of(j);
-    if s == SPHERE_SHAPE {
-        return omega[j].w;
-    }
-    let nb = quat_rotate(quat_conj(orient[j]), n);
-    return dot(nb * nb, shape_inertia(s).xyz * vel[j].w);
-}
-
-// Coulomb friction against the relative spin about the normal on a contact patch of
-// radius `spread` (tumble-cpu's twisting_torque): μ |F_n| r̄, capped so that it never
-// reverses the relative spin within a step. One-point contacts (spread 0) have none.
-fn twisting_torque(spread: f32, friction: f32, normal_force: f32, n: vec3<f32>, spin_rel: vec3<f32>, inv_inertia_sum: f32) -> vec3<f32> {
-    if spread <= 0.0 || friction == 0.0 {
-        return vec3<f32>(0.0);
-    }
-    return rolling_torque(friction, spread, normal_force, n * dot(spin_rel, n), inv_inertia_sum);
-}
-
-// A pair with at least one polyhedron (a holding the lower id, d = x_a − x_b): one
-// contact (normal, depth, point) from polyhedra.wgsl, the force laws of spheres with
-// m* and R* from the volume-equivalent radii, the torque of the whole force about
-// each centre, twisting friction on the patch, and rolling resistance.
-fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
-    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec4<f32>(0.0));
-    let sa = shape_of(a);
-    let sb = shape_of(b);
-    var hit: PolyHit;
-    // The contact point relative to x_b.
-    var point = vec3<f32>(0.0);
-    if sa != SPHERE_SHAPE && sb != SPHERE_SHAPE {
-        hit = polyhedron_polyhedron(sa, orient[a], sb, orient[b], d);
-        point = hit.point;
-    } else if sa == SPHERE_SHAPE {
-        hit = sphere_polyhedron(pos[a].w, sb, orient[b], d);
-        point = hit.point;
-    } else {
-        hit = sphere_polyhedron(pos[b].w, sa, orient[a], -d);
-        hit.normal = -hit.normal;
-        point = hit.point + d;
-    }
-    if !hit.hit {
-        return out;
-    }
-    let n = hit.normal;
-    let arm_b = point;
-    let arm_a = point - d;
-    let spin_a = seen_spin(a);
-    let spin_b = seen_spin(b);
-    let v_rel = seen_velocity(a) + cross(spin_a, arm_a) - seen_velocity(b) - cross(spin_b, arm_b);
-    let m_star = 1.0 / (vel[a].w + vel[b].w);
-    let ra = equivalent_radius(a);
-    let rb = equivalent_radius(b);
-    let r_star = ra * rb / (ra + rb);
-    var old_spring = vec4<f32>(0.0);
-    if HISTORY {
-        old_spring = find_spring(props[a].z, props[b].z);
-    }
-    let pair = props[a].y * params.counts.w + props[b].y;
-    let f = contact_force(pair, n, hit.depth, 0.0, v_rel, m_star, r_star, old_spring);
-    out.force = f.force;
-    out.spring = f.spring;
-    out.torque_a = cross(arm_a, f.force);
-    out.torque_b = cross(arm_b, -f.force);
-    let spin = spin_a - spin_b;
-    let inv_n = inverse_inertia_about(a, n) + inverse_inertia_about(b, n);
-    let twist = twisting_torque(hit.spread, tables[3u * pair + 1u].y, f.normal, n, spin, inv_n);
-    out.torque_a += twist;
-    out.torque_b -= twist;
-    out.dissipation = f.dissipation - dot(twist, spin);
-    if ROLLING {
-        let roll = rolling_torque(tables[3u * pair + 2u].z, r_star, f.normal, spin, omega[a].w + omega[b].w);
-        out.torque_a += roll;
-        out.torque_b -= roll;
-        out.dissipation -= dot(roll, spin);
-    }
-    out.elastic = f.elastic;
-    out.ratio = hit.depth / min(ra, rb);
-    return out;
-}
-
-// A polyhedral particle i against wall k (entry at `base`): the force, the torque about
-// the centre with twisting friction and rolling resistance, into the sum (tumble-cpu's
-// polyhedron_wall). Returns the power the wall delivers (MOVING): F · v_wall at the contact
-// point plus the twisting and rolling couples times the wall's spin.
-fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 {
-    let x = pos[i].xyz;
-    let shape = shape_of(i);
-    var hit: PolyHit;
-    if PRISMS && tables[base].x == 3.0 {
-        hit = polyhedron_prism(shape, orient[i], x, base);
-    } else {
-        let entry = array<vec4<f32>, 6>(tables[base], tables[base + 1u], tables[base + 2u], tables[base + 3u], tables[base + 4u], tables[base + 5u]);
-        hit = polyhedron_wall(shape, orient[i], x, entry);
-    }
-    if !hit.hit {
-        return 0.0;
-    }
-    let arm = hit.point - x;
-    let w = seen_spin(i);
-    var v_wall = vec3<f32>(0.0);
-    var wall_w = vec3<f32>(0.0);
-    if MOVING {
-        v_wall = wall_velocity(base, hit.point);
-        wall_w = wall_spin(base);
-    }
-    let v_rel = seen_velocity(i) + cross(w, arm) - v_wall;
-    let pair = props[i].y * params.counts.w + u32(tables[base].y);
-    let r = equivalent_radius(i);
-    var old_spring = vec4<f32>(0.0);
-    if HISTORY {
-        old_spring = find_spring(props[i].z, WALL_KEY | k);
-    }
-    let f = contact_force(pair, hit.normal, hit.depth, 0.0, v_rel, alpha[i].w, r, old_spring);
-    if HISTORY {
-        (*s).springs = keep_spring(props[i].z, (*s).springs, WALL_KEY | k, f.spring);
-    }
-    // Twisting friction and rolling resistance act against the spin relative to the wall.
-    let spin = w - wall_w;
-    let twist = twisting_torque(hit.spread, tables[3u * pair + 1u].y, f.normal, hit.normal, spin, inverse_inertia_about(i, hit.normal));
-    (*s).force += f.force;
-    (*s).torque += cross(arm, f.force) + twist;
-    (*s).elastic += f.elastic;
-    (*s).dissipation += f.dissipation - dot(twist, spin);
-    var power = dot(f.force, v_wall) + dot(twist, wall_w);
-    if ROLLING {
-        // The volume-equivalent radius, as on the CPU.
-        let roll = rolling_torque(tables[3u * pair + 2u].z, r, f.normal, spin, omega[i].w);
-        (*s).torque += roll;
-        (*s).dissipation -= dot(roll, spin);
-        power += dot(roll, wall_w);
-    }
-    (*s).contacts += 1u;
-    (*s).ratio = max((*s).ratio, hit.depth / r);
-    return power;
 }
 
 // The contact of slots a and b, a holding the lower id.
@@ -340,7 +172,7 @@ fn pair_contact(a: u32, b: u32) -> PairOut {
         // Both sides read a's copy.
         old_spring = find_spring(props[a].z, props[b].z);
     }
-    let pair = props[a].y * params.counts.w + props[b].y;
+    let pair = props[a].y * params.materials + props[b].y;
     let f = contact_force(pair, n, overlap, effect_overlap, v_rel, m_star, r_star, old_spring);
     out.force = f.force;
     out.spring = f.spring;
@@ -348,7 +180,7 @@ fn pair_contact(a: u32, b: u32) -> PairOut {
         out.torque_a = cross(arm_a, f.tangential);
         out.torque_b = cross(arm_b, -f.tangential);
         if ROLLING {
-            let roll = rolling_torque(tables[3u * pair + 2u].z, r_star, f.normal, seen_spin(a) - seen_spin(b), omega[a].w + omega[b].w);
+            let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r_star, f.normal, seen_spin(a) - seen_spin(b), omega[a].w + omega[b].w);
             out.torque_a += roll;
             out.torque_b -= roll;
             // The couple opposes the relative rolling: all its work is dissipated.
@@ -439,13 +271,13 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
     let v = seen_velocity(i);
     let w = seen_spin(i);
     let mass = alpha[i].w;
-    let walls_base = 3u * params.counts.w * params.counts.w;
+    let walls_base = PAIR_ENTRY_WORDS * params.materials * params.materials;
     // Wall power (MOVING): walls come grouped in group order; each group's sum is booked once.
     let polyhedron = POLYHEDRA && shape_of(i) != SPHERE_SHAPE;
     var group = 0u;
     var power = 0.0;
-    for (var k = 0u; k < params.counts.z; k++) {
-        let base = walls_base + 6u * k;
+    for (var k = 0u; k < params.walls; k++) {
+        let base = walls_base + WALL_ENTRY_WORDS * k;
         if MOVING {
             let g = wall_group(base);
             if g != group {
@@ -458,12 +290,7 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
             power += polyhedron_wall_contact(s, i, k, base);
             continue;
         }
-        var p: Proximity;
-        if PRISMS && tables[base].x == 3.0 {
-            p = prism_proximity(base, xi, r, extra);
-        } else {
-            p = wall_proximity(base, xi, r, extra);
-        }
+        let p = wall_proximity(base, xi, r, extra);
         if !p.hit {
             continue;
         }
@@ -482,7 +309,7 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
         if ROTATION {
             v_rel += cross(w, arm);
         }
-        let pair = props[i].y * params.counts.w + u32(tables[base].y);
+        let pair = props[i].y * params.materials + wall_material(base);
         var old_spring = vec4<f32>(0.0);
         if HISTORY {
             old_spring = find_spring(props[i].z, WALL_KEY | k);
@@ -503,7 +330,7 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
                 if MOVING {
                     spin = wall_spin(base);
                 }
-                let roll = rolling_torque(tables[3u * pair + 2u].z, r, f.normal, w - spin, omega[i].w);
+                let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r, f.normal, w - spin, omega[i].w);
                 (*s).torque += roll;
                 (*s).dissipation -= dot(roll, w - spin);
                 if MOVING {
@@ -518,7 +345,7 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
             (*s).ratio = max((*s).ratio, p.overlap / r);
         }
     }
-    if MOVING && params.counts.z > 0u {
+    if MOVING && params.walls > 0u {
         book_wall_power(props[i].z, group, power);
     }
 }
@@ -526,7 +353,7 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
 @compute @workgroup_size(WORKGROUP)
 fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = flat_index(gid);
-    if i >= params.counts.x {
+    if i >= params.particles {
         return;
     }
     var s = Sum(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0u, 0.0, 0u);
@@ -542,7 +369,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
         let xi = pos[i].xyz;
         let reach_i = bitcast<f32>(props[i].x);
         let c = cell[i];
-        let dims = params.dims.xyz;
+        let dims = params.dims;
         let home = vec3<i32>(i32(c % dims.x), i32((c / dims.x) % dims.y), i32(c / (dims.x * dims.y)));
         let periodic = vec3<bool>(params.periodic.x != 0u, params.periodic.y != 0u, params.periodic.z != 0u);
         let rx = offset_range(periodic.x, dims.x);
@@ -587,9 +414,9 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
         if WALLS && !fixed_i {
             add_walls(&s, i);
         }
-        if HISTORY && params.inv_cell.w > 0.0 {
+        if HISTORY && params.dt > 0.0 {
             // Springs whose contact ended take their stored energy with them: dissipated now.
-            s.dissipation += ended_spring_energy(props[i].z, s.springs) / params.inv_cell.w;
+            s.dissipation += ended_spring_energy(props[i].z, s.springs) / params.dt;
         }
     }
     force_out[i] = vec4<f32>(s.force, s.elastic);

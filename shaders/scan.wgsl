@@ -1,4 +1,4 @@
-// Exclusive prefix sum of u32, reduce-then-scan over blocks of BLOCK values:
+// Exclusive prefix sum of u32, reduce-then-scan over blocks of SCAN_BLOCK values:
 //
 // reduce      the total of each block into `sums`
 // (the host scans `sums` the same way, level by level, until one block is left)
@@ -8,21 +8,18 @@
 // No decoupled look-back and no inter-workgroup communication inside a
 // dispatch: nothing depends on forward-progress guarantees.
 
+// One level of the scan (tumble-gpu's upload::ScanParams).
 struct ScanParams {
-    // Values at this level; 1 when sums holds block offsets; threads per dispatch row; unused.
+    // Values at this level.
     n: u32,
+    // 1 when `sums` holds block offsets.
     offsets: u32,
+    // Threads per dispatch row.
     row: u32,
-    pad: u32,
+    _pad: u32,
 }
 
-const SCAN_THREADS: u32 = 256u;
-const PER_THREAD: u32 = 4u;
-const BLOCK: u32 = 1024u;
-
-@group(0) @binding(0) var<uniform> scan: ScanParams;
-@group(0) @binding(1) var<storage, read_write> data: array<u32>;
-@group(0) @binding(2) var<storage, read_write> sums: array<u32>;
+// SCAN_THREADS, SCAN_PER_THREAD and SCAN_BLOCK come from the prelude; bindings: bindings.rs (SCAN).
 
 var<workgroup> shared_sums: array<u32, SCAN_THREADS>;
 
@@ -40,9 +37,9 @@ fn load(k: u32) -> u32 {
 @compute @workgroup_size(SCAN_THREADS)
 fn reduce(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let block = block_index(wid);
-    let base = block * BLOCK + lid * PER_THREAD;
+    let base = block * SCAN_BLOCK + lid * SCAN_PER_THREAD;
     var total = 0u;
-    for (var k = 0u; k < PER_THREAD; k++) {
+    for (var k = 0u; k < SCAN_PER_THREAD; k++) {
         total += load(base + k);
     }
     shared_sums[lid] = total;
@@ -53,7 +50,7 @@ fn reduce(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index
         }
         workgroupBarrier();
     }
-    if lid == 0u && block * BLOCK < scan.n {
+    if lid == 0u && block * SCAN_BLOCK < scan.n {
         sums[block] = shared_sums[0];
     }
 }
@@ -61,10 +58,10 @@ fn reduce(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index
 @compute @workgroup_size(SCAN_THREADS)
 fn scan_block(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let block = block_index(wid);
-    let base = block * BLOCK + lid * PER_THREAD;
-    var local: array<u32, PER_THREAD>;
+    let base = block * SCAN_BLOCK + lid * SCAN_PER_THREAD;
+    var local: array<u32, SCAN_PER_THREAD>;
     var total = 0u;
-    for (var k = 0u; k < PER_THREAD; k++) {
+    for (var k = 0u; k < SCAN_PER_THREAD; k++) {
         local[k] = total;
         total += load(base + k);
     }
@@ -81,10 +78,10 @@ fn scan_block(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_i
         workgroupBarrier();
     }
     var offset = shared_sums[lid] - total;
-    if scan.offsets == 1u && block * BLOCK < scan.n {
+    if scan.offsets == 1u && block * SCAN_BLOCK < scan.n {
         offset += sums[block];
     }
-    for (var k = 0u; k < PER_THREAD; k++) {
+    for (var k = 0u; k < SCAN_PER_THREAD; k++) {
         if base + k < scan.n {
             data[base + k] = offset + local[k];
         }

@@ -1,11 +1,13 @@
 // Sphere–wall proximity (tumble-geom's plane, quad and cylinder in f32) and
 // the periodic minimum image. Prepended to forces.wgsl.
 //
-// Wall table entry (6 vec4 per wall):
-//   w0 = (kind: 0 plane, 1 quad, 2 cylinder; material; two-sided / inside flag; unused)
+// Wall table entry (WALL_ENTRY_WORDS vec4 per wall; integers as exact f32, read with u32()):
+//   w0 = (kind: WALL_PLANE, WALL_QUAD, WALL_CYLINDER or WALL_PRISM; material; two-sided / inside
+//         flag (0 or 1); the first index of the wall's extras, walls_moving.wgsl)
 //   plane:    w1 = point, w5 = unit normal
 //   quad:     w1..w4 = corners, w5 = unit normal
 //   cylinder: w1 = point on the axis, w2 = unit axis, w3 = (radius, length)
+//   prism:    its geometry is in its extras (walls_moving.wgsl)
 
 struct Proximity {
     hit: bool,
@@ -117,15 +119,38 @@ fn cylinder_proximity(base: u32, centre: vec3<f32>, radius: f32, reach: f32) -> 
     return surface_contact(normal, overlap, point + axis * s + out * shell - normal * (0.5 * max(overlap, 0.0)), reach);
 }
 
+// The wall's kind code (w0.x).
+fn wall_kind(base: u32) -> u32 {
+    return u32(tables[base].x);
+}
+
+// The wall's material index (w0.y).
+fn wall_material(base: u32) -> u32 {
+    return u32(tables[base].y);
+}
+
+// A sphere against the wall at `base`; a kind this code does not know touches nothing.
 fn wall_proximity(base: u32, centre: vec3<f32>, radius: f32, reach: f32) -> Proximity {
-    let kind = tables[base].x;
-    if kind == 0.0 {
-        return plane_proximity(tables[base + 1u].xyz, tables[base + 5u].xyz, centre, radius, reach);
+    switch wall_kind(base) {
+        case WALL_PLANE: {
+            return plane_proximity(tables[base + 1u].xyz, tables[base + 5u].xyz, centre, radius, reach);
+        }
+        case WALL_QUAD: {
+            return quad_proximity(base, centre, radius, reach);
+        }
+        case WALL_CYLINDER: {
+            return cylinder_proximity(base, centre, radius, reach);
+        }
+        case WALL_PRISM: {
+            if PRISMS {
+                return prism_proximity(base, centre, radius, reach);
+            }
+            return no_proximity();
+        }
+        default: {
+            return no_proximity();
+        }
     }
-    if kind == 1.0 {
-        return quad_proximity(base, centre, radius, reach);
-    }
-    return cylinder_proximity(base, centre, radius, reach);
 }
 
 fn minimum_image(d_in: vec3<f32>) -> vec3<f32> {

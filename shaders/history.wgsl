@@ -3,11 +3,11 @@
 //
 // Slots are indexed by the particle's ORIGINAL id (props.z), never by its
 // array slot, so the periodic re-sort by cell never moves them. One generation
-// holds, per id, `params.periodic.w` slots of vec4<u32> (spring xyz as f32 bits,
+// holds, per id, `params.history_slots` slots of vec4<u32> (spring xyz as f32 bits,
 // key: the neighbour's id, or WALL_KEY | wall), then after all n * slots entries
-// one count entry per id: (slots in use, springs needed this step, most ever
-// needed, unused), then per id ceil(slots / 4) entries of stored energies
-// (½ k_t |ξ|² as f32 bits, slot k in word k % 4 of entry k / 4). The counts let
+// one count entry per id (HISTORY_COUNT_ENTRIES): (slots in use, springs needed this step,
+// most ever needed, unused), then per id ceil(slots / HISTORY_ENERGIES_PER_ENTRY) entries of
+// stored energies (½ k_t |ξ|² as f32 bits, slot k in word k % 4 of entry k / 4). The counts let
 // the host report an overflow without atomics; the energies are what a spring
 // takes with it when its contact ends (k_t depends on the overlap then, so ξ
 // alone cannot give it back).
@@ -15,31 +15,27 @@
 // swaps the two bind groups after every committed pass (not the t = 0 one).
 // Each invocation writes only its own particle's slots, count and energy entries.
 
-@group(0) @binding(14) var<storage, read> hist_old: array<vec4<u32>>;
-@group(0) @binding(15) var<storage, read_write> hist_new: array<vec4<u32>>;
-
-const WALL_KEY: u32 = 0x80000000u;
-
 // Index of id `owner`'s count entry.
 fn history_count_index(owner: u32) -> u32 {
-    return params.counts.x * params.periodic.w + owner;
+    return params.particles * params.history_slots + owner * HISTORY_COUNT_ENTRIES;
 }
 
 // Index of the entry holding the stored energy of `owner`'s slot `k` (in word k % 4).
 fn history_energy_index(owner: u32, k: u32) -> u32 {
-    let slots = params.periodic.w;
-    return params.counts.x * (slots + 1u) + owner * ((slots + 3u) / 4u) + k / 4u;
+    let slots = params.history_slots;
+    let rows = (slots + HISTORY_ENERGIES_PER_ENTRY - 1u) / HISTORY_ENERGIES_PER_ENTRY;
+    return params.particles * (slots + HISTORY_COUNT_ENTRIES) + owner * rows + k / HISTORY_ENERGIES_PER_ENTRY;
 }
 
 // The spring particle `owner` held for `key` last step (ξ, stored energy), zero when the contact is new.
 fn find_spring(owner: u32, key: u32) -> vec4<f32> {
-    let slots = params.periodic.w;
+    let slots = params.history_slots;
     let base = owner * slots;
     let used = min(hist_old[history_count_index(owner)].x, slots);
     for (var k = 0u; k < used; k++) {
         let e = hist_old[base + k];
         if e.w == key {
-            let energy = bitcast<f32>(hist_old[history_energy_index(owner, k)][k % 4u]);
+            let energy = bitcast<f32>(hist_old[history_energy_index(owner, k)][k % HISTORY_ENERGIES_PER_ENTRY]);
             return vec4<f32>(bitcast<vec3<f32>>(e.xyz), energy);
         }
     }
@@ -52,13 +48,13 @@ fn keep_spring(owner: u32, used: u32, key: u32, spring: vec4<f32>) -> u32 {
     if all(spring.xyz == vec3<f32>(0.0)) {
         return used;
     }
-    let slots = params.periodic.w;
+    let slots = params.history_slots;
     if used < slots {
         hist_new[owner * slots + used] = vec4<u32>(bitcast<vec3<u32>>(spring.xyz), key);
         // The whole entry is rewritten (all four words are this particle's): plain vec4 stores on every backend.
         let e = history_energy_index(owner, used);
         var energies = hist_new[e];
-        energies[used % 4u] = bitcast<u32>(spring.w);
+        energies[used % HISTORY_ENERGIES_PER_ENTRY] = bitcast<u32>(spring.w);
         hist_new[e] = energies;
     }
     return used + 1u;
@@ -68,7 +64,7 @@ fn keep_spring(owner: u32, used: u32, key: u32, spring: vec4<f32>) -> u32 {
 // (not kept among the `used` written this pass): booked once per pair as on the CPU
 // (tumble_cpu's book_ended_springs), on the lower id's side, walls on the particle's.
 fn ended_spring_energy(owner: u32, used: u32) -> f32 {
-    let slots = params.periodic.w;
+    let slots = params.history_slots;
     let base = owner * slots;
     let old_used = min(hist_old[history_count_index(owner)].x, slots);
     let kept = min(used, slots);
@@ -86,7 +82,7 @@ fn ended_spring_energy(owner: u32, used: u32) -> f32 {
             }
         }
         if !found {
-            ended += bitcast<f32>(hist_old[history_energy_index(owner, k)][k % 4u]);
+            ended += bitcast<f32>(hist_old[history_energy_index(owner, k)][k % HISTORY_ENERGIES_PER_ENTRY]);
         }
     }
     return ended;
@@ -96,7 +92,7 @@ fn ended_spring_energy(owner: u32, used: u32) -> f32 {
 fn close_springs(owner: u32, used: u32) {
     let c = history_count_index(owner);
     let most = max(hist_old[c].z, used);
-    hist_new[c] = vec4<u32>(min(used, params.periodic.w), used, most, 0u);
+    hist_new[c] = vec4<u32>(min(used, params.history_slots), used, most, 0u);
 }
 
 struct Spring {
@@ -106,7 +102,7 @@ struct Spring {
     dissipation: f32,
 }
 
-// One step of a history contact (pair table t1 = (4 linear / 5 Mindlin, μ,
+// One step of a history contact (pair table t1 = (TANGENTIAL_HISTORY_LINEAR or _MINDLIN, μ,
 // k_t or G*, damping ratio or β), t2.w = linear damping η [N s/m]): the old
 // spring rotated into the tangent plane keeping its length, ξ += v_t Δt,
 // F_t = −k_t ξ − η_t v_t, capped at μ|F_n| with ξ reset to −(F_t + η_t v_t)/k_t.
@@ -116,7 +112,7 @@ struct Spring {
 fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star: f32, m_star: f32, old_spring: vec4<f32>, n: vec3<f32>, vt: vec3<f32>) -> Spring {
     var k_t = t1.z;
     var eta_t = t2.w;
-    if t1.x == 4.0 {
+    if u32(t1.x) == TANGENTIAL_HISTORY_LINEAR {
         if t1.w > 0.0 {
             eta_t = t2.w + 2.0 * t1.w * sqrt(m_star * k_t);
         }
@@ -124,7 +120,7 @@ fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star
         k_t = 8.0 * t1.z * sqrt(r_star * overlap);
         eta_t = -2.0 * sqrt(5.0 / 6.0) * t1.w * sqrt(k_t * m_star);
     }
-    let dt = params.inv_cell.w;
+    let dt = params.dt;
     let old = old_spring.xyz;
     let old_len2 = dot(old, old);
     var xi = old - n * dot(n, old);
@@ -166,7 +162,7 @@ fn rolling_torque(mu_r: f32, r_star: f32, normal: f32, w_rel: vec3<f32>, inv_ine
         return vec3<f32>(0.0);
     }
     var torque = mu_r * r_star * normal;
-    let dt = params.inv_cell.w;
+    let dt = params.dt;
     if inv_inertia_sum > 0.0 && dt > 0.0 {
         torque = min(torque, w / (inv_inertia_sum * dt));
     }

@@ -7,15 +7,7 @@
 //              depends on atomic timing: the same on every run
 //
 // Removed particles go to the extra bucket `cells` at the end.
-
-@group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> pos: array<vec4<f32>>;
-@group(0) @binding(2) var<storage, read> props: array<vec4<u32>>;
-@group(0) @binding(3) var<storage, read_write> cell: array<u32>;
-@group(0) @binding(4) var<storage, read_write> count: array<atomic<u32>>;
-@group(0) @binding(5) var<storage, read> cell_start: array<u32>;
-@group(0) @binding(6) var<storage, read_write> cursor: array<atomic<u32>>;
-@group(0) @binding(7) var<storage, read_write> cell_list: array<u32>;
+// Bindings: tumble-shaders' bindings.rs (BROAD).
 
 fn axis_cell(x: f32, inv_width: f32, cells: u32) -> u32 {
     let c = i32(floor(x * inv_width));
@@ -25,12 +17,12 @@ fn axis_cell(x: f32, inv_width: f32, cells: u32) -> u32 {
 @compute @workgroup_size(WORKGROUP)
 fn bin(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = flat_index(gid);
-    if i >= params.counts.x {
+    if i >= params.particles {
         return;
     }
-    var c = params.counts.y;
+    var c = params.cells;
     if (props[i].w & FLAG_DEAD) == 0u {
-        let x = pos[i].xyz + 0.5 * params.extent.xyz;
+        let x = pos[i].xyz + 0.5 * params.extent;
         let cx = axis_cell(x.x, params.inv_cell.x, params.dims.x);
         let cy = axis_cell(x.y, params.inv_cell.y, params.dims.y);
         let cz = axis_cell(x.z, params.inv_cell.z, params.dims.z);
@@ -43,7 +35,7 @@ fn bin(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WORKGROUP)
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = flat_index(gid);
-    if i >= params.counts.x {
+    if i >= params.particles {
         return;
     }
     let c = cell[i];
@@ -54,7 +46,7 @@ fn scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(WORKGROUP)
 fn order_cells(@builtin(global_invocation_id) gid: vec3<u32>) {
     let c = flat_index(gid);
-    if c > params.counts.y {
+    if c > params.cells {
         return;
     }
     let start = cell_start[c];

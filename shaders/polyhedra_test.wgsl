@@ -1,0 +1,49 @@
+// Test harness of polyhedra.wgsl (shapes::evaluate): one invocation per query,
+// the answer is tumble-geom's PolyContact (normal, depth, point) in f32.
+
+struct Query {
+    // (kind: QUERY_POLYHEDRA, QUERY_SPHERE or QUERY_WALL; shape a; shape b; sphere radius)
+    head: vec4<f32>,
+    pos_a: vec4<f32>,
+    quat_a: vec4<f32>,
+    pos_b: vec4<f32>,
+    quat_b: vec4<f32>,
+    wall: array<vec4<f32>, WALL_ENTRY_WORDS>,
+}
+
+// Bindings: tumble-shaders' bindings.rs (POLYHEDRA_TEST).
+
+fn shape_word(i: u32) -> vec4<f32> {
+    return shapes[i];
+}
+
+@compute @workgroup_size(WORKGROUP)
+fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= count.x {
+        return;
+    }
+    let c = queries[i];
+    let kind = u32(c.head.x);
+    var hit: PolyHit;
+    var origin = vec3<f32>(0.0);
+    switch kind {
+        case QUERY_POLYHEDRA: {
+            hit = polyhedron_polyhedron(u32(c.head.y), c.quat_a, u32(c.head.z), c.quat_b, c.pos_a.xyz - c.pos_b.xyz);
+            origin = c.pos_b.xyz;
+        }
+        case QUERY_SPHERE: {
+            hit = sphere_polyhedron(c.head.w, u32(c.head.z), c.quat_b, c.pos_a.xyz - c.pos_b.xyz);
+            origin = c.pos_b.xyz;
+        }
+        case QUERY_WALL: {
+            hit = polyhedron_wall(u32(c.head.y), c.quat_a, c.pos_a.xyz, c.wall);
+        }
+        default: {
+            hit = no_poly_hit();
+        }
+    }
+    answers[3u * i] = vec4<f32>(hit.normal, select(0.0, 1.0, hit.hit));
+    answers[3u * i + 1u] = vec4<f32>(origin + hit.point, hit.depth);
+    answers[3u * i + 2u] = vec4<f32>(hit.spread, 0.0, 0.0, 0.0);
+}

@@ -1,0 +1,110 @@
+//! The constants the host and the WGSL kernels share: codes stored in the tables or passed as
+//! override values, flag bits, table entry sizes, dispatch sizes and device capacities.
+//!
+//! Each is defined here once; [`crate::prelude`] declares every one of them in WGSL at the top of
+//! every module, so the kernels use the names and never the numbers.
+
+/// Declares the shared constants and [`SHARED`], the list the prelude is generated from.
+macro_rules! shared {
+    ($($(#[$doc:meta])* $name:ident = $value:expr;)*) => {
+        $($(#[$doc])* pub const $name: u32 = $value;)*
+        /// Every constant shared with WGSL, by name (the prelude declares each as `const NAME: u32`).
+        pub const SHARED: &[(&str, u32)] = &[$((stringify!($name), $name)),*];
+    };
+}
+
+shared! {
+    // ---- Particles (props.w) ----
+    /// A particle that does not move (props.w bit).
+    FLAG_FIXED = 1;
+    /// A particle that left the domain (props.w bit; it sorts into the removed bucket).
+    FLAG_DEAD = 2;
+    /// props.w holds the shape index from this bit on (polyhedra scenes).
+    SHAPE_SHIFT = 16;
+    /// The shape index of a sphere (tumble-scene's `SPHERE`).
+    SPHERE_SHAPE = 0xffff;
+
+    // ---- Dispatch ----
+    /// Threads per workgroup of the particle kernels.
+    WORKGROUP = 64;
+    /// Threads per workgroup of the scan.
+    SCAN_THREADS = 256;
+    /// Values each scan thread sums.
+    SCAN_PER_THREAD = 4;
+    /// Values per workgroup of the scan.
+    SCAN_BLOCK = SCAN_THREADS * SCAN_PER_THREAD;
+
+    // ---- Integrators (the INTEGRATOR override) ----
+    INTEGRATOR_EULER = 0;
+    INTEGRATOR_SYMPLECTIC_EULER = 1;
+    INTEGRATOR_VERLET = 2;
+    INTEGRATOR_IMPLICIT_DRAG = 3;
+    INTEGRATOR_IMPLICIT_DRAG_SYMPLECTIC = 4;
+
+    // ---- Drag laws (the DRAG override) ----
+    DRAG_NONE = 0;
+    DRAG_STOKES = 1;
+    DRAG_QUADRATIC = 2;
+
+    // ---- The pair table ----
+    /// vec4 entries per material pair.
+    PAIR_ENTRY_WORDS = 3;
+    /// Normal laws (t0.x).
+    NORMAL_LINEAR = 0;
+    NORMAL_HERTZ = 1;
+    /// Tangential laws (t1.x).
+    TANGENTIAL_NONE = 0;
+    TANGENTIAL_VISCOUS_COULOMB = 1;
+    TANGENTIAL_STICK_LIMITED = 2;
+    TANGENTIAL_DYNAMIC_ONLY = 3;
+    TANGENTIAL_HISTORY_LINEAR = 4;
+    TANGENTIAL_HISTORY_MINDLIN = 5;
+
+    // ---- The wall table ----
+    /// vec4 entries per wall.
+    WALL_ENTRY_WORDS = 6;
+    /// Wall kinds (w0.x).
+    WALL_PLANE = 0;
+    WALL_QUAD = 1;
+    WALL_CYLINDER = 2;
+    WALL_PRISM = 3;
+    /// Extras of every wall when some wall moves: (ω, group), (velocity at the domain's centre, 0).
+    WALL_MOTION_WORDS = 2;
+    /// A prism's first extras: (enclosing sphere), (drum axis point, inner radius), (drum axis, 0).
+    PRISM_HEAD_WORDS = 3;
+    /// Faces of a lifter bar, and vec4 per face (4 corners, the outward normal).
+    PRISM_FACES = 6;
+    PRISM_FACE_WORDS = 5;
+    /// Where a prism's hull pose starts in its extras (polyhedra): after the head and the faces.
+    PRISM_HULL = PRISM_HEAD_WORDS + PRISM_FACES * PRISM_FACE_WORDS;
+    /// The hull pose: (centre, shape index), orientation.
+    PRISM_HULL_WORDS = 2;
+
+    // ---- Contact history ----
+    /// Set in a history key that names a wall (tumble-cpu's `WALL_KEY`).
+    WALL_KEY = 1 << 31;
+    /// Count entries per particle after the slots of one generation.
+    HISTORY_COUNT_ENTRIES = 1;
+    /// Stored spring energies per 16-byte entry.
+    HISTORY_ENERGIES_PER_ENTRY = 4;
+
+    // ---- The shape table (polyhedra) ----
+    /// Header words per shape.
+    SHAPE_HEADER_WORDS = 3;
+    /// Face-loop vertex indices per word.
+    LOOP_INDICES_PER_WORD = 4;
+    /// Most vertices in one face loop on the device.
+    MAX_FACE_VERTICES = 16;
+    /// Most vertices of one shape on the device (a manifold against a wall holds every vertex).
+    MAX_VERTICES = 32;
+    /// Points a manifold holds before its reduction to four: a clipped face, or every vertex.
+    MANIFOLD_POINTS = 32;
+
+    // ---- Narrow-phase queries (the polyhedra test harness) ----
+    QUERY_POLYHEDRA = 0;
+    QUERY_SPHERE = 1;
+    QUERY_WALL = 2;
+}
+
+// A face clipped by a face has at most twice its vertices; a wall manifold holds every vertex.
+const _: () = assert!(2 * MAX_FACE_VERTICES <= MANIFOLD_POINTS && MAX_VERTICES <= MANIFOLD_POINTS);
