@@ -58,9 +58,8 @@ pub fn run(trials: Vec<Trial>) -> ! {
             if gpu_required() {
                 println!("{gpu_trials} GPU tests FAIL: {REQUIRE_GPU}=1 and {why}");
             } else {
-                println!(
-                    "{gpu_trials} GPU tests ignored: {why}. Install mesa-vulkan-drivers (lavapipe, a software Vulkan adapter) to run them, or set {REQUIRE_GPU}=1 to make a missing adapter fail"
-                );
+                // The adapter error already names the package to install (mesa-vulkan-drivers).
+                println!("{gpu_trials} GPU tests ignored: {why}; {REQUIRE_GPU}=1 makes a missing adapter fail");
             }
         }
     }
