@@ -1,23 +1,12 @@
 //! Tangential springs with history and rolling resistance against closed forms,
-//! and where the history-free models fail (docs/physics.md, "Tangential force").
+//! and where the history-free models fail (docs/physics.md, "Tangential force"). Case 8 with a
+//! spring, and short runs of these on either backend, are in the suite (tumble-testkit).
 
 mod common;
 
 use glam::DVec3;
 use tumble::verify::*;
 use tumble::{RunError, RunOptions, Simulation, compile, parse_scene, run_compiled};
-use tumble_integrate::Integrator;
-
-const HISTORY: &str = "{ model = \"history\", friction = 0.5 }";
-
-#[test]
-fn case8_slide_to_roll_with_history_friction() {
-    let r = slide_to_roll_with(tumble_scene::schema::BackendName::Cpu, Integrator::Verlet, 50.0, Some(HISTORY));
-    assert!((r.final_speed_ratio - 5.0 / 7.0).abs() < 2e-3, "final v/v0 = {} (theory 5/7)", r.final_speed_ratio);
-    assert!(r.sliding_error < 2e-3, "sliding deceleration off μg by {}", r.sliding_error);
-    let (measured, theory) = r.roll_time;
-    assert!((measured - theory).abs() < 0.02 * theory, "rolling starts at {measured} s, theory {theory} s");
-}
 
 #[test]
 fn oblique_impacts_follow_coulomb_theory_while_sliding() {

@@ -1,8 +1,10 @@
 //! Moving walls: belts, drums, lifters and pistons (issue 6). The wall's velocity at the
-//! contact point enters the relative velocity; its power is Σ F_on_particle · v_wall.
+//! contact point enters the relative velocity; its power is Σ F_on_particle · v_wall. Flow
+//! planes and the drive power on either backend are in the suite (tumble-testkit).
 
 use glam::DVec3;
-use tumble::{RunOptions, Simulation, compile, parse_scene, run_compiled};
+use tumble::{Simulation, compile, parse_scene};
+use tumble_testkit::scenes::{replaced, test_scene};
 
 fn sim(text: &str, threads: usize) -> Simulation {
     Simulation::new(compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}")), threads)
@@ -15,34 +17,7 @@ density = 7800.0
 "#;
 
 fn belt(rotation: &str) -> String {
-    format!(
-        r#"
-name = "belt"
-[run]
-duration = 0.5
-integrator = "verlet"
-rotation = "{rotation}"
-[domain]
-min = [-2.0, -1.0, -1.0]
-max = [2.0, 1.0, 1.0]
-[gravity]
-acceleration = [0.0, 0.0, -9.81]
-{STEEL}
-[contact]
-normal = {{ model = "linear", stiffness = 1.0e5 }}
-restitution = 0.5
-tangential = {{ model = "history", friction = 0.5 }}
-[[particles]]
-material = "steel"
-shape = {{ sphere = {{ diameter = 0.1 }} }}
-positions = [[0.0, 0.0, 0.05]]
-[[walls]]
-name = "belt"
-material = "steel"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
-motion = {{ translate = {{ velocity = [0.5, 0.0, 0.0] }} }}
-"#
-    )
+    replaced(&test_scene("belt"), "rotation = \"on\"", &format!("rotation = \"{rotation}\""))
 }
 
 #[test]
@@ -101,37 +76,20 @@ motion = {{ translate = {{ velocity = [0.0, 0.0, 1.0] }} }}
     assert!((o.wall_work - (o.kinetic_energy + o.dissipated_energy)).abs() < 1e-2 * o.wall_work, "{o:?}");
 }
 
-fn drum(lifters: &str, rpm: f64, rolling: f64, extra: &str) -> String {
-    format!(
-        r#"
-name = "drum"
-[run]
-duration = 3.0
-integrator = "verlet"
-[domain]
-min = [-0.35, -0.35, -0.1]
-max = [0.35, 0.35, 0.3]
-[gravity]
-acceleration = [0.0, -9.81, 0.0]
-{STEEL}
-[contact]
-normal = {{ model = "linear", stiffness = 1.0e5 }}
-restitution = 0.5
-tangential = {{ model = "history", friction = 0.5 }}
-rolling_friction = {rolling}
-{extra}
-[[walls]]
-name = "shell"
-material = "steel"
-cylinder = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.3, length = 0.2, inside = true }}
-motion = {{ rotate = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = {rpm} }} }}
-{lifters}
-"#
-    )
+/// The one-ball drum of `scenes/test/drum_one_ball.toml` at `rpm` with rolling resistance
+/// `rolling`, its ball replaced by `balls` when given, and `lifters` (more walls) added.
+fn drum(lifters: &str, rpm: f64, rolling: f64, balls: Option<&str>) -> String {
+    let mut text = test_scene("drum_one_ball");
+    text = replaced(&text, "rpm = 10.0", &format!("rpm = {rpm}"));
+    text = replaced(&text, "rolling_friction = 0.1", &format!("rolling_friction = {rolling}"));
+    if let Some(balls) = balls {
+        text = replaced(&text, ONE_BALL, balls);
+    }
+    format!("{text}\n{lifters}\n")
 }
 
-const ONE_BALL: &str = r#"
-[[particles]]
+/// The ball of the one-ball drum.
+const ONE_BALL: &str = r#"[[particles]]
 material = "steel"
 shape = { sphere = { diameter = 0.04 } }
 positions = [[0.0, -0.28, 0.1]]
@@ -139,7 +97,7 @@ positions = [[0.0, -0.28, 0.1]]
 
 #[test]
 fn a_sphere_in_a_turning_drum_rides_up_and_its_power_is_torque_times_omega() {
-    let mut s = sim(&drum("", 10.0, 0.1, ONE_BALL), 1);
+    let mut s = sim(&drum("", 10.0, 0.1, None), 1);
     let omega = 10.0 * std::f64::consts::TAU / 60.0;
     let g = DVec3::new(0.0, -9.81, 0.0);
     let mut checked = 0;
@@ -177,7 +135,7 @@ name = "lifters"
 material = "steel"
 lifters = {{ count = 4, height = 0.05, width = 0.03, on = "shell", phase = {phase} }}"#
     );
-    let mut s = sim(&drum(&lifters, 10.0, 0.0, ONE_BALL), 1);
+    let mut s = sim(&drum(&lifters, 10.0, 0.0, None), 1);
     let mut highest: f64 = -180.0;
     let mut lifter_work = 0.0;
     for _ in 0..60 {
@@ -215,7 +173,7 @@ lattice = { min = [-0.15, -0.15, 0.0], max = [0.15, 0.15, 0.2], spacing = 0.05 }
     // Ball–ball friction is viscous-Coulomb here: with the history model, a sheared charge loses
     // ~2 % of the work unbooked (springs that end while loaded; a static drum shows it too), which
     // would hide the wall bookkeeping this test checks. Wall contacts keep their history springs.
-    let text = drum(lifters, 30.0, 0.0, balls).replace("duration = 3.0", "duration = 0.6").replace(
+    let text = drum(lifters, 30.0, 0.0, Some(balls)).replace("duration = 3.0", "duration = 0.6").replace(
         "tangential = { model = \"history\", friction = 0.5 }",
         "tangential = { model = \"viscous-coulomb\", friction = 0.5, viscous = 5.0 }",
     );
@@ -258,76 +216,6 @@ fn the_moving_geometry_step_limit_is_applied_and_reported() {
     let explicit = fast.replace("duration = 0.5", "duration = 0.5\ndt = 1.0e-4");
     let err = compile(&parse_scene(&explicit).unwrap()).unwrap_err().to_string();
     assert!(err.contains("run.dt") && err.contains("advance more than"), "{err}");
-}
-
-#[test]
-fn flow_planes_count_the_mass_through_and_moving_walls_write_a_series() {
-    flow_planes_and_wall_series(tumble_scene::schema::BackendName::Cpu, None);
-}
-
-#[test]
-fn flow_planes_and_moving_walls_run_on_the_gpu_backend() {
-    match tumble_gpu::gpu() {
-        Ok(_) => flow_planes_and_wall_series(tumble_scene::schema::BackendName::Gpu, Some(2.0e-4)),
-        Err(e) => println!("skipped flow_planes_and_moving_walls_run_on_the_gpu_backend: no GPU adapter ({e})"),
-    }
-}
-
-/// `dt`: a longer step than the plan's t_col/50 (still t_col/6) keeps the software GPU adapter quick.
-fn flow_planes_and_wall_series(backend: tumble_scene::schema::BackendName, dt: Option<f64>) {
-    let text = format!(
-        r#"
-name = "flow"
-[run]
-duration = 0.4
-integrator = "verlet"
-output_interval = 0.01
-snapshot_interval = 0.1
-[domain]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-[gravity]
-acceleration = [0.0, 0.0, -9.81]
-{STEEL}
-[contact]
-normal = {{ model = "linear", stiffness = 1.0e5 }}
-restitution = 0.5
-[[particles]]
-material = "steel"
-shape = {{ sphere = {{ diameter = 0.02 }} }}
-positions = [[0.0, 0.0, 0.1], [0.1, 0.0, 0.1], [0.2, 0.0, 0.1], [0.3, 0.0, 0.1], [0.4, 0.0, 0.1]]
-[[walls]]
-name = "paddle"
-material = "steel"
-quad = {{ corners = [[-0.9, -0.9, 0.9], [-0.8, -0.9, 0.9], [-0.8, -0.8, 0.9], [-0.9, -0.8, 0.9]] }}
-motion = {{ rotate = {{ point = [0.0, 0.0, 0.9], axis = [0.0, 0.0, 1.0], rpm = 6.0 }} }}
-[output]
-flow_planes = [{{ name = "outlet", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, -1.0] }}]
-"#
-    );
-    let text = match dt {
-        Some(dt) => text.replace("duration = 0.4", &format!("duration = 0.4\ndt = {dt:e}")),
-        None => text,
-    };
-    let out = std::env::temp_dir().join(format!("tumble-flow-{backend:?}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
-    let compiled = compile(&parse_scene(&text).unwrap()).unwrap();
-    run_compiled(compiled, &RunOptions { out_dir: Some(out.clone()), threads: 1, backend: Some(backend), ..Default::default() }).unwrap();
-    let csv = std::fs::read_to_string(out.join("observables.csv")).unwrap();
-    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name} in {header:?}"));
-    let last: Vec<f64> = csv.lines().last().unwrap().split(',').map(|x| x.parse().unwrap()).collect();
-    let mass = 5.0 * 7800.0 * std::f64::consts::PI / 6.0 * 0.02f64.powi(3);
-    // The GPU reads its f32 masses back.
-    assert!((last[col("mass_outlet")] - mass).abs() < 1e-6 * mass, "{} vs {mass}", last[col("mass_outlet")]);
-    // A wall that never touches anything does no work.
-    assert_eq!(last[col("power_paddle")], 0.0);
-    assert!(out.join("walls.pvd").exists() && out.join("snapshots/walls_000004.vtp").exists());
-    assert!(!out.join("walls.vtp").exists());
-    let a = std::fs::read_to_string(out.join("snapshots/walls_000000.vtp")).unwrap();
-    let b = std::fs::read_to_string(out.join("snapshots/walls_000004.vtp")).unwrap();
-    assert_ne!(a, b, "the paddle turned");
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]

@@ -3,37 +3,10 @@
 
 use glam::{DQuat, DVec3};
 use tumble::{Simulation, compile, parse_scene};
+use tumble_testkit::scenes::spinning;
 
 fn sim(text: &str) -> Simulation {
     Simulation::new(compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}")), 1)
-}
-
-/// A free body (no gravity, no walls) of the given shape, spinning at `omega`.
-fn spinning(shape: &str, omega: [f64; 3], dt: f64, duration: f64) -> String {
-    format!(
-        r#"
-name = "spin"
-[run]
-duration = {duration}
-dt = {dt}
-integrator = "verlet"
-[domain]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-[[materials]]
-name = "steel"
-density = 7800.0
-[contact]
-normal = {{ model = "linear", stiffness = 1.0e5 }}
-restitution = 1.0
-[[particles]]
-material = "steel"
-shape = {shape}
-positions = [[0.0, 0.0, 0.0]]
-angular_velocity = [{}, {}, {}]
-"#,
-        omega[0], omega[1], omega[2]
-    )
 }
 
 #[test]

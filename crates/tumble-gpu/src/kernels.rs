@@ -5,9 +5,38 @@ use crate::buffers::Buffers;
 use crate::context::{AdapterDescription, Gpu, GpuError};
 use crate::shaders::{ShaderSource, Switches, sources_for};
 use crate::upload::{MAX_GROUPS_X, Params, SCAN_THREADS, ScanParams, WORKGROUP};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
 use tumble_shaders::{Access, Binding, Feature};
 use wgpu::util::DeviceExt;
+
+/// What this process has compiled: distinct shader variants, pipeline builds and their time.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShaderCompileStats {
+    /// Distinct (module, override constants) pairs compiled.
+    pub variants: usize,
+    /// Compute pipelines built (one per entry point, repeats included).
+    pub pipelines: u64,
+    /// Time spent creating shader modules and pipelines.
+    pub time: Duration,
+}
+
+static COMPILED: Mutex<(Option<HashSet<String>>, u64, Duration)> = Mutex::new((None, 0, Duration::ZERO));
+
+/// Books one module's pipelines under its variant key.
+pub(crate) fn record_compile(variant: String, pipelines: u64, time: Duration) {
+    let mut c = COMPILED.lock().unwrap_or_else(|e| e.into_inner());
+    c.0.get_or_insert_with(HashSet::new).insert(variant);
+    c.1 += pipelines;
+    c.2 += time;
+}
+
+/// The shader variants this process has compiled so far and the time it took (tests report it).
+pub fn shader_compile_stats() -> ShaderCompileStats {
+    let c = COMPILED.lock().unwrap_or_else(|e| e.into_inner());
+    ShaderCompileStats { variants: c.0.as_ref().map_or(0, HashSet::len), pipelines: c.1, time: c.2 }
+}
 
 /// The bind group layout of a module: its bindings that `switches` needs, each at its number.
 fn layout(gpu: &Gpu, shader: &ShaderSource, switches: &Switches) -> wgpu::BindGroupLayout {
@@ -182,6 +211,7 @@ fn create_pipelines(
     switches: &Switches,
     out: &mut HashMap<&'static str, wgpu::ComputePipeline>,
 ) {
+    let start = Instant::now();
     let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(shader.name),
         source: wgpu::ShaderSource::Wgsl(shader.source.as_str().into()),
@@ -203,6 +233,7 @@ fn create_pipelines(
         });
         out.insert(entry, pipeline);
     }
+    record_compile(format!("{} {constants:?}", shader.name), shader.entry_points.len() as u64, start.elapsed());
 }
 
 #[cfg(test)]

@@ -39,6 +39,7 @@ mod walls;
 
 pub use buffers::{BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, history_bytes_per_particle, memory_bytes, wall_bytes_per_particle};
 pub use context::{AdapterDescription, GpuError, available, gpu};
+pub use kernels::{ShaderCompileStats, shader_compile_stats};
 pub use upload::Grid;
 
 use buffers::Buffers;

@@ -214,6 +214,7 @@ pub fn evaluate(shapes: &[Polyhedron], queries: &[ContactQuery]) -> Result<Vec<C
     }
     let device = &gpu.device;
     let source = crate::shaders::polyhedra_test_source();
+    let start = std::time::Instant::now();
     let module =
         device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("polyhedra test"), source: wgpu::ShaderSource::Wgsl(source.into()) });
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -224,6 +225,7 @@ pub fn evaluate(shapes: &[Polyhedron], queries: &[ContactQuery]) -> Result<Vec<C
         compilation_options: Default::default(),
         cache: None,
     });
+    crate::kernels::record_compile("polyhedra test".into(), 1, start.elapsed());
     let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
     let shapes_buf =
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("shapes"), contents: bytemuck::cast_slice(&table), usage });

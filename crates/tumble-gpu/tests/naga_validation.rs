@@ -81,7 +81,7 @@ fn every_shared_constant_has_its_host_value_in_every_module() {
         }
     }
     // Twins the host keeps in other crates.
-    assert_eq!(tumble_shaders::WALL_KEY, tumble_cpu::WALL_KEY);
+    assert_eq!(tumble_shaders::WALL_KEY, tumble_state::WALL_KEY);
     assert_eq!(tumble_shaders::SPHERE_SHAPE, tumble_scene::SPHERE as u32);
 }
 

@@ -1,0 +1,41 @@
+//! Behaviours both backends must show, each written once as a function of the backend and
+//! checked against a closed form with [`Tolerance`](crate::Tolerance)'s per-precision
+//! tolerances; [`testgen!`](crate::testgen) makes one trial of each per backend.
+
+mod history;
+mod invariants;
+mod walls;
+
+use crate::harness::{cpu_trial, gpu_trial};
+use libtest_mimic::Trial;
+use tumble_scene::schema::BackendName;
+
+/// Lists behaviours once: their names come from their paths.
+macro_rules! behaviours {
+    ($($module:ident :: $name:ident),* $(,)?) => {
+        /// Every behaviour of the suite: (name, test on a backend).
+        pub const BEHAVIOURS: &[(&str, fn(BackendName))] = &[$((concat!(stringify!($module), "::", stringify!($name)), $module::$name)),*];
+    };
+}
+
+behaviours![
+    history::slide_to_roll_at_five_sevenths,
+    history::oblique_impacts_follow_coulomb_theory_while_sliding,
+    history::a_spring_holds_a_sphere_on_an_incline,
+    history::rolls_at_five_sevenths_g_sin_theta,
+    history::rolling_resistance_holds_below_tan_theta_equal_mu_r_and_rolls_above,
+    invariants::pair_forces_are_exactly_equal_and_opposite,
+    walls::a_drum_drive_power_is_torque_times_omega,
+    walls::flow_planes_count_the_mass_through_and_moving_walls_write_a_series,
+];
+
+/// One trial per behaviour on `backend`, named `backend::module::behaviour`.
+pub fn trials(backend: BackendName) -> Vec<Trial> {
+    BEHAVIOURS
+        .iter()
+        .map(|&(name, test)| match backend {
+            BackendName::Cpu => cpu_trial(format!("cpu::{name}"), move || test(backend)),
+            BackendName::Gpu => gpu_trial(format!("gpu::{name}"), move || test(backend)),
+        })
+        .collect()
+}

@@ -1,0 +1,68 @@
+//! Moving walls: a drum's drive power against the torque of its forces, flow planes and the
+//! moving walls' snapshot series.
+
+use crate::Observable::*;
+use crate::Tolerance;
+use crate::scenes::{compiled, replaced, test_scene};
+use glam::DVec3;
+use tumble::{RunOptions, Simulation, compile, parse_scene, run_compiled};
+use tumble_scene::schema::BackendName;
+
+/// One ball in a turning drum with rolling resistance: the shell's power is ω times the torque
+/// about the axis of the wall forces on the ball, (x − a) × F + I α.
+pub fn a_drum_drive_power_is_torque_times_omega(backend: BackendName) {
+    let s = compiled(&replaced(&test_scene("drum_one_ball"), "duration = 3.0", "duration = 1.0"));
+    let steps = s.plan.steps;
+    let mut sim = Simulation::on(backend, s, 1).unwrap();
+    let omega = 10.0 * std::f64::consts::TAU / 60.0;
+    let g = DVec3::new(0.0, -9.81, 0.0);
+    let (mut checked, mut worst) = (0, 0.0f64);
+    for _ in 0..20 {
+        sim.advance(steps / 20);
+        let st = sim.state();
+        let f = (st.acc[0] - g) * st.mass[0];
+        let torque = (st.pos[0].cross(f) + st.alpha[0] / st.inv_inertia[0]).z;
+        let power = sim.wall_power()[0];
+        // A sign error or a missing ω is O(1) of the power.
+        let tolerance = Tolerance::on(WallPower, backend);
+        assert!((power - torque * omega).abs() <= tolerance * (power.abs() + 5e-4), "power {power} vs torque × ω {}", torque * omega);
+        worst = worst.max((power - torque * omega).abs() / (power.abs() + 5e-4));
+        checked += (power.abs() > 1e-4) as usize;
+    }
+    println!("{backend:?}: power against torque × ω within {worst:.1e}");
+    assert!(checked > 15, "the ball should stay in contact and be driven");
+    let p = sim.drum_profiles()[0];
+    assert!(p.com_angle > 0.0 && p.torque_arm_power > 0.0, "{p:?}");
+}
+
+/// A flow plane counts the mass of the spheres falling through it; a paddle that touches
+/// nothing does no work and is written as a series of snapshots.
+pub fn flow_planes_count_the_mass_through_and_moving_walls_write_a_series(backend: BackendName) {
+    let text = test_scene("flow_paddle");
+    // A longer step than the plan's t_col/50 (still t_col/6) keeps the software GPU adapter quick.
+    let text = match backend {
+        BackendName::Gpu => replaced(&text, "duration = 0.4", "duration = 0.4\ndt = 2e-4"),
+        BackendName::Cpu => text,
+    };
+    let out = std::env::temp_dir().join(format!("tumble-flow-{backend:?}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let compiled = compile(&parse_scene(&text).unwrap()).unwrap();
+    run_compiled(compiled, &RunOptions { out_dir: Some(out.clone()), threads: 1, backend: Some(backend), ..Default::default() }).unwrap();
+    let csv = std::fs::read_to_string(out.join("observables.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name} in {header:?}"));
+    let last: Vec<f64> = csv.lines().last().unwrap().split(',').map(|x| x.parse().unwrap()).collect();
+    let mass = 5.0 * 7800.0 * std::f64::consts::PI / 6.0 * 0.02f64.powi(3);
+    let through = last[col("mass_outlet")];
+    println!("{backend:?}: mass through the outlet {through:e} of {mass:e} kg");
+    // One sphere missing would be 20 %.
+    assert!((through - mass).abs() < Tolerance::on(Mass, backend) * mass, "{through} vs {mass}");
+    // A wall that never touches anything does no work.
+    assert_eq!(last[col("power_paddle")], 0.0);
+    assert!(out.join("walls.pvd").exists() && out.join("snapshots/walls_000004.vtp").exists());
+    assert!(!out.join("walls.vtp").exists());
+    let a = std::fs::read_to_string(out.join("snapshots/walls_000000.vtp")).unwrap();
+    let b = std::fs::read_to_string(out.join("snapshots/walls_000004.vtp")).unwrap();
+    assert_ne!(a, b, "the paddle turned");
+    let _ = std::fs::remove_dir_all(&out);
+}
