@@ -1,3 +1,4 @@
+// tidy: long file: one type (the hull with its faces, edges, mass properties and named solids) and its tests.
 use glam::{DMat3, DQuat};
 use parry3d_f64::mass_properties::MassProperties;
 use parry3d_f64::math::SymmetricEigen3;
