@@ -6,7 +6,7 @@
 //! - a path starting with `../`, resolved from the citing file's folder;
 //! - a path `first/…` whose first folder exists in the citing file's folder, at the repository
 //!   root or in a workspace package, resolved from any of those places: a file cited from its
-//!   crate (`tests/gpu_vs_cpu.rs`) or from the root (`crates/…`, `docs/…`) passes wherever it is;
+//!   crate (`tests/backends/vs_cpu.rs`) or from the root (`crates/…`, `docs/…`) passes wherever it is;
 //! - any name ending in `.md` (`ARCHITECTURE.md`, `docs/<page>.md`), also looked up in `docs/`.
 //!
 //! These are not citations: paths under folders the repository does not have (outputs such as

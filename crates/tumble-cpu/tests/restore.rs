@@ -5,7 +5,8 @@ use tumble_cpu::CpuSimulation;
 use tumble_state::{Snapshot, SnapshotError};
 
 fn scene_file(name: &str) -> tumble_scene::CompiledScene {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).parent().and_then(|p| p.parent()).unwrap().to_path_buf();
+    let path = root.join("scenes").join(name);
     tumble_scene::compile(&tumble_scene::read_scene(&path).unwrap()).unwrap()
 }
 
