@@ -124,7 +124,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let plan_text = compiled.plan.describe(compiled.particles.len());
     let backend = options.backend.unwrap_or(compiled.plan.backend);
     // The backend is set up before any file is written: a missing adapter changes nothing.
-    let mut sim = Simulation::on(backend, compiled, options.threads).map_err(|e| RunError::Backend(format!("backend {}: {e}", format!("{backend:?}").to_lowercase())))?;
+    let mut sim = Simulation::on(backend, compiled, options.threads).map_err(|e| RunError::Backend(format!("backend {}: {e}", backend.name())))?;
     io(&out_dir, std::fs::create_dir_all(&out_dir))?;
     let fluid = sim.plan().fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, sim.plan()))?;
@@ -152,12 +152,12 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
             io(&out_dir, w.row(0.0, &a))?;
             last_agglomerates = Some(a);
         }
+        if let Some(w) = snapshots.as_mut() {
+            io(&out_dir, w.write(0, &sim, sim.time(), state))?;
+        }
         (frame.observables, monitor_range)
     };
     let monitor = Monitor::new(sim.plan(), &initial.0, initial.1);
-    if let Some(w) = snapshots.as_mut() {
-        io(&out_dir, w.write(0, &sim))?;
-    }
 
     let (total, every, snapshot_every) = (sim.plan().steps, sim.plan().output_every, sim.plan().snapshot_every);
     let mut progress = options.progress.then(|| Progress::new(options.terminal, total, sim.plan().duration));
@@ -188,8 +188,8 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         let output = step.is_multiple_of(every) || step == total;
         let snapshot = snapshot_every.is_some_and(|k| step.is_multiple_of(k));
         if output || snapshot {
-            // One frame (one read-back on a device) serves the monitor, the rows and the NaN guard of snapshots.
-            let frame = sim.frame(output && rows_need_state);
+            // One frame (one read-back on a device) serves the monitor, the rows and the snapshot.
+            let frame = sim.frame((output && rows_need_state) || snapshot);
             let o = frame.observables;
             if output {
                 if let Err(e) = monitor.check(step, &o) {
@@ -204,10 +204,9 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
                     last_agglomerates = Some(a);
                 }
             }
-            drop(frame);
             // Never write NaN: a non-finite state is stopped by the monitor at the next output.
-            if let (true, true, Some(w), Some(k)) = (snapshot, o.finite, snapshots.as_mut(), snapshot_every) {
-                io(&out_dir, w.write((step / k) as usize, &sim))?;
+            if let (true, true, Some(w), Some(k), Some(state)) = (snapshot, o.finite, snapshots.as_mut(), snapshot_every, frame.state.as_deref()) {
+                io(&out_dir, w.write((step / k) as usize, &sim, o.time, state))?;
             }
         }
         if let Some(p) = progress.as_mut() {

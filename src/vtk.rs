@@ -2,7 +2,7 @@
 //! `particles.pvd`, the time series that opens them all; `walls.vtp` when every wall is static,
 //! else `snapshots/walls_NNNNNN.vtp` at each snapshot and `walls.pvd`.
 
-use crate::Simulation;
+use crate::{Simulation, State};
 use std::fmt::Write as _;
 use std::io;
 use std::path::{Path, PathBuf};
@@ -36,22 +36,22 @@ impl SnapshotWriter {
         Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), entries: Vec::new(), moving_walls, wall_entries: Vec::new(), body_entries: Vec::new() })
     }
 
-    /// Writes snapshot `index` of the current state and rewrites particles.pvd.
-    pub fn write(&mut self, index: usize, sim: &Simulation) -> io::Result<()> {
+    /// Writes snapshot `index` of `state` (the run's particles at `time`) and rewrites the .pvd files.
+    pub fn write(&mut self, index: usize, sim: &Simulation, time: f64, state: &State) -> io::Result<()> {
         let name = format!("snapshots/particles_{index:06}.vtp");
-        std::fs::write(self.out_dir.join(&name), particles_vtp(sim))?;
-        self.entries.push((sim.time(), name));
+        std::fs::write(self.out_dir.join(&name), particles_vtp(state))?;
+        self.entries.push((time, name));
         std::fs::write(self.out_dir.join("particles.pvd"), pvd(&self.entries))?;
         if sim.plan().polyhedra {
             let name = format!("snapshots/bodies_{index:06}.vtp");
-            std::fs::write(self.out_dir.join(&name), bodies_vtp(sim))?;
-            self.body_entries.push((sim.time(), name));
+            std::fs::write(self.out_dir.join(&name), bodies_vtp(sim.plan(), state))?;
+            self.body_entries.push((time, name));
             std::fs::write(self.out_dir.join("bodies.pvd"), pvd(&self.body_entries))?;
         }
         if self.moving_walls {
             let name = format!("snapshots/walls_{index:06}.vtp");
             std::fs::write(self.out_dir.join(&name), walls_vtp(sim.plan(), &sim.walls()))?;
-            self.wall_entries.push((sim.time(), name));
+            self.wall_entries.push((time, name));
             std::fs::write(self.out_dir.join("walls.pvd"), pvd(&self.wall_entries))?;
         }
         Ok(())
@@ -60,9 +60,8 @@ impl SnapshotWriter {
 
 /// The polyhedral particles' surfaces as VTK XML PolyData polygons (sorted by id), with the
 /// particle's id, group and speed as cell data: what ParaView shows as the bodies themselves.
-pub fn bodies_vtp(sim: &Simulation) -> String {
-    let s = sim.state();
-    let shapes = &sim.plan().shapes;
+pub fn bodies_vtp(plan: &tumble_scene::Plan, s: &State) -> String {
+    let shapes = &plan.shapes;
     let mut order: Vec<usize> = (0..s.len()).filter(|&i| s.shape[i] != tumble_scene::SPHERE).collect();
     order.sort_by_key(|&i| s.id[i]);
     let (mut points, mut polys, mut cell_of) = (Vec::new(), Vec::new(), Vec::new());
@@ -119,8 +118,7 @@ fn polygons_vtp(points: &[glam::DVec3], polys: &[Vec<usize>], scalars: &str, cel
 }
 
 /// The particles as VTK XML PolyData (one vertex per particle, sorted by id).
-pub fn particles_vtp(sim: &Simulation) -> String {
-    let s = sim.state();
+pub fn particles_vtp(s: &State) -> String {
     let mut order: Vec<usize> = (0..s.len()).collect();
     order.sort_by_key(|&i| s.id[i]);
     let n = order.len();

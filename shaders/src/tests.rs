@@ -30,7 +30,10 @@ fn wgsl_files_declare_only_their_own_sentinels_and_no_bindings() {
     for (file, text) in FILES {
         for name in module_constants(text) {
             assert!(!shared.contains(name), "{file} declares {name}, which the prelude declares from layout.rs");
-            assert!(SHADER_LOCAL.contains(&name), "{file} declares const {name}: move it to layout.rs if the host shares it, else list it in SHADER_LOCAL");
+            assert!(
+                SHADER_LOCAL.contains(&name),
+                "{file} declares const {name}: move it to layout.rs if the host shares it, else list it in SHADER_LOCAL"
+            );
         }
         assert!(!text.contains("@binding("), "{file} declares a binding; bindings.rs generates them");
     }

@@ -399,4 +399,12 @@ mod tests {
         let listing: Vec<String> = dangling.iter().map(|d| d.to_string()).collect();
         assert!(dangling.is_empty(), "dangling references (cargo xtask tidy):\n{}", listing.join("\n"));
     }
+
+    /// The tree as committed: every file under `crates/` over the limit states why.
+    #[test]
+    fn every_long_file_under_crates_states_why() {
+        let tree = Tree::from_git(&repository_root()).expect("the tidy check lists the repository's files with git");
+        let listing: Vec<String> = tree.long_files().iter().map(|l| l.to_string()).collect();
+        assert!(listing.is_empty(), "long files (cargo xtask tidy):\n{}", listing.join("\n"));
+    }
 }

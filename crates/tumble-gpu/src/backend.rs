@@ -5,7 +5,7 @@ use glam::DVec3;
 use std::any::Any;
 use std::borrow::Cow;
 use tumble_scene::{Plan, Wall};
-use tumble_state::{AdapterInfo, Backend, BackendInfo, Fault, Frame, SNAPSHOT_VERSION, Snapshot, SnapshotError, State, WallState};
+use tumble_state::{AdapterInfo, Backend, BackendInfo, Fault, Frame, Snapshot, SnapshotError, State};
 
 impl Backend for GpuSimulation {
     fn plan(&self) -> &Plan {
@@ -18,7 +18,12 @@ impl Backend for GpuSimulation {
             name: "gpu",
             precision: "f32",
             device: a.to_string(),
-            adapter: Some(AdapterInfo { name: a.name.clone(), backend: a.backend.clone(), driver: a.driver.clone(), device_type: a.device_type.clone() }),
+            adapter: Some(AdapterInfo {
+                name: a.name.clone(),
+                backend: a.backend.clone(),
+                driver: a.driver.clone(),
+                device_type: a.device_type.clone(),
+            }),
         }
     }
 
@@ -74,35 +79,12 @@ impl Backend for GpuSimulation {
         crate::bytes_per_particle(self.plan())
     }
 
-    /// The read-back state in id order, widened to f64, with the walls' books. The device's
-    /// own order, springs and Kahan terms are not in it yet, so it cannot be restored.
     fn snapshot(&self) -> Snapshot {
-        let frame = self.frame(true);
-        Snapshot {
-            version: SNAPSHOT_VERSION,
-            scene: self.plan().name.clone(),
-            dt: self.plan().dt,
-            backend: "gpu".into(),
-            precision: "f32".into(),
-            step: self.steps(),
-            time: self.time(),
-            removed: self.removed() as u64,
-            state: frame.state.map(Cow::into_owned).unwrap_or_default(),
-            last_pass: Vec::new(),
-            walls: WallState { time: self.wall_time, built_at: self.wall_time, power: frame.wall_power, work: frame.wall_work, work_compensation: Vec::new() },
-            neighbours: None,
-            last_resort: self.last_resort,
-            fault: self.fault(),
-            rng: Vec::new(),
-        }
+        GpuSimulation::snapshot(self)
     }
 
-    fn restore(&mut self, _snapshot: &Snapshot) -> Result<(), SnapshotError> {
-        Err(SnapshotError::Unsupported(
-            "the GPU backend cannot continue from a snapshot yet (its device order, springs and Kahan terms are not captured); \
-             checkpoint and restart on the CPU backend"
-                .into(),
-        ))
+    fn restore(&mut self, snapshot: &Snapshot) -> Result<(), SnapshotError> {
+        GpuSimulation::restore(self, snapshot)
     }
 
     fn as_any(&self) -> &dyn Any {

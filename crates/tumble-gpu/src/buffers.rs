@@ -19,7 +19,12 @@ pub fn history_bytes_per_particle(slots: usize) -> u64 {
 
 /// 16-byte history entries per particle in one generation: slots, count, energies.
 pub(crate) fn history_entries_per_particle(slots: usize) -> u64 {
-    if slots == 0 { 0 } else { slots as u64 + 1 + (slots as u64).div_ceil(4) }
+    if slots == 0 {
+        0
+    } else {
+        let (slots, counts) = (slots as u64, tumble_shaders::HISTORY_COUNT_ENTRIES as u64);
+        slots + counts + slots.div_ceil(tumble_shaders::HISTORY_ENERGIES_PER_ENTRY as u64)
+    }
 }
 
 /// Device bytes per particle of a plan (history slots and orientations included).

@@ -17,7 +17,7 @@ impl GpuSimulation {
     fn history_counts(&self) -> Vec<[u32; 4]> {
         let n = self.slots as usize;
         let slots = history_slots(&self.plan);
-        let all: Vec<[u32; 4]> = self.read(self.latest_history(), n * (slots + 1));
+        let all: Vec<[u32; 4]> = self.read(self.latest_history(), n * (slots + tumble_shaders::HISTORY_COUNT_ENTRIES as usize));
         all[n * slots..].to_vec()
     }
 
@@ -62,13 +62,14 @@ impl GpuSimulation {
         let n = self.slots as usize;
         let slots = history_slots(&self.plan);
         let all: Vec<[u32; 4]> = self.read(self.latest_history(), n * history_entries_per_particle(slots) as usize);
-        // Energies follow the count entries, ceil(slots / 4) entries per id (history.wgsl).
-        let energies = &all[n * (slots + 1)..];
-        let rows = slots.div_ceil(4);
+        // Energies follow the count entries, ceil(slots / per entry) entries per id (history.wgsl).
+        let per_entry = tumble_shaders::HISTORY_ENERGIES_PER_ENTRY as usize;
+        let energies = &all[n * (slots + tumble_shaders::HISTORY_COUNT_ENTRIES as usize)..];
+        let rows = slots.div_ceil(per_entry);
         for id in 0..n {
             let used = (all[n * slots + id][0] as usize).min(slots);
             for (k, e) in all[id * slots..id * slots + used].iter().enumerate() {
-                let energy = energies[id * rows + k / 4][k % 4];
+                let energy = energies[id * rows + k / per_entry][k % per_entry];
                 out.insert((id as u32, e[3]), ([e[0], e[1], e[2]], energy));
             }
         }

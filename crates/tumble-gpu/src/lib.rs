@@ -31,6 +31,7 @@ mod kernels;
 mod prisms;
 pub mod profile;
 mod readback;
+mod restore;
 pub mod shaders;
 pub mod shapes;
 mod step;

@@ -104,6 +104,16 @@ pub enum BackendName {
     Gpu,
 }
 
+impl BackendName {
+    /// The name scene files and the command line give it.
+    pub fn name(self) -> &'static str {
+        match self {
+            BackendName::Cpu => "cpu",
+            BackendName::Gpu => "gpu",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum RotationMode {

@@ -25,5 +25,5 @@ pub use contact_sum::ContactSum;
 pub use fault::Fault;
 pub use history::{HistoryOverflow, HistorySlots, Spring, WALL_KEY};
 pub use observables::{DrumProfile, Observables, TrackRow, drum_profiles, tracks};
-pub use snapshot::{NeighbourState, SNAPSHOT_VERSION, Snapshot, SnapshotError, WallState};
+pub use snapshot::{DeviceImage, NeighbourState, SNAPSHOT_VERSION, Snapshot, SnapshotError, WallState};
 pub use state::State;

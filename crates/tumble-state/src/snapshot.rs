@@ -6,7 +6,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 /// The layout version written into every snapshot; a reader refuses any other.
-pub const SNAPSHOT_VERSION: u32 = 1;
+pub const SNAPSHOT_VERSION: u32 = 2;
 
 /// The first bytes of an encoded snapshot.
 const MAGIC: &[u8; 8] = b"TUMBLESN";
@@ -40,6 +40,33 @@ pub struct Snapshot {
     pub fault: Option<Fault>,
     /// Random-number state of models that draw at run time (none does yet: empty).
     pub rng: Vec<u64>,
+    /// A device backend's own memory, for a bit-identical continuation there (None on the CPU).
+    pub device: Option<DeviceImage>,
+}
+
+/// A device backend's memory between two steps: its buffers byte for byte (slot order,
+/// springs, Kahan pairs, cell tables) and its host-side counters. `state` beside it holds
+/// the same particles widened to f64 in id order, for readers that are not that backend.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DeviceImage {
+    /// The adapter that wrote it: another adapter continues the run, not bit-identically.
+    pub adapter: String,
+    /// (buffer name, its bytes), in the backend's fixed order.
+    pub buffers: Vec<(String, Vec<u8>)>,
+    /// (counter name, value): the backend's step bookkeeping that is not in a buffer.
+    pub counters: Vec<(String, u64)>,
+}
+
+impl DeviceImage {
+    /// The bytes of the buffer called `name`.
+    pub fn buffer(&self, name: &str) -> Option<&[u8]> {
+        self.buffers.iter().find(|(n, _)| n == name).map(|(_, b)| b.as_slice())
+    }
+
+    /// The counter called `name`.
+    pub fn counter(&self, name: &str) -> Option<u64> {
+        self.counters.iter().find(|(n, _)| n == name).map(|&(_, v)| v)
+    }
 }
 
 /// The world's moving geometry and its energy books.

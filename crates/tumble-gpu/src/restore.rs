@@ -1,0 +1,126 @@
+//! Snapshots of the device's own memory and continuing from them: every buffer the steps
+//! read or write, byte for byte, so a run restored on the same adapter goes on bit-identically.
+
+use crate::GpuSimulation;
+use std::borrow::Cow;
+use tumble_state::{DeviceImage, Fault, SNAPSHOT_VERSION, Snapshot, SnapshotError, WallState};
+
+impl GpuSimulation {
+    /// Every buffer whose contents carry over from one step to the next, named, in a fixed
+    /// order. The uniform `params` and the wall stage (rewritten before each batch) are not.
+    fn persistent_buffers(&self) -> Vec<(String, &wgpu::Buffer)> {
+        let b = &self.buffers;
+        let mut out: Vec<(String, &wgpu::Buffer)> = [
+            ("pos", &b.pos),
+            ("vel", &b.vel),
+            ("omega", &b.omega),
+            ("acc", &b.acc),
+            ("alpha", &b.alpha),
+            ("props", &b.props),
+            ("energy", &b.energy),
+            ("force", &b.force),
+            ("torque", &b.torque),
+            ("stats", &b.stats),
+            ("scratch", &b.scratch),
+            ("cell", &b.cell),
+            ("cell_list", &b.cell_list),
+            ("count", &b.count),
+            ("cursor", &b.cursor),
+            ("cell_start", &b.cell_start),
+            ("tables", &b.tables),
+            ("orient", &b.orient),
+            ("history a", &b.history[0]),
+            ("history b", &b.history[1]),
+            ("wall_power", &b.wall_power),
+            ("wall_work", &b.wall_work),
+        ]
+        .into_iter()
+        .map(|(name, buffer)| (name.to_string(), buffer))
+        .collect();
+        out.extend(b.scan_levels.iter().enumerate().map(|(k, buffer)| (format!("scan level {}", k + 1), buffer)));
+        out
+    }
+
+    /// The run between two steps: the device image (one read-back of every persistent buffer)
+    /// and, beside it, the particles in id order widened to f64 for other readers.
+    pub fn snapshot(&self) -> Snapshot {
+        let frame = self.frame(true);
+        let buffers = self.persistent_buffers();
+        let parts: Vec<(&wgpu::Buffer, u64)> = buffers.iter().map(|(_, b)| (*b, b.size())).collect();
+        let bytes = self.read_bytes(&parts);
+        let device = DeviceImage {
+            adapter: self.adapter().to_string(),
+            buffers: buffers.into_iter().map(|(name, _)| name).zip(bytes).collect(),
+            counters: vec![("slots".into(), self.slots as u64), ("generation".into(), self.generation)],
+        };
+        Snapshot {
+            version: SNAPSHOT_VERSION,
+            scene: self.plan().name.clone(),
+            dt: self.plan().dt,
+            backend: "gpu".into(),
+            precision: "f32".into(),
+            step: self.steps(),
+            time: self.time(),
+            removed: self.removed() as u64,
+            state: frame.state.map(Cow::into_owned).unwrap_or_default(),
+            last_pass: Vec::new(),
+            walls: WallState {
+                time: self.wall_time,
+                built_at: self.wall_time,
+                power: frame.wall_power,
+                work: frame.wall_work,
+                work_compensation: Vec::new(),
+            },
+            neighbours: None,
+            last_resort: self.last_resort,
+            fault: self.history_overflow().map(Fault::from),
+            rng: Vec::new(),
+            device: Some(device),
+        }
+    }
+
+    /// Continues from a snapshot this backend wrote for the same scene. On the adapter that
+    /// wrote it the next steps are bit-identical to the original run's; a refused snapshot
+    /// changes nothing.
+    pub fn restore(&mut self, snap: &Snapshot) -> Result<(), SnapshotError> {
+        snap.check_fits(self.plan())?;
+        if snap.backend != "gpu" {
+            return Err(SnapshotError::Mismatch(format!("written by the {} backend; restore it there", snap.backend)));
+        }
+        let image = snap.device.as_ref().ok_or_else(|| SnapshotError::Corrupt("a GPU snapshot without its device image".into()))?;
+        if image.counter("slots") != Some(self.slots as u64) {
+            return Err(SnapshotError::Mismatch(format!("written for {:?} particle slots, this run has {}", image.counter("slots"), self.slots)));
+        }
+        let generation = image.counter("generation").ok_or_else(|| SnapshotError::Corrupt("the device image has no history generation".into()))?;
+        let buffers = self.persistent_buffers();
+        // Check everything before writing anything.
+        let mut writes = Vec::with_capacity(buffers.len());
+        for (name, buffer) in &buffers {
+            let bytes = image.buffer(name).ok_or_else(|| SnapshotError::Mismatch(format!("the device image has no `{name}` buffer")))?;
+            if bytes.len() as u64 != buffer.size() {
+                return Err(SnapshotError::Mismatch(format!(
+                    "its `{name}` buffer holds {} bytes, this run's {} (another model or grid)",
+                    bytes.len(),
+                    buffer.size()
+                )));
+            }
+            writes.push((*buffer, bytes));
+        }
+        if image.buffers.len() != buffers.len() {
+            return Err(SnapshotError::Mismatch(format!("the device image has {} buffers, this run {}", image.buffers.len(), buffers.len())));
+        }
+        for (buffer, bytes) in writes {
+            self.gpu.queue.write_buffer(buffer, 0, bytes);
+        }
+        self.gpu.queue.submit([]);
+        self.wait();
+        self.step = snap.step;
+        self.generation = generation;
+        self.last_resort = snap.last_resort;
+        self.wall_time = snap.walls.time;
+        self.pending_walls.clear();
+        self.overflow.set(snap.fault.map(|Fault::HistoryOverflow(o)| o));
+        self.alive.set(None);
+        Ok(())
+    }
+}
