@@ -80,8 +80,8 @@ impl Backend for GpuSimulation {
         let frame = self.frame(true);
         Snapshot {
             version: SNAPSHOT_VERSION,
-            scene: self.plan().name.clone(),
-            dt: self.plan().dt,
+            scene: self.plan().run.name.clone(),
+            dt: self.plan().model.dt,
             backend: "gpu".into(),
             precision: "f32".into(),
             step: self.steps(),
