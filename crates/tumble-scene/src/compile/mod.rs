@@ -1,6 +1,6 @@
-//! `compile`: a scene validated section by section, each value computed once its inputs are
-//! known. Sections are checked in file order of their dependencies, so a scene with several
-//! mistakes is told about the first of them.
+//! `compile`: a scene validated section by section, each value computed once, when its inputs
+//! are known. The sections run in a fixed order (each after those it depends on), so a scene
+//! with several mistakes is always told about the same first one.
 
 mod fluid;
 mod materials;
