@@ -65,7 +65,7 @@ pub fn main_with(cli: Cli) -> i32 {
                 let grid = tumble_gpu::Grid::new(&c.plan, n);
                 println!(
                     "gpu memory   {:.1} MiB ({} bytes per particle, {} per cell, grid {:?})",
-                    (tumble_gpu::memory_bytes(n as u64, &grid, if c.plan.history { c.plan.history_slots } else { 0 })
+                    (tumble_gpu::memory_bytes(n as u64, &grid, if c.plan.model.history { c.plan.tuning.history_slots } else { 0 })
                         + n as u64 * tumble_gpu::wall_bytes_per_particle(&c.plan)) as f64
                         / (1 << 20) as f64,
                     tumble_gpu::bytes_per_particle(&c.plan),

@@ -22,7 +22,7 @@ impl FlowCounter {
 
     /// Starts counting from state `s` of a run of `plan` at `time`.
     pub fn from_state(plan: &Plan, s: &State, time: f64) -> Self {
-        let planes = plan.flow_planes.len();
+        let planes = plan.model.flow_planes.len();
         let mut c = FlowCounter { side: vec![Vec::new(); planes], mass: vec![0.0; planes], last_mass: vec![0.0; planes], last_time: time };
         c.count(plan, s);
         c
@@ -46,7 +46,7 @@ impl FlowCounter {
 
     fn count(&mut self, plan: &Plan, s: &State) {
         let max_id = s.id.iter().copied().max().map_or(0, |m| m as usize + 1);
-        for (k, plane) in plan.flow_planes.iter().enumerate() {
+        for (k, plane) in plan.model.flow_planes.iter().enumerate() {
             let side = &mut self.side[k];
             let fresh = side.is_empty();
             if side.len() < max_id {

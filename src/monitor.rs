@@ -44,17 +44,21 @@ impl Monitor {
     /// A monitor for a plan, given the observables at t = 0 and the scene's potential-energy range.
     pub fn new(plan: &Plan, initial: &Observables, potential_range: f64) -> Self {
         // The plan's own choice, and never more than half the step that failed.
-        let suggested_dt =
-            plan.timescales.stability_limit.map_or(plan.timescales.default_dt, |l| l.min(plan.timescales.default_dt)).min(0.5 * plan.dt);
+        let suggested_dt = plan
+            .report
+            .timescales
+            .stability_limit
+            .map_or(plan.report.timescales.default_dt, |l| l.min(plan.report.timescales.default_dt))
+            .min(0.5 * plan.model.dt);
         Monitor {
-            enabled: plan.monitor.enabled,
-            max_overlap_ratio: plan.monitor.max_overlap_ratio,
-            energy_growth: plan.monitor.energy_growth,
-            has_source: plan.fluid.is_some(),
+            enabled: plan.run.monitor.enabled,
+            max_overlap_ratio: plan.run.monitor.max_overlap_ratio,
+            energy_growth: plan.run.monitor.energy_growth,
+            has_source: plan.model.fluid.is_some(),
             initial_energy: initial.mechanical_energy() + initial.dissipated_energy - initial.wall_work,
             energy_floor: (1e-3 * (initial.mechanical_energy().abs() + potential_range)).max(f64::MIN_POSITIVE),
             peak_energy: std::cell::Cell::new(moving_energy(initial)),
-            dt: plan.dt,
+            dt: plan.model.dt,
             suggested_dt,
         }
     }

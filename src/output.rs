@@ -26,21 +26,21 @@ impl ObservablesCsv {
     pub fn create(dir: &Path, plan: &Plan) -> std::io::Result<Self> {
         let mut w = BufWriter::new(File::create(dir.join("observables.csv"))?);
         write!(w, "t,kinetic_energy,rotational_energy,potential_energy,elastic_energy,dissipated_energy,contacts,max_overlap_ratio")?;
-        if plan.fluid.is_some() {
+        if plan.model.fluid.is_some() {
             write!(w, ",fluid_work")?;
         }
-        let moving: Vec<&str> = plan.wall_groups.iter().filter(|g| g.moving).map(|g| g.name.as_str()).collect();
+        let moving: Vec<&str> = plan.model.wall_groups.iter().filter(|g| g.moving).map(|g| g.name.as_str()).collect();
         for g in &moving {
             write!(w, ",power_{g}")?;
         }
         if !moving.is_empty() {
             write!(w, ",wall_work")?;
         }
-        for d in &plan.drums {
+        for d in &plan.model.drums {
             let n = &d.name;
             write!(w, ",charge_mass_{n},com_angle_{n},com_radius_{n},toe_{n},shoulder_{n},torque_arm_power_{n}")?;
         }
-        for p in &plan.flow_planes {
+        for p in &plan.model.flow_planes {
             write!(w, ",flow_{0},mass_{0}", p.name)?;
         }
         writeln!(w)?;
@@ -84,7 +84,7 @@ pub struct TracksCsv {
 impl TracksCsv {
     pub fn create(dir: &Path, plan: &tumble_scene::Plan) -> std::io::Result<Self> {
         let mut w = BufWriter::new(File::create(dir.join("tracks.csv"))?);
-        let orientation = plan.polyhedra;
+        let orientation = plan.model.polyhedra;
         writeln!(w, "t,id,x,y,z,vx,vy,vz,wx,wy,wz{}", if orientation { ",qw,qx,qy,qz" } else { "" })?;
         Ok(TracksCsv { w, orientation })
     }

@@ -120,26 +120,26 @@ fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T, RunError> {
 
 /// Runs a compiled scene, writing outputs into the chosen folder.
 pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<RunSummary, RunError> {
-    let out_dir = options.out_dir.clone().unwrap_or_else(|| Path::new("out").join(&compiled.plan.name));
+    let out_dir = options.out_dir.clone().unwrap_or_else(|| Path::new("out").join(&compiled.plan.run.name));
     let plan_text = compiled.plan.describe(compiled.particles.len());
-    let backend = options.backend.unwrap_or(compiled.plan.backend);
+    let backend = options.backend.unwrap_or(compiled.plan.run.backend);
     // The backend is set up before any file is written: a missing adapter changes nothing.
     let mut sim = Simulation::on(backend, compiled, options.threads).map_err(|e| RunError::Backend(format!("backend {}: {e}", backend.name())))?;
     io(&out_dir, std::fs::create_dir_all(&out_dir))?;
-    let fluid = sim.plan().fluid.is_some();
+    let fluid = sim.plan().model.fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, sim.plan()))?;
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir, sim.plan()))?;
-    let mut agglo_csv = match sim.plan().agglomerates {
+    let mut agglo_csv = match sim.plan().run.agglomerates {
         true => Some(io(&out_dir, AgglomeratesCsv::create(&out_dir, sim.particles()))?),
         false => None,
     };
     let mut last_agglomerates = None;
-    let mut snapshots = match sim.plan().snapshot_every {
+    let mut snapshots = match sim.plan().run.snapshot_every {
         Some(_) => Some(io(&out_dir, SnapshotWriter::create(&out_dir, sim.plan()))?),
         None => None,
     };
     // Flow planes and agglomerates need the particle arrays at every output row; nothing else does.
-    let rows_need_state = !sim.plan().flow_planes.is_empty() || sim.plan().agglomerates;
+    let rows_need_state = !sim.plan().model.flow_planes.is_empty() || sim.plan().run.agglomerates;
     let mut extra = ExtraRows::new(sim.plan());
     let initial = {
         let frame = sim.frame(true);
@@ -159,8 +159,8 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     };
     let monitor = Monitor::new(sim.plan(), &initial.0, initial.1);
 
-    let (total, every, snapshot_every) = (sim.plan().steps, sim.plan().output_every, sim.plan().snapshot_every);
-    let mut progress = options.progress.then(|| Progress::new(options.terminal, total, sim.plan().duration));
+    let (total, every, snapshot_every) = (sim.plan().run.steps, sim.plan().run.output_every, sim.plan().run.snapshot_every);
+    let mut progress = options.progress.then(|| Progress::new(options.terminal, total, sim.plan().run.duration));
     let start = Instant::now();
     let mut particle_steps = 0u128;
     let mut stopped = None;
@@ -245,7 +245,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
 
 /// Agglomerate statistics of state `s` (positions wrapped into the domain).
 fn agglomerates_of(plan: &Plan, s: &State) -> crate::agglomerates::AgglomerateStats {
-    crate::agglomerates::agglomerates(&s.pos, &s.radius, Some(&plan.domain))
+    crate::agglomerates::agglomerates(&s.pos, &s.radius, Some(&plan.model.domain))
 }
 
 /// Wall power (mean over the output interval), drum profiles and flow-plane counts.
@@ -257,14 +257,14 @@ struct ExtraRows {
 
 impl ExtraRows {
     fn new(plan: &Plan) -> Self {
-        let moving = (0..plan.wall_groups.len()).filter(|&g| plan.wall_groups[g].moving).collect();
+        let moving = (0..plan.model.wall_groups.len()).filter(|&g| plan.model.wall_groups[g].moving).collect();
         ExtraRows { moving, last: None, flow: None }
     }
 
     /// The extra columns of the row at time `t` (the first row starts the flow count).
     fn row(&mut self, plan: &Plan, t: f64, frame: &Frame) -> ExtraColumns {
         // Nothing to add.
-        if self.moving.is_empty() && plan.drums.is_empty() && plan.flow_planes.is_empty() {
+        if self.moving.is_empty() && plan.model.drums.is_empty() && plan.model.flow_planes.is_empty() {
             return ExtraColumns::default();
         }
         let work = &frame.wall_work;
@@ -275,7 +275,7 @@ impl ExtraRows {
             _ => self.moving.iter().map(|&g| frame.wall_power[g]).collect(),
         };
         self.last = Some((t, work.clone()));
-        let flow = match (frame.state.as_deref(), plan.flow_planes.is_empty()) {
+        let flow = match (frame.state.as_deref(), plan.model.flow_planes.is_empty()) {
             (Some(s), false) => match self.flow.as_mut() {
                 Some(f) => f.update_state(plan, s, t),
                 None => {
@@ -300,11 +300,11 @@ enum Stop {
 
 /// Σ m |g| × the domain's extent along g: the potential energy gravity can release.
 fn potential_range(plan: &Plan, s: &State) -> f64 {
-    let g = plan.gravity;
+    let g = plan.model.gravity;
     if g == glam::DVec3::ZERO {
         return 0.0;
     }
-    let height = (plan.domain.extent() * g.abs()).element_sum();
+    let height = (plan.model.domain.extent() * g.abs()).element_sum();
     (0..s.len()).filter(|&i| s.inv_mass[i] != 0.0).map(|i| s.mass[i] * height).sum()
 }
 
@@ -316,15 +316,15 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
     let plan = sim.plan();
     let o = &s.final_observables;
     let features: serde_json::Map<String, serde_json::Value> =
-        plan.features.iter().map(|f| (f.name.to_string(), serde_json::json!({ "active": f.active, "reason": f.reason }))).collect();
+        plan.report.features.iter().map(|f| (f.name.to_string(), serde_json::json!({ "active": f.active, "reason": f.reason }))).collect();
     let value = serde_json::json!({
-        "scene": plan.name,
+        "scene": plan.run.name,
         "backend": sim.backend_name(),
         "device": sim.device_name(),
         "precision": sim.precision(),
         "particles": s.particles,
         "steps": s.steps,
-        "dt": plan.dt,
+        "dt": plan.model.dt,
         "simulated_time": sim.time(),
         "wall_seconds": s.wall_seconds,
         "particle_steps_per_second": finite_or_null(s.particle_steps_per_second),
@@ -334,11 +334,11 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
         "memory_bytes": sim.memory_bytes(),
         "bytes_per_particle": sim.bytes_per_particle(),
         "plan": {
-            "integrator": plan.integrator.name(),
-            "collision_time": plan.timescales.collision_time,
-            "stability_limit": plan.timescales.stability_limit,
+            "integrator": plan.model.integrator.name(),
+            "collision_time": plan.report.timescales.collision_time,
+            "stability_limit": plan.report.timescales.stability_limit,
             "steps_per_collision": plan.steps_per_collision(),
-            "cell_size": plan.cell_size,
+            "cell_size": plan.tuning.cell_size,
             "memory_bytes": plan.memory_bytes(s.particles),
             "features": features,
             "text": plan_text,
@@ -365,12 +365,12 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
             "wrapping": a.wrapping,
         });
     }
-    if let Some(tg) = &plan.targets.taylor_green {
+    if let Some(tg) = &plan.report.targets.taylor_green {
         value["plan"]["mean_flow_speed"] = serde_json::json!(tg.mean_flow_speed);
         value["plan"]["vortex_size"] = serde_json::json!(tg.vortex_size);
         value["plan"]["stokes_number"] = serde_json::json!(tg.stokes_number);
     }
-    if let Some(sy) = &plan.targets.stickiness {
+    if let Some(sy) = &plan.report.targets.stickiness {
         value["plan"]["stickiness_number"] = serde_json::json!(sy.number);
         value["plan"]["cohesion_stiffness"] = serde_json::json!(sy.stiffness);
     }

@@ -29,9 +29,9 @@ impl SnapshotWriter {
     /// Creates snapshots/ and, when the scene has walls and none moves, `walls.vtp`.
     pub fn create(out_dir: &Path, plan: &tumble_scene::Plan) -> io::Result<Self> {
         std::fs::create_dir_all(out_dir.join("snapshots"))?;
-        let moving_walls = plan.walls.iter().any(|w| w.motion.is_some());
-        if !plan.walls.is_empty() && !moving_walls {
-            std::fs::write(out_dir.join("walls.vtp"), walls_vtp(plan, &plan.walls))?;
+        let moving_walls = plan.model.walls.iter().any(|w| w.motion.is_some());
+        if !plan.model.walls.is_empty() && !moving_walls {
+            std::fs::write(out_dir.join("walls.vtp"), walls_vtp(plan, &plan.model.walls))?;
         }
         Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), entries: Vec::new(), moving_walls, wall_entries: Vec::new(), body_entries: Vec::new() })
     }
@@ -42,7 +42,7 @@ impl SnapshotWriter {
         std::fs::write(self.out_dir.join(&name), particles_vtp(state))?;
         self.entries.push((time, name));
         std::fs::write(self.out_dir.join("particles.pvd"), pvd(&self.entries))?;
-        if sim.plan().polyhedra {
+        if sim.plan().model.polyhedra {
             let name = format!("snapshots/bodies_{index:06}.vtp");
             std::fs::write(self.out_dir.join(&name), bodies_vtp(sim.plan(), state))?;
             self.body_entries.push((time, name));
@@ -61,7 +61,7 @@ impl SnapshotWriter {
 /// The polyhedral particles' surfaces as VTK XML PolyData polygons (sorted by id), with the
 /// particle's id, group and speed as cell data: what ParaView shows as the bodies themselves.
 pub fn bodies_vtp(plan: &tumble_scene::Plan, s: &State) -> String {
-    let shapes = &plan.shapes;
+    let shapes = &plan.model.shapes;
     let mut order: Vec<usize> = (0..s.len()).filter(|&i| s.shape[i] != tumble_scene::SPHERE).collect();
     order.sort_by_key(|&i| s.id[i]);
     let (mut points, mut polys, mut cell_of) = (Vec::new(), Vec::new(), Vec::new());
@@ -172,15 +172,15 @@ fn array(out: &mut String, ty: &str, name: &str, components: usize, values: impl
     out.push_str("\n        </DataArray>\n");
 }
 
-/// Walls (`plan.walls`, or the same walls in another pose) as VTK XML PolyData polygons: quads
+/// Walls (`plan.model.walls`, or the same walls in another pose) as VTK XML PolyData polygons: quads
 /// as they are, planes as a square covering the domain, cylinders as 48 facets, lifters as their six faces.
 pub fn walls_vtp(plan: &tumble_scene::Plan, walls: &[tumble_scene::Wall]) -> String {
     use tumble_geom::{DVec3, SurfaceShape};
     let mut points: Vec<DVec3> = Vec::new();
     let mut polys: Vec<Vec<usize>> = Vec::new();
     let mut wall_of_poly: Vec<usize> = Vec::new();
-    let centre = 0.5 * (plan.domain.min + plan.domain.max);
-    let size = plan.domain.extent().length();
+    let centre = 0.5 * (plan.model.domain.min + plan.model.domain.max);
+    let size = plan.model.domain.extent().length();
     for (w, wall) in walls.iter().enumerate() {
         let mut quad = |corners: [DVec3; 4]| {
             polys.push((points.len()..points.len() + 4).collect());

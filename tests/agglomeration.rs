@@ -105,8 +105,8 @@ velocity = [-0.5, 0.0, 0.0]
 fn a_cohesive_head_on_pair_sticks_above_sy_1_and_separates_below() {
     for (sy, stuck) in [(1.25, true), (1.05, true), (0.95, false), (0.8, false)] {
         let compiled = compile(&parse_scene(&head_on_pair(sy)).unwrap()).unwrap();
-        assert!(compiled.plan.agglomerates, "cohesion turns agglomerates.csv on");
-        let reported = compiled.plan.targets.stickiness.expect("the plan reports Sy").number;
+        assert!(compiled.plan.run.agglomerates, "cohesion turns agglomerates.csv on");
+        let reported = compiled.plan.report.targets.stickiness.expect("the plan reports Sy").number;
         assert!((reported - sy).abs() < 1e-12, "plan Sy {reported} vs {sy}");
         assert!(compiled.plan.describe(2).contains(&format!("Sy = {sy:.6}")));
         let out = out_dir(&format!("pair-{sy}"));
@@ -154,7 +154,7 @@ random = { count = 50, region = { min = [0.0, 0.0, 0.0], max = [2.09439510239319
 velocity = "flow"
 "#;
     let c = compile(&parse_scene(text).unwrap()).unwrap();
-    let tg = c.plan.targets.taylor_green.unwrap();
+    let tg = c.plan.report.targets.taylor_green.unwrap();
     assert!((tg.stokes_number.unwrap() - 5.0).abs() < 1e-12);
     assert!((tg.vortex_size - std::f64::consts::PI / 3.0).abs() < 1e-15);
     assert!((tg.mean_flow_speed - 5.0 * tumble_scene::targets::taylor_green_mean_speed_factor()).abs() < 1e-15);
@@ -162,12 +162,12 @@ velocity = "flow"
     let mu = 2000.0 * 0.05f64.powi(2) * tg.mean_flow_speed / (18.0 * 5.0 * tg.vortex_size);
     assert!((tg.viscosity.unwrap() - mu).abs() < 1e-15 * mu);
     // Sy at the default collision speed u_0.
-    let sy = c.plan.targets.stickiness.unwrap();
+    let sy = c.plan.report.targets.stickiness.unwrap();
     assert!((sy.number - 0.6).abs() < 1e-12 && sy.collision_speed == tg.mean_flow_speed);
     let text = c.plan.describe(50);
     assert!(text.contains("Stk = 5.000000") && text.contains("Sy = 0.600000"), "{text}");
     // velocity = "flow": every particle starts with the local fluid velocity.
-    let flow = c.plan.fluid.unwrap().flow;
+    let flow = c.plan.model.fluid.unwrap().flow;
     for i in 0..c.particles.len() {
         assert_eq!(c.particles.velocity[i], flow.velocity(c.particles.position[i]));
     }
@@ -180,7 +180,7 @@ fn the_example_scene_reports_stk_and_sy() {
     assert_eq!(c.particles.len(), 10_000);
     let text = c.plan.describe(c.particles.len());
     assert!(text.contains("Stk = ") && text.contains("Sy = "), "{text}");
-    assert!(c.plan.agglomerates);
+    assert!(c.plan.run.agglomerates);
 }
 
 #[test]

@@ -127,18 +127,18 @@ fn tumble_plan_explains_each_feature() {
 fn the_plan_carries_only_what_the_scene_needs() {
     let plan = |path: &str| tumble::load_scene(&Path::new(env!("CARGO_MANIFEST_DIR")).join(path), None, None).unwrap().plan;
     let collision = plan("scenes/verify/02_normal_collision.toml");
-    assert!(!collision.rotation && !collision.cohesion && collision.fluid.is_none());
-    assert_eq!(collision.cell_size, 0.1, "no cohesion: the search reaches body contact only");
+    assert!(!collision.model.rotation && !collision.model.cohesion && collision.model.fluid.is_none());
+    assert_eq!(collision.tuning.cell_size, 0.1, "no cohesion: the search reaches body contact only");
     let cohesive = plan("scenes/verify/04_cohesive_collision.toml");
-    assert!(cohesive.cohesion && (cohesive.cell_size - 0.15).abs() < 1e-12);
-    assert!(plan("scenes/verify/08_slide_to_roll.toml").rotation);
-    assert!(!plan("scenes/verify/03_sliding.toml").rotation, "rotation = \"off\" wins");
-    assert!(plan("scenes/verify/01_stokes_drag.toml").fluid.is_some());
+    assert!(cohesive.model.cohesion && (cohesive.tuning.cell_size - 0.15).abs() < 1e-12);
+    assert!(plan("scenes/verify/08_slide_to_roll.toml").model.rotation);
+    assert!(!plan("scenes/verify/03_sliding.toml").model.rotation, "rotation = \"off\" wins");
+    assert!(plan("scenes/verify/01_stokes_drag.toml").model.fluid.is_some());
     // Less state per particle when the scene needs less.
-    assert!(collision.bytes_per_particle < plan("scenes/verify/08_slide_to_roll.toml").bytes_per_particle);
+    assert!(collision.tuning.bytes_per_particle < plan("scenes/verify/08_slide_to_roll.toml").tuning.bytes_per_particle);
     // Default Δt = t_col / 50.
-    let t = collision.timescales.collision_time.unwrap();
-    assert!((collision.dt - t / 50.0).abs() < 1e-15);
+    let t = collision.report.timescales.collision_time.unwrap();
+    assert!((collision.model.dt - t / 50.0).abs() < 1e-15);
 }
 
 #[test]

@@ -69,7 +69,7 @@ fn ctrl_c_stops_cleanly_with_complete_outputs() {
     let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert!(summary["stopped"].as_str().unwrap().starts_with("interrupted"));
     let steps = summary["steps"].as_u64().unwrap();
-    let total = tumble::load_scene(&root().join("scenes/box_settle.toml"), None, None).unwrap().plan.steps;
+    let total = tumble::load_scene(&root().join("scenes/box_settle.toml"), None, None).unwrap().plan.run.steps;
     assert!(steps > 0 && steps < total, "stopped early: {steps} of {total} steps");
     for file in ["observables.csv", "tracks.csv"] {
         let text = std::fs::read_to_string(out.join(file)).unwrap();

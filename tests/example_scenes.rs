@@ -15,8 +15,8 @@ fn every_example_scene_runs() {
     for path in scenes {
         let full = load_scene(&path, None, None).unwrap_or_else(|e| panic!("{e}"));
         // 60 steps each: enough to exercise every pass without a long test.
-        let compiled = load_scene(&path, Some(60.0 * full.plan.dt), None).unwrap();
-        let out = std::env::temp_dir().join(format!("tumble-example-{}-{}", std::process::id(), full.plan.name));
+        let compiled = load_scene(&path, Some(60.0 * full.plan.model.dt), None).unwrap();
+        let out = std::env::temp_dir().join(format!("tumble-example-{}-{}", std::process::id(), full.plan.run.name));
         let summary = run_compiled(compiled, &RunOptions { out_dir: Some(out.clone()), threads: 2, ..Default::default() })
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         assert!(summary.steps >= 60 && summary.final_observables.finite, "{}", path.display());

@@ -35,7 +35,7 @@ fn hertz_mindlin_impacts_follow_coulomb_theory_with_the_measured_restitution() {
         assert!((i.spin / spin - 1.0).abs() < 1.5e-2, "Hertz–Mindlin at {angle}°: Rω'/v_t = {} vs {spin}", i.spin);
     }
     let scene = FloorScene { hertz: true, ..FloorScene::incline(FrictionModel::History, 0.5, 10.0, 0.1) }.compile();
-    assert!(scene.plan.features.iter().any(|f| f.name == "tangential" && f.reason.contains("Hertz–Mindlin")));
+    assert!(scene.plan.report.features.iter().any(|f| f.name == "tangential" && f.reason.contains("Hertz–Mindlin")));
 }
 
 #[test]
@@ -116,7 +116,7 @@ fn history_pair_forces_are_exactly_opposite_and_the_spring_ends_with_the_contact
     let d = 0.01;
     let p = |x: f64, vy: f64| common::P { x: DVec3::new(x, 0.0, 0.0), v: DVec3::new(-x * 20.0, vy, 0.0), w: DVec3::ZERO, d, de: d };
     let scene = common::scene_with_tangential(&[p(-0.0051, 0.3), p(0.0051, -0.2)], false, false, 0.1, "", "{ model = \"history\", friction = 0.3 }");
-    assert!(scene.plan.history);
+    assert!(scene.plan.model.history);
     let mut sim = tumble_cpu::CpuSimulation::new(scene, 1);
     let mut held = 0;
     for _ in 0..400 {
@@ -176,10 +176,10 @@ box = { min = [-0.1, -0.1, -0.1], max = [0.1, 0.1, 0.1] }
 #[test]
 fn plan_warns_when_a_quasi_static_scene_uses_history_free_friction() {
     let scene = FloorScene::incline(FrictionModel::ViscousCoulomb, 0.5, 10.0, 0.1).compile();
-    assert!(scene.plan.warnings.iter().any(|w| w.contains("quasi-static")), "{:?}", scene.plan.warnings);
+    assert!(scene.plan.report.warnings.iter().any(|w| w.contains("quasi-static")), "{:?}", scene.plan.report.warnings);
     let scene = FloorScene::incline(FrictionModel::History, 0.5, 10.0, 0.1).compile();
-    assert!(!scene.plan.warnings.iter().any(|w| w.contains("quasi-static")), "{:?}", scene.plan.warnings);
-    assert!(scene.plan.history && scene.plan.features.iter().any(|f| f.name == "history" && f.active));
+    assert!(!scene.plan.report.warnings.iter().any(|w| w.contains("quasi-static")), "{:?}", scene.plan.report.warnings);
+    assert!(scene.plan.model.history && scene.plan.report.features.iter().any(|f| f.name == "history" && f.active));
     let _ = Simulation::new(scene, 1);
 }
 
@@ -196,8 +196,8 @@ fn energy_balance_closes_with_tangential_springs() {
         let mut scene = parse_scene(&text).unwrap();
         scene.run.duration = 0.25;
         let compiled = compile(&scene).unwrap();
-        assert!(compiled.plan.history);
-        let steps = compiled.plan.steps;
+        assert!(compiled.plan.model.history);
+        let steps = compiled.plan.run.steps;
         let mut sim = Simulation::new(compiled, 2);
         let e0 = sim.observables().mechanical_energy();
         sim.advance(steps);

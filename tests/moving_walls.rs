@@ -25,14 +25,14 @@ fn a_sphere_on_a_belt_is_dragged_to_the_belt_speed() {
     // Rolling: slip stops when the contact point moves with the belt; the centre then moves
     // at 2/7 of the belt speed (friction impulse J: v = J/m, ω r = 5J/(2m)).
     let mut s = sim(&belt("on"), 1);
-    s.advance(s.plan().steps);
+    s.advance(s.plan().run.steps);
     let st = s.cpu().state();
     let contact = st.vel[0] + st.omega[0].cross(DVec3::new(0.0, 0.0, -0.05));
     assert!((contact.x - 0.5).abs() < 2e-3, "contact point {contact}");
     assert!((st.vel[0].x - 0.5 * 2.0 / 7.0).abs() < 2e-3, "centre {}", st.vel[0]);
     // Without rotation the centre itself reaches the belt speed.
     let mut s = sim(&belt("off"), 1);
-    s.advance(s.plan().steps);
+    s.advance(s.plan().run.steps);
     assert!((s.cpu().state().vel[0].x - 0.5).abs() < 1e-3, "{}", s.cpu().state().vel[0]);
     // The belt did work: the sphere's kinetic energy plus what friction dissipated.
     let o = s.observables();
@@ -67,7 +67,7 @@ motion = {{ translate = {{ velocity = [0.0, 0.0, 1.0] }} }}
 "#
     );
     let mut s = sim(&text, 1);
-    s.advance(s.plan().steps);
+    s.advance(s.plan().run.steps);
     // Approach at 1 m/s relative to the wall; leave at e·1 m/s relative to it: 1.6 m/s.
     let v = s.cpu().state().vel[0].z;
     assert!((v - 1.6).abs() < 1e-2, "rebound {v}");
@@ -103,7 +103,7 @@ fn a_sphere_in_a_turning_drum_rides_up_and_its_power_is_torque_times_omega() {
     let mut checked = 0;
     let mut mean_x = 0.0;
     for k in 0..60 {
-        s.advance(s.plan().steps / 60);
+        s.advance(s.plan().run.steps / 60);
         let st = s.cpu().state();
         // Drive torque = torque about the axis of the contact force at the centre plus the couple:
         // (x − a) × F + I α (the lever arm from centre to contact point cancels out).
@@ -139,7 +139,7 @@ lifters = {{ count = 4, height = 0.05, width = 0.03, on = "shell", phase = {phas
     let mut highest: f64 = -180.0;
     let mut lifter_work = 0.0;
     for _ in 0..60 {
-        s.advance(s.plan().steps / 60);
+        s.advance(s.plan().run.steps / 60);
         let x = s.cpu().state().pos[0];
         highest = highest.max(x.x.atan2(-x.y).to_degrees());
         lifter_work = s.cpu().wall_work()[1];
@@ -186,8 +186,8 @@ lattice = { min = [-0.15, -0.15, 0.0], max = [0.15, 0.15, 0.2], spacing = 0.05 }
     let mut a = sim(&text, 1);
     let mut b = sim(&text, 2);
     let e0 = a.observables();
-    a.advance(a.plan().steps);
-    b.advance(b.plan().steps);
+    a.advance(a.plan().run.steps);
+    b.advance(b.plan().run.steps);
     let o = a.observables();
     assert!(o.wall_work > 1.0, "the drum should drive the charge: {o:?}");
     let gain = o.mechanical_energy() + o.dissipated_energy - e0.mechanical_energy() - e0.dissipated_energy;
@@ -208,9 +208,9 @@ lattice = { min = [-0.15, -0.15, 0.0], max = [0.15, 0.15, 0.2], spacing = 0.05 }
 fn the_moving_geometry_step_limit_is_applied_and_reported() {
     let fast = belt("on").replace("velocity = [0.5, 0.0, 0.0]", "velocity = [50.0, 0.0, 0.0]");
     let compiled = compile(&parse_scene(&fast).unwrap()).unwrap();
-    let limit = compiled.plan.wall_step_limit.clone().expect("a moving wall sets a limit");
+    let limit = compiled.plan.report.wall_step_limit.clone().expect("a moving wall sets a limit");
     assert!((limit.dt - 0.025 * 0.05 / 50.0).abs() < 1e-15, "{limit:?}");
-    assert_eq!(compiled.plan.dt, limit.dt);
+    assert_eq!(compiled.plan.model.dt, limit.dt);
     let text = compiled.plan.describe(1);
     assert!(text.contains("wall limit") && text.contains("\"belt\""), "{text}");
     let explicit = fast.replace("duration = 0.5", "duration = 0.5\ndt = 1.0e-4");
@@ -223,6 +223,7 @@ fn lifters_are_convex_bars_on_the_shell() {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_mill.toml")).unwrap();
     let plan = compile(&parse_scene(&text).unwrap()).unwrap().plan;
     let bars: Vec<_> = plan
+        .model
         .walls
         .iter()
         .filter_map(|w| match &w.shape {
@@ -231,8 +232,8 @@ fn lifters_are_convex_bars_on_the_shell() {
         })
         .collect();
     assert_eq!(bars.len(), 8);
-    assert_eq!(plan.wall_groups[1].name, "lifters");
-    assert_eq!(plan.drums.len(), 1);
+    assert_eq!(plan.model.wall_groups[1].name, "lifters");
+    assert_eq!(plan.model.drums.len(), 1);
     for p in &bars {
         // The top face is 4 cm in from the 0.45 m shell: the annulus test must not skip it.
         assert!((p.inner - 0.41).abs() < 1e-12, "{}", p.inner);
@@ -245,7 +246,7 @@ fn lifters_are_convex_bars_on_the_shell() {
     // Trapezoidal bars: the base widens by 2 h tan(face angle).
     let wide = text.replace("face_angle = 0.0", "face_angle = 30.0");
     let plan = compile(&parse_scene(&wide).unwrap()).unwrap().plan;
-    let tumble_geom::SurfaceShape::Prism(p) = &plan.walls[1].shape else { panic!() };
+    let tumble_geom::SurfaceShape::Prism(p) = &plan.model.walls[1].shape else { panic!() };
     let widths: Vec<f64> = p.faces[..4].iter().map(|f| (f.corners[1] - f.corners[0]).length()).collect();
     let base = 0.04 + 2.0 * 0.04 * 30f64.to_radians().tan();
     assert!(widths.iter().any(|w| (w - base).abs() < 1e-12) && widths.iter().any(|w| (w - 0.04).abs() < 1e-12), "{widths:?}");

@@ -106,7 +106,7 @@ fn octahedron_on_cube(speed: f64) -> f64 {
     let mut s = sim(&text);
     // Until well after the contact ends (0.0005 m gap, then t_col = π √(m*/k)).
     let gap_time = 0.0005 / speed;
-    let steps = ((gap_time + 0.01) / s.plan().dt).ceil() as u64;
+    let steps = ((gap_time + 0.01) / s.plan().model.dt).ceil() as u64;
     s.advance(steps);
     let st = s.cpu().state();
     let (a, b) = (s.cpu().index_of(0).unwrap(), s.cpu().index_of(1).unwrap());
@@ -163,7 +163,7 @@ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
 fn a_cube_dropped_on_its_face_settles_without_drift_or_spin() {
     let text = cube_drop([0.01, -0.02, 0.05], DQuat::IDENTITY, 0.5, 1.0);
     let mut s = sim(&text);
-    s.advance(s.plan().steps);
+    s.advance(s.plan().run.steps);
     let st = s.cpu().state();
     let m = st.mass[0];
     let rest_height = 0.01 - m * 9.81 / 1.0e5;
@@ -184,9 +184,9 @@ fn a_tilted_cube_lands_on_its_face_and_then_stays_put() {
     let q = DQuat::from_axis_angle(axis, 8f64.to_radians());
     let text = cube_drop([0.0, 0.0, 0.03], q, 0.3, 1.5);
     let mut s = sim(&text);
-    s.advance((1.25 / s.plan().dt) as u64);
+    s.advance((1.25 / s.plan().model.dt) as u64);
     let (x1, q1) = (s.cpu().state().pos[0], s.cpu().state().orient[0]);
-    s.advance(s.plan().steps - s.steps());
+    s.advance(s.plan().run.steps - s.steps());
     let st = s.cpu().state();
     // Face down: one body axis points along z.
     let up = [DVec3::X, DVec3::Y, DVec3::Z].iter().map(|&a| (st.orient[0] * a).dot(DVec3::Z).abs()).fold(0.0, f64::max);
@@ -249,7 +249,7 @@ box = {{ min = [-0.05, -0.05, 0.0], max = [0.05, 0.05, 0.2] }}
 fn energy_balance(text: &str) -> (usize, f64, tumble::Observables) {
     let mut s = sim(text);
     let e0 = s.observables().mechanical_energy();
-    s.advance(s.plan().steps);
+    s.advance(s.plan().run.steps);
     let o = s.observables();
     (s.particles(), (o.mechanical_energy() + o.dissipated_energy - e0).abs() / e0.abs(), o)
 }
@@ -285,7 +285,7 @@ fn a_mixed_bed_of_polyhedra_and_spheres_balances_its_energy() {
 fn polyhedra_results_are_bit_identical_for_1_2_and_4_threads() {
     let run = |threads: usize| {
         let mut s = Simulation::new(compile(&parse_scene(&mixed_bed(0.05)).unwrap()).unwrap(), threads);
-        s.advance(s.plan().steps);
+        s.advance(s.plan().run.steps);
         let st = s.cpu().state();
         let mut rows: Vec<(u32, [u64; 13])> = (0..st.len())
             .map(|i| {
@@ -353,7 +353,7 @@ fn the_time_step_sees_the_mass_a_cube_has_at_its_corner() {
             .replace("positions = [[0.0, 0.0, 0.0]]", "positions = [[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0]]")
             .replace("angular_velocity = [0, 0, 0]", "");
         let plan = compile(&parse_scene(&text).unwrap()).unwrap_or_else(|e| panic!("{e}")).plan;
-        (plan.timescales.collision_time.unwrap(), plan.dt)
+        (plan.report.timescales.collision_time.unwrap(), plan.model.dt)
     };
     // The sphere of the cube's volume: the same mass.
     let d = 0.1 * (6.0 / std::f64::consts::PI).cbrt();
@@ -370,7 +370,7 @@ fn the_time_step_sees_the_mass_a_cube_has_at_its_corner() {
 fn energy_ratio(text: &str) -> f64 {
     let mut s = sim(text);
     let e0 = s.observables().mechanical_energy();
-    s.advance(s.plan().steps);
+    s.advance(s.plan().run.steps);
     let o = s.observables();
     (o.mechanical_energy() + o.dissipated_energy) / e0
 }

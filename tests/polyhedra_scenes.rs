@@ -18,15 +18,15 @@ fn the_dodecahedra_hopper_discharges_through_a_wide_orifice() {
     s.walls[0].box_.as_mut().unwrap().floor_hole = Some(0.08);
     s.run.duration = 0.12;
     let compiled = compile(&s).unwrap_or_else(|e| panic!("{e}"));
-    assert!(compiled.plan.polyhedra);
+    assert!(compiled.plan.model.polyhedra);
     let n = compiled.particles.len();
     assert_eq!(n, 100);
     let mut sim = Simulation::new(compiled, 2);
     let mut flow = FlowCounter::new(&sim);
-    let every = (0.02 / sim.plan().dt).round() as u64;
+    let every = (0.02 / sim.plan().model.dt).round() as u64;
     let mut worst_overlap = 0.0f64;
-    while sim.steps() < sim.plan().steps {
-        sim.advance(every.min(sim.plan().steps - sim.steps()));
+    while sim.steps() < sim.plan().run.steps {
+        sim.advance(every.min(sim.plan().run.steps - sim.steps()));
         flow.update(&sim);
         let o = sim.observables();
         assert!(o.finite, "non-finite state at t = {}", sim.time());
@@ -47,10 +47,10 @@ fn the_drum_of_cubes_turns_its_charge_stably() {
     let mut s = scene("drum_cubes.toml");
     s.run.duration = 0.12;
     let compiled = compile(&s).unwrap_or_else(|e| panic!("{e}"));
-    assert!(compiled.plan.polyhedra && compiled.plan.drums.len() == 1);
+    assert!(compiled.plan.model.polyhedra && compiled.plan.model.drums.len() == 1);
     assert_eq!(compiled.particles.len(), 380);
     let mut sim = Simulation::new(compiled, 2);
-    sim.advance(sim.plan().steps);
+    sim.advance(sim.plan().run.steps);
     let o = sim.observables();
     assert!(o.finite && o.particles == 380);
     assert!(o.max_overlap_ratio < 0.1, "overlap δ/r {}", o.max_overlap_ratio);
@@ -72,7 +72,7 @@ fn drum_of_cubes_books_its_energy() {
     s.run.duration = 2.5;
     let mut sim = Simulation::new(compile(&s).unwrap_or_else(|e| panic!("{e}")), 2);
     let o0 = sim.observables();
-    sim.advance(sim.plan().steps);
+    sim.advance(sim.plan().run.steps);
     let o = sim.observables();
     let residual =
         (o.mechanical_energy() + o.dissipated_energy - o.wall_work - (o0.mechanical_energy() + o0.dissipated_energy - o0.wall_work)) / o.wall_work;
@@ -96,7 +96,7 @@ fn frictionless_cubes_dropped_in_a_static_drum_book_their_energy() {
     }
     let mut sim = Simulation::new(compile(&s).unwrap_or_else(|e| panic!("{e}")), 2);
     let o0 = sim.observables();
-    sim.advance(sim.plan().steps);
+    sim.advance(sim.plan().run.steps);
     let o = sim.observables();
     assert_eq!(o.wall_work, 0.0);
     let gain = o.mechanical_energy() + o.dissipated_energy - (o0.mechanical_energy() + o0.dissipated_energy);

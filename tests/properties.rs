@@ -119,7 +119,7 @@ fn results_are_bit_identical_for_1_2_and_4_threads() {
         let run = |threads: usize| {
             let tangential = if history { common::HISTORY_ROLLING } else { common::VISCOUS };
             let mut sim = Simulation::new(common::scene_with_tangential(&particles, true, true, 0.1, "resort_interval = 7", tangential), threads);
-            assert_eq!(sim.plan().history, history);
+            assert_eq!(sim.plan().model.history, history);
             sim.advance(1500);
             let s = sim.cpu().state();
             let mut bytes = Vec::new();
@@ -148,7 +148,7 @@ fn the_neighbour_list_never_misses_a_contact() {
         p.v *= 3.0;
     }
     let mut sim = Simulation::new(scene(&particles, false, true, 0.1, "resort_interval = 5"), 2);
-    let domain = sim.plan().domain;
+    let domain = sim.plan().model.domain;
     let mut checked = 0;
     for _ in 0..400 {
         sim.advance(1);

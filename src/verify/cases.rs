@@ -288,14 +288,14 @@ pub fn hertz_impact(integrator: Integrator, dt: Option<f64>) -> HertzResult {
 /// Case 7 on a backend.
 pub fn hertz_impact_on(backend: BackendName, integrator: Integrator, dt: Option<f64>) -> HertzResult {
     let scene = scene_with(HERTZ_IMPACT, integrator, dt);
-    let dt = scene.plan.dt;
+    let dt = scene.plan.model.dt;
     let (rho, e, nu, r, v) = (2500.0, 1.0e7, 0.3, 0.01, 1.0);
     let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
     let (m_star, r_star) = (0.5 * m, 0.5 * r);
     let (e_star, _) = tumble_contact::hertz_effective_moduli(e, nu, e, nu);
     let mut sim = simulation_on(backend, scene);
     let mut series = Vec::new(); // (t, overlap, force)
-    while sim.steps() < sim.plan().steps {
+    while sim.steps() < sim.plan().run.steps {
         sim.advance(1);
         let tr = sim.tracks();
         let overlap = 2.0 * r - (tr[1].position - tr[0].position).length();
@@ -393,7 +393,7 @@ pub fn energy_balance_on(backend: BackendName, duration: f64) -> (f64, f64) {
 }
 
 fn energy_balance_of(mut sim: Simulation) -> (f64, f64) {
-    let steps = sim.plan().steps;
+    let steps = sim.plan().run.steps;
     let o0 = sim.observables();
     let e0 = o0.mechanical_energy();
     sim.advance(steps);

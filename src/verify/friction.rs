@@ -175,7 +175,7 @@ pub fn oblique_impact_on(backend: BackendName, model: FrictionModel, hertz: bool
         duration: gap / vn + 2.0 * t_col,
     };
     let compiled = scene.compile();
-    let steps = compiled.plan.steps;
+    let steps = compiled.plan.run.steps;
     let mut sim = on(backend, compiled);
     sim.advance(steps);
     let r = sim.tracks()[0];
@@ -197,8 +197,8 @@ pub fn creep_speed_on(backend: BackendName, model: FrictionModel, friction: f64,
 
 /// x at half the duration and at the end.
 fn positions_at(backend: BackendName, compiled: CompiledScene, duration: f64) -> (f64, f64) {
-    let steps = compiled.plan.steps;
-    let half = (0.5 * duration / compiled.plan.dt).round() as u64;
+    let steps = compiled.plan.run.steps;
+    let half = (0.5 * duration / compiled.plan.model.dt).round() as u64;
     let mut sim = on(backend, compiled);
     sim.advance(half);
     let x0 = sim.tracks()[0].position.x;
@@ -236,7 +236,7 @@ pub fn incline_motion_on(
     let mut scene = FloorScene::incline(model, friction, angle_deg, duration);
     scene.rolling_friction = rolling_friction;
     let compiled = scene.compile();
-    let steps = compiled.plan.steps;
+    let steps = compiled.plan.run.steps;
     let r = 0.5 * DIAMETER;
     let x_start = scene.position.x;
     let mut sim = on(backend, compiled);

@@ -114,7 +114,7 @@ pub fn simulation_on(backend: BackendName, scene: CompiledScene) -> Simulation {
 
 /// Like [`trajectory`] on the given backend.
 pub fn trajectory_on(backend: BackendName, scene: CompiledScene) -> Trajectory {
-    let steps = scene.plan.steps;
+    let steps = scene.plan.run.steps;
     let mut sim = simulation_on(backend, scene);
     let mut samples = Vec::with_capacity(steps as usize + 1);
     samples.push((0.0, sim.tracks()));

@@ -49,7 +49,7 @@ fn mill_means(sim: &mut dyn Drum, steps: u64) -> MillMeans {
 
 pub fn a_small_mill_with_lifters_agrees_with_the_cpu() {
     let s = scene(SMALL_MILL);
-    let steps = s.plan.steps;
+    let steps = s.plan.run.steps;
     let mut gpu = GpuSimulation::new(s).unwrap();
     let start = std::time::Instant::now();
     let g = mill_means(&mut gpu, steps);
@@ -111,7 +111,7 @@ pub fn spheres_on_a_belt_are_dragged_as_on_the_cpu() {
     // A rolling sphere ends with its contact point at the belt speed and its centre at 2/7
     // of it; a second, stacked on a third, is carried along by friction through the first.
     let s = scene(&belt("on", "[0.0, 0.0, 0.05], [1.0, 0.0, 0.05], [1.0, 0.0, 0.1505]"));
-    let steps = s.plan.steps;
+    let steps = s.plan.run.steps;
     let mut cpu = Simulation::new(s.clone(), 1);
     let mut gpu = GpuSimulation::new(s).unwrap();
     let (p0c, p0g) = (cpu.wall_power()[0], gpu.wall_power()[0]);
@@ -169,6 +169,7 @@ pub fn lifters_are_one_contact_per_bar_as_on_the_cpu() {
     // at t = 0 on each.
     let prisms: Vec<tumble_geom::Prism> = scene(SMALL_MILL)
         .plan
+        .model
         .walls
         .iter()
         .filter_map(|w| match &w.shape {

@@ -89,7 +89,7 @@ pub fn a_cube_struck_face_on_by_a_moving_plate_leaves_at_twice_its_speed() {
     let mass = 7800.0 * 1e-6;
     let t_col = std::f64::consts::PI * (mass / 1.0e5f64).sqrt();
     // The gap closes in 1 ms, the contact lasts t_col; stop well after the plate is left behind.
-    let steps = ((0.0005 / v + 3.0 * t_col) / sc.plan.dt).ceil() as u64;
+    let steps = ((0.0005 / v + 3.0 * t_col) / sc.plan.model.dt).ceil() as u64;
     let (vg, wg, work_g, _) = run_one(sc.clone(), steps, true);
     let (vc, wc, work_c, _) = run_one(sc, steps, false);
     let rebound = vg.x / v;
@@ -124,7 +124,7 @@ pub fn a_cube_on_a_belt_is_dragged_to_the_belt_speed() {
     let sc = scene(&text);
     let mass = 7800.0 * 1e-6;
     // Sliding lasts V / (μ g) = 41 ms; run twice as long.
-    let steps = (0.08 / sc.plan.dt).ceil() as u64;
+    let steps = (0.08 / sc.plan.model.dt).ceil() as u64;
     let initial = Simulation::new(sc.clone(), 1).observables();
     let (vg, wg, work_g, o) = run_one(sc.clone(), steps, true);
     let (vc, wc, work_c, oc) = run_one(sc, steps, false);
@@ -186,7 +186,7 @@ plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
 motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 30.0 } }
 "#;
     let s = scene(text);
-    let steps = s.plan.steps;
+    let steps = s.plan.run.steps;
     let mut cpu = Simulation::new(s.clone(), 1);
     let omega = 30.0 * std::f64::consts::TAU / 60.0;
     let g = glam::DVec3::new(0.0, -9.81, -8.0);
@@ -269,7 +269,7 @@ fn drum_run(sim: &mut dyn Drum, steps: u64) -> DrumRun {
 
 pub fn a_small_drum_of_cubes_with_lifters_agrees_with_the_cpu() {
     let s = scene(SMALL_CUBE_DRUM);
-    let steps = s.plan.steps;
+    let steps = s.plan.run.steps;
     let mut cpu = Simulation::new(s.clone(), 2);
     let mut gpu = GpuSimulation::new(s).unwrap();
     let c = drum_run(&mut cpu, steps);
@@ -317,6 +317,7 @@ pub fn turning_lifters_sweep_into_cubes_as_on_the_cpu() {
     // open agree with the CPU's to f32 rounding.
     let bars: Vec<glam::DVec3> = scene(SMALL_CUBE_DRUM)
         .plan
+        .model
         .walls
         .iter()
         .filter_map(|w| match &w.shape {
@@ -338,7 +339,7 @@ pub fn turning_lifters_sweep_into_cubes_as_on_the_cpu() {
     );
     let s = scene(&text);
     // The bars' faces move at ω r ≈ 0.29 m/s: 2.4 mm in 8 ms.
-    let steps = (0.008 / s.plan.dt).round() as u64;
+    let steps = (0.008 / s.plan.model.dt).round() as u64;
     let mut cpu = Simulation::new(s.clone(), 1);
     let mut gpu = GpuSimulation::new(s).unwrap();
     cpu.advance(steps);

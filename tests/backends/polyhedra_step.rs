@@ -70,7 +70,7 @@ positions = [[0.015, 0.0, 0.0]]
 "#
     );
     let sc = scene(&text);
-    let steps = ((0.0005 / speed + 0.01) / sc.plan.dt).ceil() as u64;
+    let steps = ((0.0005 / speed + 0.01) / sc.plan.model.dt).ceil() as u64;
     let st = if gpu {
         let mut s = GpuSimulation::new(sc).unwrap();
         s.advance(steps);
@@ -158,8 +158,8 @@ fn height_and_energy(s: &tumble_cpu::State) -> (f64, f64) {
 /// together (heights within 3 %, as many contacts).
 fn settle_against_the_cpu(name: &str, spheres: bool, duration: f64) {
     let sc = bed(spheres, duration);
-    let steps = sc.plan.steps;
-    println!("{name}: {} particles, {} steps of {:.2e} s", sc.particles.len(), steps, sc.plan.dt);
+    let steps = sc.plan.run.steps;
+    println!("{name}: {} particles, {} steps of {:.2e} s", sc.particles.len(), steps, sc.plan.model.dt);
     let mut cpu = Simulation::new(sc.clone(), 2);
     let mut gpu = GpuSimulation::new(sc).unwrap();
     let chunks = 6;

@@ -9,7 +9,7 @@ use tumble_testkit::scenes::file;
 /// The drum of cubes with lifters for `steps` steps, its top group tracked.
 fn tracked_cube_drum(steps: u64) -> CompiledScene {
     let mut scene = parse_scene(&file("scenes/drum_cubes.toml")).unwrap();
-    let dt = compile(&scene).unwrap().plan.dt;
+    let dt = compile(&scene).unwrap().plan.model.dt;
     scene.run.duration = steps as f64 * dt;
     scene.run.dt = Some(tumble_scene::schema::DtSpec::Seconds(dt));
     let top = scene.particles.iter_mut().find(|g| g.name.as_deref() == Some("cubes-above")).expect("the drum's top group");

@@ -17,7 +17,7 @@ fn example_scene(name: &str) -> String {
 
 /// Final tracked rows of both backends after the whole run.
 fn both(scene: CompiledScene) -> (Vec<tumble::TrackRow>, Vec<tumble::TrackRow>) {
-    let steps = scene.plan.steps;
+    let steps = scene.plan.run.steps;
     let mut cpu = Simulation::new(scene.clone(), 1);
     let mut gpu = GpuSimulation::new(scene).unwrap();
     cpu.advance(steps);
@@ -32,7 +32,7 @@ fn compare_observables(scene: CompiledScene, steps: u64, tolerance: f64) -> (tum
     cpu.advance(steps);
     gpu.advance(steps);
     let (c, g) = (cpu.observables(), gpu.observables());
-    println!("{} after {steps} steps\n  cpu {c:?}\n  gpu {g:?}", cpu.plan().name);
+    println!("{} after {steps} steps\n  cpu {c:?}\n  gpu {g:?}", cpu.plan().run.name);
     assert!(g.finite);
     assert_eq!(c.particles, g.particles, "particles left");
     // A missed neighbour would show here first.
@@ -54,8 +54,8 @@ fn compare_observables(scene: CompiledScene, steps: u64, tolerance: f64) -> (tum
 fn short(text: &str, steps: f64) -> CompiledScene {
     let full = scene(text);
     let mut s = parse_scene(text).unwrap();
-    s.run.duration = steps * full.plan.dt;
-    s.run.dt = Some(tumble_scene::schema::DtSpec::Seconds(full.plan.dt));
+    s.run.duration = steps * full.plan.model.dt;
+    s.run.dt = Some(tumble_scene::schema::DtSpec::Seconds(full.plan.model.dt));
     compile(&s).unwrap()
 }
 
@@ -123,7 +123,7 @@ pub fn particles_leaving_the_domain_are_removed_as_on_the_cpu() {
     let mut s = parse_scene(&verify_scene("05_quadratic_drag.toml")).unwrap();
     s.domain.min[2] = -2.0;
     let c = compile(&s).unwrap();
-    let steps = c.plan.steps;
+    let steps = c.plan.run.steps;
     let mut cpu = Simulation::new(c.clone(), 1);
     let mut gpu = GpuSimulation::new(c).unwrap();
     cpu.advance(steps);
@@ -217,7 +217,7 @@ fn oblique_mindlin_pair() -> String {
 
 pub fn falling_bed_with_history_and_rolling_resistance_agrees() {
     let scene = short(&bed_with_history(), 1000.0);
-    assert!(scene.plan.history && scene.plan.rolling);
+    assert!(scene.plan.model.history && scene.plan.model.rolling);
     let (_, g) = compare_observables(scene, 1000, 2e-3);
     assert!(g.contacts > 0);
 }
@@ -264,7 +264,7 @@ pub fn history_runs_give_bit_identical_states_and_springs() {
 
 pub fn history_pair_forces_are_exactly_equal_and_opposite_and_the_spring_ends_with_the_contact() {
     let scene = scene(&oblique_mindlin_pair());
-    let steps = scene.plan.steps;
+    let steps = scene.plan.run.steps;
     let mut gpu = GpuSimulation::new(scene).unwrap();
     let (mut touching, mut held) = (0, 0);
     for _ in 0..steps.min(400) {
@@ -334,7 +334,7 @@ pub fn springs_that_end_with_their_contact_are_booked_as_dissipated_as_on_the_cp
     let mut failures = Vec::new();
     for normal in ["linear", "hertz"] {
         let s = scene(&springs_released(normal));
-        let steps = s.plan.steps;
+        let steps = s.plan.run.steps;
         let mut cpu = Simulation::new(s.clone(), 1);
         let mut gpu = GpuSimulation::new(s).unwrap();
         let (c0, g0) = (cpu.observables(), gpu.observables());

@@ -323,10 +323,10 @@ fn models() -> Vec<Model> {
     let mut out = Vec::new();
     for (label, text) in [("linear, e = 1 (undamped)", undamped), ("linear, e = 0.8 (damped)", base), ("Hertz, e = 1", hertz)] {
         let plan = tv::scene_with(&text, Integrator::Verlet, None).plan;
-        let t_col = plan.timescales.collision_time.expect("contact scene has a collision time");
-        let limit = plan.timescales.stability_limit.expect("contact scene has a stability limit");
+        let t_col = plan.report.timescales.collision_time.expect("contact scene has a collision time");
+        let limit = plan.report.timescales.stability_limit.expect("contact scene has a stability limit");
         let mut limits = Vec::new();
-        if plan.timescales.rayleigh_time.is_some() {
+        if plan.report.timescales.rayleigh_time.is_some() {
             limits.push(("plan limit Δt_R (Rayleigh)".to_string(), limit));
             // Linearised at the resting overlap: k = 2 E* √(R δ_eq), 4/3 E* √R δ_eq^1.5 = m g.
             let (m, r) = (sphere_mass(), 0.5 * DIAMETER);
@@ -410,7 +410,7 @@ fn stability_map(runs: &StabilityRuns) -> (String, String) {
     let rs = ratios();
     let x = LogAxis::range(rs[0] / 1.15, rs[rs.len() - 1] * 1.15, left, right);
     let mut csv = format!(
-        "# {CRITERION}\n# t_col from plan.timescales.collision_time; limit_over_tcol from plan.timescales.stability_limit (Hertz: Rayleigh time; also 2/omega at the resting overlap)\n# drawn as drifting: stable by the criterion but max_energy_growth_over_mgd > 1e-3\nmodel,integrator,dt_over_tcol,dt,t_col,limits_over_tcol,stable,reason,steps_run,max_energy_growth_over_mgd,max_overlap_ratio\n"
+        "# {CRITERION}\n# t_col from plan.report.timescales.collision_time; limit_over_tcol from plan.report.timescales.stability_limit (Hertz: Rayleigh time; also 2/omega at the resting overlap)\n# drawn as drifting: stable by the criterion but max_energy_growth_over_mgd > 1e-3\nmodel,integrator,dt_over_tcol,dt,t_col,limits_over_tcol,stable,reason,steps_run,max_energy_growth_over_mgd,max_overlap_ratio\n"
     );
     // Band backgrounds and labels first, axis grid over them, then markers.
     let mut y = top;

@@ -93,7 +93,7 @@ fn compiled(text: &str) -> CompiledScene {
 
 /// Runs a scene to its end on a backend, with the observables at every output time.
 fn run_with_outputs(backend: Backend, scene: CompiledScene) -> (Simulation, Vec<Observables>) {
-    let (steps, every) = (scene.plan.steps, scene.plan.output_every);
+    let (steps, every) = (scene.plan.run.steps, scene.plan.run.output_every);
     let mut sim = verify::simulation_on(backend.scene_backend(), scene);
     let mut outputs = vec![sim.observables()];
     while sim.steps() < steps {
@@ -132,7 +132,7 @@ fn settling_bed_history(backend: Backend) -> Vec<Measured> {
 /// Height, packing fraction and KE / KE peak at 0.05, 0.10, 0.15 and 0.20 s of a settling bed.
 fn bed(backend: Backend, text: &str) -> [f64; 6] {
     let scene = compiled(text);
-    let extent = scene.plan.domain.extent();
+    let extent = scene.plan.model.domain.extent();
     let (sim, outputs) = run_with_outputs(backend, scene);
     let s = sim.state();
     let mut tops: Vec<f64> = (0..s.len()).map(|i| s.pos[i].z + s.radius[i]).collect();
@@ -168,7 +168,7 @@ fn cube_settling_bed(backend: Backend) -> Vec<Measured> {
 /// Octahedron on cube, elastic and head-on: rebound speed over impact speed (1 m/s).
 fn polyhedra_collision(backend: Backend) -> Vec<Measured> {
     let scene = compiled(POLYHEDRA_COLLISION);
-    let steps = scene.plan.steps;
+    let steps = scene.plan.run.steps;
     let mut sim = verify::simulation_on(backend.scene_backend(), scene);
     sim.advance(steps);
     let s = sim.state();
@@ -181,7 +181,7 @@ fn polyhedra_collision(backend: Backend) -> Vec<Measured> {
 /// work is its kinetic energy ½ m (2V)² (m = 7.8 g).
 fn cube_plate_strike(backend: Backend) -> Vec<Measured> {
     let scene = compiled(CUBE_PLATE_STRIKE);
-    let steps = scene.plan.steps;
+    let steps = scene.plan.run.steps;
     let mut sim = verify::simulation_on(backend.scene_backend(), scene);
     sim.advance(steps);
     let v = sim.state().vel[0].x;
@@ -205,7 +205,7 @@ struct DrumRun {
 
 fn drum_run(backend: Backend, text: &str, samples: u64) -> DrumRun {
     let scene = compiled(text);
-    let steps = scene.plan.steps;
+    let steps = scene.plan.run.steps;
     let mut sim = verify::simulation_on(backend.scene_backend(), scene);
     let e0 = sim.observables();
     let every = steps / (2 * samples);
@@ -254,7 +254,7 @@ fn taylor_green(backend: Backend) -> Vec<Measured> {
 /// Cohesive cluster: the number of agglomerates at the end.
 fn cohesive_cluster(backend: Backend) -> Vec<Measured> {
     let scene = compiled(COHESIVE_CLUSTER);
-    let domain = scene.plan.domain;
+    let domain = scene.plan.model.domain;
     let (sim, _) = run_with_outputs(backend, scene);
     let s = sim.state();
     let periodic = domain.periodic.iter().any(|&p| p).then_some(&domain);

@@ -131,14 +131,14 @@ fn mill_run(fill_label: &'static str, (nx, ny): (usize, usize), fraction: f64) -
     let v_mill = std::f64::consts::PI * 0.25 * D_MILL * D_MILL * 0.15;
     let filling = balls as f64 * std::f64::consts::PI / 6.0 * D_BALL.powi(3) / (0.6 * v_mill);
     let mut sim = Simulation::new(compiled, threads());
-    let dt = sim.plan().dt;
+    let dt = sim.plan().model.dt;
     let every = (0.05 / dt).round() as u64;
     let start = Instant::now();
     let (mut w0, mut t0) = (Vec::new(), 0.0);
     let mut samples = 0.0;
     let (mut arm, mut angle, mut radius, mut toe, mut shoulder) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    while sim.steps() < sim.plan().steps {
-        sim.advance(every.min(sim.plan().steps - sim.steps()));
+    while sim.steps() < sim.plan().run.steps {
+        sim.advance(every.min(sim.plan().run.steps - sim.steps()));
         if sim.time() < SPIN_UP - 1e-9 {
             continue;
         }
@@ -447,13 +447,13 @@ fn hopper_run(shape: usize, width: f64, layers: Option<usize>, duration: f64, fr
     let compiled = compile(&scene).unwrap_or_else(|e| panic!("{e}"));
     let n = compiled.particles.len();
     let mut sim = Simulation::new(compiled, threads());
-    let every = (0.02 / sim.plan().dt).round() as u64;
+    let every = (0.02 / sim.plan().model.dt).round() as u64;
     let mut flow = FlowCounter::new(&sim);
     let t = Instant::now();
     let mut m0 = None;
     let mut series = Vec::new();
-    while sim.steps() < sim.plan().steps {
-        sim.advance(every.min(sim.plan().steps - sim.steps()));
+    while sim.steps() < sim.plan().run.steps {
+        sim.advance(every.min(sim.plan().run.steps - sim.steps()));
         let (_, mass) = flow.update(&sim)[0];
         series.push((sim.time(), mass));
         if m0.is_none() && sim.time() >= from - 1e-9 {
@@ -577,16 +577,16 @@ fn drum_run(label: &'static str, duration: f64) -> DrumRow {
     scene.run.snapshot_interval = None;
     let compiled = compile(&scene).unwrap_or_else(|e| panic!("{e}"));
     let n = compiled.particles.len();
-    let rpm = compiled.plan.drums[0].omega * 60.0 / std::f64::consts::TAU;
+    let rpm = compiled.plan.model.drums[0].omega * 60.0 / std::f64::consts::TAU;
     let mut sim = Simulation::new(compiled, threads());
-    let every = (0.05 / sim.plan().dt).round() as u64;
+    let every = (0.05 / sim.plan().model.dt).round() as u64;
     let start = Instant::now();
     let initial = sim.observables();
     let (mut w0, mut t0) = (Vec::new(), 0.0);
     let mut samples = 0.0;
     let (mut arm, mut angle, mut radius, mut toe, mut shoulder, mut max_overlap) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0f64);
-    while sim.steps() < sim.plan().steps {
-        sim.advance(every.min(sim.plan().steps - sim.steps()));
+    while sim.steps() < sim.plan().run.steps {
+        sim.advance(every.min(sim.plan().run.steps - sim.steps()));
         let o = sim.observables();
         assert!(o.finite, "{label}: non-finite state at t = {}", sim.time());
         max_overlap = max_overlap.max(o.max_overlap_ratio);

@@ -241,9 +241,9 @@ fn run_point(base: &tumble::Scene, o: &Options, stk: f64, sy: f64, window: (f64,
             return p;
         }
     };
-    p.viscosity = compiled.plan.targets.taylor_green.and_then(|t| t.viscosity).unwrap_or(f64::NAN);
-    p.cohesion_stiffness = compiled.plan.targets.stickiness.map_or(f64::NAN, |s| s.stiffness);
-    p.dt = compiled.plan.dt;
+    p.viscosity = compiled.plan.report.targets.taylor_green.and_then(|t| t.viscosity).unwrap_or(f64::NAN);
+    p.cohesion_stiffness = compiled.plan.report.targets.stickiness.map_or(f64::NAN, |s| s.stiffness);
+    p.dt = compiled.plan.model.dt;
     let dir = o.runs.join(format!("stk{stk}_sy{sy}"));
     let summary = match run_compiled(compiled, &RunOptions { out_dir: Some(dir.clone()), threads: 1, ..Default::default() }) {
         Ok(s) => s,

@@ -12,8 +12,8 @@ impl CpuSimulation {
     pub fn snapshot(&self) -> Snapshot {
         Snapshot {
             version: SNAPSHOT_VERSION,
-            scene: self.plan.name.clone(),
-            dt: self.plan.dt,
+            scene: self.plan.run.name.clone(),
+            dt: self.plan.model.dt,
             backend: "cpu".into(),
             precision: "f64".into(),
             step: self.step,
@@ -52,8 +52,8 @@ impl CpuSimulation {
         let n = s.len();
         let consistent =
             [s.id.len(), s.vel.len(), s.acc.len(), s.radius.len(), s.reach.len(), s.mass.len(), s.inv_mass.len()].iter().all(|&l| l == n)
-                && s.omega.len() == if self.plan.rotation { n } else { 0 }
-                && s.orient.len() == if self.plan.polyhedra { n } else { 0 }
+                && s.omega.len() == if self.plan.model.rotation { n } else { 0 }
+                && s.orient.len() == if self.plan.model.polyhedra { n } else { 0 }
                 && s.history.slots == self.state.history.slots
                 && (snap.last_pass.is_empty() || snap.last_pass.len() == n)
                 && snap.walls.power.len() == self.group_power.len();
@@ -157,7 +157,7 @@ impl Backend for CpuSimulation {
     }
 
     fn bytes_per_particle(&self) -> u64 {
-        self.plan.bytes_per_particle as u64
+        self.plan.tuning.bytes_per_particle as u64
     }
 
     fn snapshot(&self) -> Snapshot {

@@ -9,7 +9,7 @@ use tumble_contact::{
     TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, history_force, normal_force, rolling_torque, tangential_force,
 };
 use tumble_geom::sphere_sphere;
-use tumble_scene::{PairParams, Plan, SPHERE, Wall};
+use tumble_scene::{PairParams, PhysicsModel, SPHERE, Wall};
 use tumble_state::{ContactSum, Spring, State, WALL_KEY};
 
 /// A particle's copy in cell order, for the candidate scan.
@@ -21,7 +21,8 @@ pub struct SortedEntry {
 
 /// Read-only inputs of the contact pass.
 pub struct ContactInputs<'a> {
-    pub plan: &'a Plan,
+    /// The physics the pair and wall kernels read (laws, Δt, domain, shapes).
+    pub model: &'a PhysicsModel,
     pub state: &'a State,
     /// Velocities the forces see (Verlet: the predicted v_{n+1}).
     pub vel: &'a [DVec3],
@@ -145,9 +146,9 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
     spring: &mut Spring,
 ) -> PairOut {
     let s = c.state;
-    let plan = c.plan;
+    let model = c.model;
     let mut out = PairOut { overlap_ratio: -1.0, ..Default::default() };
-    let d = if PERIODIC { plan.domain.minimum_image(s.pos[a] - s.pos[b]) } else { s.pos[a] - s.pos[b] };
+    let d = if PERIODIC { model.domain.minimum_image(s.pos[a] - s.pos[b]) } else { s.pos[a] - s.pos[b] };
     let cutoff = s.reach[a] + s.reach[b];
     // Touching (δ = 0) counts: a contact that starts at zero overlap feels its damping at once.
     if d.length_squared() > cutoff * cutoff {
@@ -161,7 +162,7 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
     if g.overlap < 0.0 && (!COH || effect_overlap <= 0.0) {
         return out;
     }
-    let params = plan.pair(s.material[a], s.material[b]);
+    let params = model.pair(s.material[a], s.material[b]);
     let mut v_rel = c.vel[a] - c.vel[b];
     if ROT {
         v_rel += c.omega[a].cross(g.arm_i) - c.omega[b].cross(g.arm_j);
@@ -171,14 +172,14 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
     if HIST {
         *spring = s.history.find(a, s.id[b]);
     }
-    let f = contact_force::<COH, HIST>(params, g.normal, g.overlap, effect_overlap, v_rel, m_star, r_star, plan.dt, spring);
+    let f = contact_force::<COH, HIST>(params, g.normal, g.overlap, effect_overlap, v_rel, m_star, r_star, model.dt, spring);
     out.force = f.force;
     if ROT {
         out.torque_a = g.arm_i.cross(f.tangential);
         out.torque_b = g.arm_j.cross(-f.tangential);
         if params.rolling > 0.0 {
             let relative = c.omega[a] - c.omega[b];
-            let roll = rolling_torque(params.rolling, r_star, f.normal, relative, s.inv_inertia[a] + s.inv_inertia[b], plan.dt);
+            let roll = rolling_torque(params.rolling, r_star, f.normal, relative, s.inv_inertia[a] + s.inv_inertia[b], model.dt);
             out.torque_a += roll;
             out.torque_b -= roll;
             // The couple opposes the relative rolling: all its work is dissipated.
@@ -253,7 +254,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         sum.max_overlap_ratio = sum.max_overlap_ratio.max(p.overlap_ratio);
     }
     let s = c.state;
-    let plan = c.plan;
+    let model = c.model;
     let near = &list.wall_entries[list.wall_start[i] as usize..list.wall_start[i + 1] as usize];
     if near.is_empty() {
         if HIST {
@@ -270,7 +271,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         let wall = wall as u32;
         let w = &c.walls[wall as usize];
         let key = WALL_KEY | wall;
-        let params = plan.pair(s.material[i], w.material);
+        let params = model.pair(s.material[i], w.material);
         let mut spring = Spring::default();
         // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the rolling couple)
         let mut power = 0.0;
@@ -296,7 +297,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
             if HIST {
                 spring = s.history.find(i, key);
             }
-            let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, plan.dt, &mut spring);
+            let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, model.dt, &mut spring);
             let torque = arm.cross(f.tangential);
             (v_wall, k.overlap, f, torque, r)
         };
@@ -310,7 +311,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
             if params.rolling > 0.0 {
                 // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
                 let spin = w.angular_velocity();
-                let roll = rolling_torque(params.rolling, r_roll, f.normal, c.omega[i] - spin, s.inv_inertia[i], plan.dt);
+                let roll = rolling_torque(params.rolling, r_roll, f.normal, c.omega[i] - spin, s.inv_inertia[i], model.dt);
                 sum.torque += roll;
                 power += roll.dot(spin);
                 sum.dissipation -= roll.dot(c.omega[i] - spin);
@@ -340,7 +341,7 @@ fn book_ended_springs(c: &ContactInputs, i: usize, slots: &SpringSlots, sum: &mu
     let me = c.state.id[i];
     for (key, spring) in c.state.history.of(i) {
         if (key & WALL_KEY != 0 || me < key) && !kept.contains(&key) {
-            sum.dissipation += spring.energy / c.plan.dt;
+            sum.dissipation += spring.energy / c.model.dt;
         }
     }
 }

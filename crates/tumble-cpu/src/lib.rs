@@ -90,11 +90,11 @@ impl CpuSimulation {
         let state = State::from_scene(&scene);
         let slots = state.history.slots;
         // A one-cell placeholder: the first broad phase sizes the real grid to the particles.
-        let grid = CellGrid::new(&scene.plan.domain, scene.plan.domain.extent().max_element());
-        let neighbours = NeighbourList::new(scene.plan.skin);
-        let walls = scene.plan.walls.clone();
+        let grid = CellGrid::new(&scene.plan.model.domain, scene.plan.model.domain.extent().max_element());
+        let neighbours = NeighbourList::new(scene.plan.tuning.skin);
+        let walls = scene.plan.model.walls.clone();
         let moving_walls = walls.iter().any(|w| w.motion.is_some());
-        let groups = scene.plan.wall_groups.len();
+        let groups = scene.plan.model.wall_groups.len();
         let mut sim = CpuSimulation {
             plan: scene.plan,
             pool,
@@ -145,7 +145,7 @@ impl CpuSimulation {
 
     /// Simulated time.
     pub fn time(&self) -> f64 {
-        self.step as f64 * self.plan.dt
+        self.step as f64 * self.plan.model.dt
     }
 
     /// Particles that left the domain through a non-periodic side.

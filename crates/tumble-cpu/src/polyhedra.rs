@@ -17,7 +17,7 @@ use tumble_state::Spring;
 #[inline(always)]
 fn body<'a>(c: &ContactInputs<'a>, i: usize, position: DVec3) -> Option<(&'a Polyhedron, Pose)> {
     let s = c.state;
-    (s.shape[i] != SPHERE).then(|| (&c.plan.shapes[s.shape[i] as usize].body, Pose::new(position, s.orient[i])))
+    (s.shape[i] != SPHERE).then(|| (&c.model.shapes[s.shape[i] as usize].body, Pose::new(position, s.orient[i])))
 }
 
 /// R* and overlap-ratio radius of particle `i`: the radius of the sphere of equal volume.
@@ -25,7 +25,7 @@ fn body<'a>(c: &ContactInputs<'a>, i: usize, position: DVec3) -> Option<(&'a Pol
 pub(crate) fn equivalent_radius(c: &ContactInputs, i: usize) -> f64 {
     match c.state.shape[i] {
         SPHERE => c.state.radius[i],
-        k => c.plan.shapes[k as usize].equivalent_radius,
+        k => c.model.shapes[k as usize].equivalent_radius,
     }
 }
 
@@ -104,26 +104,26 @@ pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: 
     };
     let Some(k) = contact else { return out };
     let v_at = |p: DVec3| c.vel[a] + c.omega[a].cross(p - xa) - c.vel[b] - c.omega[b].cross(p - xb);
-    let params = c.plan.pair(s.material[a], s.material[b]);
+    let params = c.model.pair(s.material[a], s.material[b]);
     let m_star = 1.0 / (s.inv_mass[a] + s.inv_mass[b]);
     let (ra, rb) = (equivalent_radius(c, a), equivalent_radius(c, b));
     let r_star = ra * rb / (ra + rb);
     if HIST {
         *spring = s.history.find(a, s.id[b]);
     }
-    let (f, torque_a, torque_b) = polyhedron_force::<HIST>(params, &k, v_at, xa, xb, m_star, r_star, c.plan.dt, spring);
+    let (f, torque_a, torque_b) = polyhedron_force::<HIST>(params, &k, v_at, xa, xb, m_star, r_star, c.model.dt, spring);
     out.force = f.force;
     out.torque_a = torque_a;
     out.torque_b = torque_b;
     let spin = c.omega[a] - c.omega[b];
     let inv_n = inverse_inertia_about(c, a, k.normal) + inverse_inertia_about(c, b, k.normal);
-    let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inv_n, c.plan.dt);
+    let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inv_n, c.model.dt);
     out.torque_a += twist;
     out.torque_b -= twist;
     out.dissipation -= twist.dot(spin);
     if params.rolling > 0.0 {
         let relative = c.omega[a] - c.omega[b];
-        let roll = rolling_torque(params.rolling, r_star, f.normal, relative, s.inv_inertia[a] + s.inv_inertia[b], c.plan.dt);
+        let roll = rolling_torque(params.rolling, r_star, f.normal, relative, s.inv_inertia[a] + s.inv_inertia[b], c.model.dt);
         out.torque_a += roll;
         out.torque_b -= roll;
         out.dissipation -= roll.dot(relative);
@@ -148,11 +148,11 @@ pub(crate) fn polyhedron_wall<const HIST: bool>(
     let k = w.shape.polyhedron_contact(poly, &pose)?;
     let xi = s.pos[i];
     let v_at = |p: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.velocity_at(p);
-    let params = c.plan.pair(s.material[i], w.material);
-    let (mut f, torque, _) = polyhedron_force::<HIST>(params, &k, v_at, xi, xi, s.mass[i], equivalent_radius(c, i), c.plan.dt, spring);
+    let params = c.model.pair(s.material[i], w.material);
+    let (mut f, torque, _) = polyhedron_force::<HIST>(params, &k, v_at, xi, xi, s.mass[i], equivalent_radius(c, i), c.model.dt, spring);
     let wall_spin = w.angular_velocity();
     let spin = c.omega[i] - wall_spin;
-    let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inverse_inertia_about(c, i, k.normal), c.plan.dt);
+    let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inverse_inertia_about(c, i, k.normal), c.model.dt);
     f.dissipation -= twist.dot(spin);
     Some((k, f, torque + twist, twist.dot(wall_spin)))
 }

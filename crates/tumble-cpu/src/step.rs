@@ -35,20 +35,20 @@ impl Body {
 
 impl CpuSimulation {
     fn body(&self) -> Body {
-        Body { gravity: self.plan.gravity, drag: self.plan.fluid.map(|f| (f.drag, f.flow)) }
+        Body { gravity: self.plan.model.gravity, drag: self.plan.model.fluid.map(|f| (f.drag, f.flow)) }
     }
 
     /// Rebuilds the neighbour list when a particle may have crossed the skin;
     /// at a rebuild at least `resort_interval` steps after the last re-sort, the
     /// particle arrays are re-sorted by cell first.
     pub(crate) fn broad_phase(&mut self) {
-        let domain = self.plan.domain;
+        let domain = self.plan.model.domain;
         // Particle moves ≤ skin/2 and wall sweeps ≤ skin/2 keep every listed candidate valid.
         if !self.walls_moved_too_far() && !self.pool.install(|| self.neighbours.needs_rebuild(&self.state.pos, &domain)) {
             return;
         }
-        if self.last_resort.is_none_or(|last| self.step >= last + self.plan.resort_interval as u64) {
-            self.grid = CellGrid::new(&self.grid_bounds(), self.plan.cell_size + self.plan.skin);
+        if self.last_resort.is_none_or(|last| self.step >= last + self.plan.tuning.resort_interval as u64) {
+            self.grid = CellGrid::new(&self.grid_bounds(), self.plan.tuning.cell_size + self.plan.tuning.skin);
             self.grid.build(&self.state.pos);
             let order = self.grid.order().to_vec();
             self.state.permute(&order);
@@ -60,8 +60,8 @@ impl CpuSimulation {
     /// Builds the neighbour list over the current positions and array order (no re-sort):
     /// a function of the positions, the array order and the walls' pose alone.
     pub(crate) fn build_list(&mut self) {
-        let domain = self.plan.domain;
-        self.grid = CellGrid::new(&self.grid_bounds(), self.plan.cell_size + self.plan.skin);
+        let domain = self.plan.model.domain;
+        self.grid = CellGrid::new(&self.grid_bounds(), self.plan.tuning.cell_size + self.plan.tuning.skin);
         self.grid.build(&self.state.pos);
         let (pos, reach) = (&self.state.pos, &self.state.reach);
         let order = self.grid.order();
@@ -80,7 +80,7 @@ impl CpuSimulation {
         if !self.moving_walls {
             return;
         }
-        for (now, wall) in self.walls.iter_mut().zip(&self.plan.walls) {
+        for (now, wall) in self.walls.iter_mut().zip(&self.plan.model.walls) {
             if wall.motion.is_some() {
                 now.shape = wall.shape_at(t);
             }
@@ -90,13 +90,13 @@ impl CpuSimulation {
     /// True when some wall may have swept more than half the skin since the last list build.
     fn walls_moved_too_far(&self) -> bool {
         let elapsed = self.walls_time - self.walls_built_at;
-        self.moving_walls && self.plan.walls.iter().any(|w| w.travel_speed * elapsed > 0.5 * self.plan.skin)
+        self.moving_walls && self.plan.model.walls.iter().any(|w| w.travel_speed * elapsed > 0.5 * self.plan.tuning.skin)
     }
 
     /// The region the grid must cover: the whole domain along periodic axes (cells must tile
     /// it), the particles' bounding box along the others, so a large, sparse domain stays cheap.
     fn grid_bounds(&self) -> PeriodicBox {
-        let domain = self.plan.domain;
+        let domain = self.plan.model.domain;
         let (lo, hi) = self.pool.install(|| {
             self.state
                 .pos
@@ -108,7 +108,7 @@ impl CpuSimulation {
         for k in 0..3 {
             if !domain.periodic[k] && lo[k] <= hi[k] {
                 bounds.min[k] = lo[k].max(domain.min[k]);
-                bounds.max[k] = hi[k].min(domain.max[k]).max(bounds.min[k] + self.plan.cell_size + self.plan.skin);
+                bounds.max[k] = hi[k].min(domain.max[k]).max(bounds.min[k] + self.plan.tuning.cell_size + self.plan.tuning.skin);
             }
         }
         bounds
@@ -117,11 +117,11 @@ impl CpuSimulation {
     /// The contact pass: every listed pair once, then each particle gathers its own sum.
     /// `commit` swaps in the springs it computed (the t = 0 pass only seeds forces).
     fn contact_pass(&mut self, use_eval: bool, commit: bool) {
-        let periodic = self.plan.domain.periodic.iter().any(|&p| p);
+        let periodic = self.plan.model.domain.periodic.iter().any(|&p| p);
         // Monomorphised on the plan's features: a scene without them runs none of their code.
         macro_rules! dispatch {
             ($($rot:literal, $coh:literal, $per:literal);*) => {
-                match (self.plan.rotation, self.plan.cohesion, periodic, self.plan.history) {
+                match (self.plan.model.rotation, self.plan.model.cohesion, periodic, self.plan.model.history) {
                     $(
                         ($rot, $coh, $per, false) => self.contact_pass_with::<$rot, $coh, $per, false, false>(use_eval),
                         ($rot, $coh, $per, true) => self.contact_pass_with::<$rot, $coh, $per, true, false>(use_eval),
@@ -129,9 +129,9 @@ impl CpuSimulation {
                 }
             };
         }
-        if self.plan.polyhedra {
+        if self.plan.model.polyhedra {
             // Polyhedra always rotate and never cohere (the plan refuses cohesion with them).
-            match (periodic, self.plan.history) {
+            match (periodic, self.plan.model.history) {
                 (false, false) => self.contact_pass_with::<true, false, false, false, true>(use_eval),
                 (false, true) => self.contact_pass_with::<true, false, false, true, true>(use_eval),
                 (true, false) => self.contact_pass_with::<true, false, true, false, true>(use_eval),
@@ -141,7 +141,7 @@ impl CpuSimulation {
             dispatch!(false, false, false; true, false, false; false, true, false; true, true, false;
                       false, false, true; true, false, true; false, true, true; true, true, true);
         }
-        if self.plan.history && commit {
+        if self.plan.model.history && commit {
             std::mem::swap(&mut self.state.history, &mut self.history_next);
             self.check_history_capacity();
         }
@@ -149,10 +149,10 @@ impl CpuSimulation {
             // Serial, in array order: the same sums for any thread count.
             self.group_power.fill(0.0);
             for (&w, &p) in self.neighbours.wall_entries.iter().zip(&self.candidate_power) {
-                self.group_power[self.plan.walls[w as usize].group as usize] += p;
+                self.group_power[self.plan.model.walls[w as usize].group as usize] += p;
             }
             if commit {
-                let dt = self.plan.dt;
+                let dt = self.plan.model.dt;
                 for (work, p) in self.group_work.iter_mut().zip(&self.group_power) {
                     *work += p * dt;
                 }
@@ -162,7 +162,7 @@ impl CpuSimulation {
 
     fn contact_pass_with<const ROT: bool, const COH: bool, const PERIODIC: bool, const HIST: bool, const POLY: bool>(&mut self, use_eval: bool) {
         let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
-        let inputs = ContactInputs { plan: &self.plan, state: &self.state, vel, omega, walls: &self.walls };
+        let inputs = ContactInputs { model: &self.plan.model, state: &self.state, vel, omega, walls: &self.walls };
         let n = self.state.len();
         let (list, pair_out, pair_spring, sums) = (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.sums);
         let next = &mut self.history_next;
@@ -233,7 +233,7 @@ impl CpuSimulation {
     /// Accelerations from contact sums plus gravity and explicit drag, at velocities `vel`.
     fn accelerations(&mut self, use_eval: bool, drag_explicit: bool) {
         let body = self.body();
-        let dt = self.plan.dt;
+        let dt = self.plan.model.dt;
         let s = &mut self.state;
         let vel = if use_eval { &self.eval_vel } else { &s.vel };
         let sums = &self.sums;
@@ -270,7 +270,7 @@ impl CpuSimulation {
     pub(crate) fn initial_forces(&mut self) {
         self.place_walls(self.time());
         self.contact_pass(false, false);
-        let explicit = !self.plan.integrator.implicit_drag();
+        let explicit = !self.plan.model.integrator.implicit_drag();
         // The t = 0 pass only seeds accelerations: it must not count dissipation or fluid work.
         let saved = (self.state.dissipated.clone(), self.state.fluid_work.clone());
         self.accelerations(false, explicit);
@@ -279,8 +279,8 @@ impl CpuSimulation {
 
     /// One time step with the plan's integrator.
     pub fn step_once(&mut self) {
-        let dt = self.plan.dt;
-        match self.plan.integrator {
+        let dt = self.plan.model.dt;
+        match self.plan.model.integrator {
             Integrator::Verlet => {
                 {
                     let s = &mut self.state;
@@ -372,7 +372,7 @@ impl CpuSimulation {
             }
         }
         self.step += 1;
-        if self.plan.integrator.forces_first() {
+        if self.plan.model.integrator.forces_first() {
             self.boundaries();
         }
     }
@@ -396,7 +396,7 @@ impl CpuSimulation {
 
     /// Wraps periodic axes and removes particles that left through other sides.
     fn boundaries(&mut self) {
-        let domain = self.plan.domain;
+        let domain = self.plan.model.domain;
         let s = &mut self.state;
         if domain.periodic.iter().any(|&p| p) {
             self.pool.install(|| s.pos.par_iter_mut().for_each(|x| *x = domain.wrap(*x)));

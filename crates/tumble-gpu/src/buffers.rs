@@ -32,7 +32,7 @@ pub fn bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
     BYTES_PER_PARTICLE
         + history_bytes_per_particle(crate::upload::history_slots(plan))
         + wall_bytes_per_particle(plan)
-        + if plan.polyhedra { 16 } else { 0 }
+        + if plan.model.polyhedra { 16 } else { 0 }
 }
 
 /// Device bytes per grid cell: counts, cursors and starts (u32 each).
@@ -55,7 +55,7 @@ pub struct WallBuffers {
 
 /// Device bytes per particle for the wall power and work of `groups` wall groups (moving walls only).
 pub fn wall_bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
-    if crate::upload::moving_walls(plan) { 12 * plan.wall_groups.len() as u64 } else { 0 }
+    if crate::upload::moving_walls(plan) { 12 * plan.model.wall_groups.len() as u64 } else { 0 }
 }
 
 /// Every buffer of one simulation.

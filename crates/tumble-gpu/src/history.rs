@@ -23,7 +23,7 @@ impl GpuSimulation {
 
     /// Reads the slot counts; records the first overflow (the run then stops).
     pub(crate) fn check_history(&self) {
-        if self.overflow.get().is_some() || !self.plan.history {
+        if self.overflow.get().is_some() || !self.plan.model.history {
             return;
         }
         let slots = history_slots(&self.plan);
@@ -56,7 +56,7 @@ impl GpuSimulation {
     /// (owner id, key) → (ξ, stored energy) as f32 bits, from the latest generation.
     fn stored_springs(&self) -> BTreeMap<(u32, u32), ([u32; 3], u32)> {
         let mut out = BTreeMap::new();
-        if !self.plan.history {
+        if !self.plan.model.history {
             return out;
         }
         let n = self.slots as usize;

@@ -107,7 +107,7 @@ impl GpuSimulation {
         // never the shape table after them.
         let wall_entries = if moving { upload::wall_table(&plan, 0.0, &hulls).len() } else { 0 };
         let walls = buffers::WallBuffers {
-            groups: if moving { plan.wall_groups.len() as u64 } else { 0 },
+            groups: if moving { plan.model.wall_groups.len() as u64 } else { 0 },
             stage_bytes: 16 * (wall_entries as u64) * STEPS_PER_SUBMIT,
         };
         let buffers = Buffers::new(&gpu, &arrays, &tables, &params, &grid, upload::history_slots(&plan), walls)?;
@@ -164,7 +164,7 @@ impl GpuSimulation {
     pub fn memory_bytes(&self) -> u64 {
         memory_bytes(self.slots as u64, &self.grid, upload::history_slots(&self.plan))
             + self.slots as u64 * buffers::wall_bytes_per_particle(&self.plan)
-            + if self.plan.polyhedra { 16 * self.slots as u64 } else { 0 }
+            + if self.plan.model.polyhedra { 16 * self.slots as u64 } else { 0 }
     }
 
     /// Submits recorded steps, with the wall poses they copy from the stage (moving walls).
@@ -184,7 +184,7 @@ impl GpuSimulation {
 
     /// Simulated time.
     pub fn time(&self) -> f64 {
-        self.step as f64 * self.plan.dt
+        self.step as f64 * self.plan.model.dt
     }
 
     /// Advances `steps` steps (recorded in batches; returns once the device is done).
@@ -195,7 +195,7 @@ impl GpuSimulation {
         let mut previous = None;
         let mut batches = 0u64;
         while left > 0 {
-            if self.plan.history && self.history_overflow().is_some() {
+            if self.plan.model.history && self.history_overflow().is_some() {
                 break;
             }
             let batch = left.min(STEPS_PER_SUBMIT);
@@ -211,12 +211,12 @@ impl GpuSimulation {
             left -= batch;
             batches += 1;
             // Every 16 batches (256 steps) and at the end: a small readback that waits for the device.
-            if self.plan.history && (batches % 16 == 0 || left == 0) {
+            if self.plan.model.history && (batches % 16 == 0 || left == 0) {
                 self.check_history();
             }
         }
         self.wait();
-        if steps > 0 && self.plan.domain.periodic.iter().any(|&p| !p) {
+        if steps > 0 && self.plan.model.domain.periodic.iter().any(|&p| !p) {
             self.alive.set(None);
         }
     }

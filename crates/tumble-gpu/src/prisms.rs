@@ -22,12 +22,12 @@ pub struct PrismHulls(Vec<Option<PrismHull>>);
 
 impl PrismHulls {
     pub fn new(plan: &Plan) -> Result<Self, crate::GpuError> {
-        if !plan.polyhedra {
+        if !plan.model.polyhedra {
             return Ok(PrismHulls::default());
         }
-        let mut next = plan.shapes.len() as u32;
-        let mut hulls = Vec::with_capacity(plan.walls.len());
-        for w in &plan.walls {
+        let mut next = plan.model.shapes.len() as u32;
+        let mut hulls = Vec::with_capacity(plan.model.walls.len());
+        for w in &plan.model.walls {
             let SurfaceShape::Prism(p) = &w.shape else {
                 hulls.push(None);
                 continue;
@@ -61,11 +61,11 @@ mod tests {
         let plan = compile(&parse_scene(text).unwrap()).unwrap().plan;
         let hulls = PrismHulls::new(&plan).unwrap();
         assert_eq!(hulls.shapes().count(), 8);
-        for (k, w) in plan.walls.iter().enumerate() {
+        for (k, w) in plan.model.walls.iter().enumerate() {
             for t in [0.0, 0.37, 2.9] {
                 let SurfaceShape::Prism(bar) = w.shape_at(t) else { continue };
                 let (shape, pose) = hulls.pose(k, &bar).unwrap();
-                assert!(shape as usize >= plan.shapes.len());
+                assert!(shape as usize >= plan.model.shapes.len());
                 let hull = &hulls.0[k].as_ref().unwrap().body;
                 // Every corner of the bar is a vertex of the posed hull, and the reverse.
                 let world: Vec<_> = hull.vertices().iter().map(|v| pose.to_world(*v)).collect();

@@ -134,7 +134,7 @@ impl GpuSimulation {
         let wall_work = self.group_sums_of(&walls[1], crate::walls::wall_work_value);
         let s = self.state_from(&a);
         let observables = self.observables_of(&a, &s, &wall_work);
-        let drums = if self.plan.drums.is_empty() { Vec::new() } else { tumble_state::drum_profiles(&self.plan, &s) };
+        let drums = if self.plan.model.drums.is_empty() { Vec::new() } else { tumble_state::drum_profiles(&self.plan, &s) };
         Frame { observables, tracks: tumble_state::tracks(&s), wall_power, wall_work, drums, state: with_state.then(|| std::borrow::Cow::Owned(s)) }
     }
 
@@ -160,16 +160,16 @@ impl GpuSimulation {
             s.group.push(self.group[id as usize]);
             s.track.push(self.track[id as usize]);
             s.dissipated.push(a.energy[i][0] as f64);
-            if self.plan.rotation {
+            if self.plan.model.rotation {
                 s.omega.push(v3(a.omega[i]));
                 s.alpha.push(v3(a.alpha[i]));
                 s.inv_inertia.push(a.omega[i][3] as f64);
             }
-            if self.plan.fluid.is_some() {
+            if self.plan.model.fluid.is_some() {
                 s.fluid_work.push(a.energy[i][1] as f64);
                 s.drag.push(a.acc[i][3] as f64);
             }
-            if self.plan.polyhedra {
+            if self.plan.model.polyhedra {
                 let shape = (a.props[i][3] >> crate::upload::SHAPE_SHIFT) as u16;
                 let o = a.orient[i];
                 s.shape.push(shape);
@@ -179,7 +179,7 @@ impl GpuSimulation {
                 let inv = match shape {
                     _ if fixed => DVec3::ZERO,
                     tumble_scene::SPHERE => DVec3::splat(a.omega[i][3] as f64),
-                    k => self.plan.shapes[k as usize].body.principal_inertia(self.plan.materials[a.props[i][1] as usize].density).recip(),
+                    k => self.plan.model.shapes[k as usize].body.principal_inertia(self.plan.model.materials[a.props[i][1] as usize].density).recip(),
                 };
                 s.inv_inertia_body.push(inv);
             }
@@ -194,7 +194,7 @@ impl GpuSimulation {
     }
 
     fn observables_of(&self, a: &DeviceArrays, s: &State, wall_work: &[f64]) -> Observables {
-        let mut o = Observables::of_particles(s, self.plan.gravity, self.time());
+        let mut o = Observables::of_particles(s, self.plan.model.gravity, self.time());
         for i in a.alive_by_id() {
             o.add_contacts(a.force[i][3] as f64, a.stats[i][0] as u64, f32::from_bits(a.stats[i][1]) as f64);
         }

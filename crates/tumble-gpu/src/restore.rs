@@ -55,8 +55,8 @@ impl GpuSimulation {
         };
         Snapshot {
             version: SNAPSHOT_VERSION,
-            scene: self.plan().name.clone(),
-            dt: self.plan().dt,
+            scene: self.plan().run.name.clone(),
+            dt: self.plan().model.dt,
             backend: "gpu".into(),
             precision: "f32".into(),
             step: self.steps(),

@@ -99,25 +99,25 @@ impl Switches {
     pub fn from_plan(plan: &Plan) -> Self {
         use tumble_contact::{NormalLaw, TangentialLaw};
         Switches {
-            rotation: plan.rotation,
-            cohesion: plan.cohesion,
-            periodic: plan.domain.periodic.iter().any(|&p| p),
-            linear: plan.pairs.iter().any(|p| matches!(p.normal, NormalLaw::Linear { .. })),
-            hertz: plan.pairs.iter().any(|p| matches!(p.normal, NormalLaw::Hertz { .. })),
-            tangential: plan.pairs.iter().any(|p| p.tangential != TangentialLaw::None),
-            walls: !plan.walls.is_empty(),
-            history: plan.history,
-            rolling: plan.rolling && plan.rotation,
+            rotation: plan.model.rotation,
+            cohesion: plan.model.cohesion,
+            periodic: plan.model.domain.periodic.iter().any(|&p| p),
+            linear: plan.model.pairs.iter().any(|p| matches!(p.normal, NormalLaw::Linear { .. })),
+            hertz: plan.model.pairs.iter().any(|p| matches!(p.normal, NormalLaw::Hertz { .. })),
+            tangential: plan.model.pairs.iter().any(|p| p.tangential != TangentialLaw::None),
+            walls: !plan.model.walls.is_empty(),
+            history: plan.model.history,
+            rolling: plan.model.rolling && plan.model.rotation,
             moving: crate::upload::moving_walls(plan),
-            prisms: plan.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))),
-            polyhedra: plan.polyhedra,
-            drag: match plan.fluid.map(|f| f.drag) {
+            prisms: plan.model.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))),
+            polyhedra: plan.model.polyhedra,
+            drag: match plan.model.fluid.map(|f| f.drag) {
                 None => tumble_shaders::DRAG_NONE,
                 Some(Drag::Stokes { .. }) => tumble_shaders::DRAG_STOKES,
                 Some(Drag::Quadratic { .. }) => tumble_shaders::DRAG_QUADRATIC,
             },
-            taylor_green: matches!(plan.fluid.map(|f| f.flow), Some(tumble_contact::FlowField::TaylorGreen { .. })),
-            integrator: plan.integrator,
+            taylor_green: matches!(plan.model.fluid.map(|f| f.flow), Some(tumble_contact::FlowField::TaylorGreen { .. })),
+            integrator: plan.model.integrator,
         }
     }
 

@@ -60,7 +60,7 @@ impl GpuSimulation {
     /// The broad phase; at a re-sort the particle arrays are permuted into cell order and binned again.
     pub(crate) fn record_broad_phase(&mut self, r: &mut Recorder) {
         self.record_binning(r);
-        let due = self.last_resort.is_none_or(|last| self.step >= last + self.plan.resort_interval.max(1) as u64);
+        let due = self.last_resort.is_none_or(|last| self.step >= last + self.plan.tuning.resort_interval.max(1) as u64);
         if due {
             let b = &self.buffers;
             let bytes = 16 * self.slots as u64;
@@ -99,14 +99,14 @@ impl GpuSimulation {
         let offset = 16 * self.pending_walls.len() as u64;
         assert!(offset + bytes <= self.buffers.wall_stage.size(), "more steps recorded than one batch holds");
         self.pending_walls.extend(crate::upload::wall_table(&self.plan, t, &self.hulls));
-        r.encoder.copy_buffer_to_buffer(&self.buffers.wall_stage, offset, &self.buffers.tables, 16 * 3 * self.plan.pairs.len() as u64, bytes);
+        r.encoder.copy_buffer_to_buffer(&self.buffers.wall_stage, offset, &self.buffers.tables, 16 * 3 * self.plan.model.pairs.len() as u64, bytes);
         self.wall_time = t;
     }
 
     /// One time step with the plan's integrator.
     pub(crate) fn record_step(&mut self, r: &mut Recorder) {
-        let dt = self.plan.dt;
-        if self.plan.integrator == Integrator::Verlet {
+        let dt = self.plan.model.dt;
+        if self.plan.model.integrator == Integrator::Verlet {
             r.pass(self, "kick_drift", &self.kernels.integrate, self.particle_groups());
             // Forces at x_{n+1} see the walls at t_{n+1}.
             self.record_walls(r, (self.step + 1) as f64 * dt);

@@ -84,9 +84,9 @@ pub struct Grid {
 
 impl Grid {
     pub fn new(plan: &Plan, particles: usize) -> Grid {
-        let extent = plan.domain.extent();
+        let extent = plan.model.domain.extent();
         // A hair wider than the largest interaction diameter, so f32 rounding never hides a neighbour.
-        let width = (plan.cell_size * (1.0 + 1e-4)).max(1e-12);
+        let width = (plan.tuning.cell_size * (1.0 + 1e-4)).max(1e-12);
         let mut dims = [0, 1, 2].map(|k| ((extent[k] / width).floor()).clamp(1.0, (1u32 << 20) as f64));
         // Eight cells per particle at most: the binning passes sweep every cell each step, which
         // would cost a few particles in a large domain far more than their contacts do.
@@ -114,7 +114,7 @@ pub fn dispatch(threads: u32, per_group: u32) -> (u32, u32) {
 /// The step parameters; `shape_base`: the first word of the shape table in the tables buffer.
 pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params {
     let f3 = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32];
-    let (flow, taylor_green) = match plan.fluid.map(|f| f.flow) {
+    let (flow, taylor_green) = match plan.model.fluid.map(|f| f.flow) {
         Some(FlowField::Uniform(u)) => (f3(u), [0.0; 2]),
         Some(FlowField::TaylorGreen { amplitude, frequency }) => ([0.0; 3], [amplitude as f32, frequency as f32]),
         None => ([0.0; 3], [0.0; 2]),
@@ -122,20 +122,20 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params
     Params {
         particles: slots,
         cells: grid.cells(),
-        walls: plan.walls.len() as u32,
-        materials: plan.materials.len() as u32,
+        walls: plan.model.walls.len() as u32,
+        materials: plan.model.materials.len() as u32,
         history_slots: history_slots(plan) as u32,
-        wall_groups: plan.wall_groups.len() as u32,
+        wall_groups: plan.model.wall_groups.len() as u32,
         shape_base: shape_base as u32,
         row_threads: MAX_GROUPS_X * WORKGROUP,
         dims: grid.dims,
-        periodic: plan.domain.periodic.map(u32::from),
-        dt: plan.dt as f32,
+        periodic: plan.model.domain.periodic.map(u32::from),
+        dt: plan.model.dt as f32,
         taylor_green_amplitude: taylor_green[0],
         taylor_green_frequency: taylor_green[1],
         inv_cell: grid.inv_width.map(|w| w as f32),
-        extent: f3(plan.domain.extent()),
-        gravity: f3(plan.gravity),
+        extent: f3(plan.model.domain.extent()),
+        gravity: f3(plan.model.gravity),
         flow,
         origin: f3(centre(plan)),
         ..Params::default()
@@ -144,12 +144,12 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params
 
 /// Contact-history slots per particle on the device (0 without history).
 pub fn history_slots(plan: &Plan) -> usize {
-    if plan.history { plan.history_slots } else { 0 }
+    if plan.model.history { plan.tuning.history_slots } else { 0 }
 }
 
 /// The domain's centre: device positions are relative to it (f32 precision is best near 0).
 pub fn centre(plan: &Plan) -> DVec3 {
-    0.5 * (plan.domain.min + plan.domain.max)
+    0.5 * (plan.model.domain.min + plan.model.domain.max)
 }
 
 /// The per-particle arrays, as the device holds them (upload.rs and the shaders agree on the packing).
@@ -193,7 +193,7 @@ impl ParticleArrays {
             a.acc.push([0.0, 0.0, 0.0, drag as f32]);
             a.alpha.push([0.0, 0.0, 0.0, s.mass[i] as f32]);
             let mut flags = if s.inv_mass[i] == 0.0 { FLAG_FIXED } else { 0 };
-            if plan.polyhedra {
+            if plan.model.polyhedra {
                 // The shape index (SPHERE = 0xffff for spheres) in the high 16 bits.
                 flags |= (s.shape[i] as u32) << SHAPE_SHIFT;
                 let q = s.orient[i];
@@ -209,7 +209,7 @@ impl ParticleArrays {
 /// The polyhedron shapes of a plan as the device takes them: its particle shapes, then its
 /// lifter bars' hulls (prisms.rs).
 pub fn plan_shapes(plan: &Plan, hulls: &PrismHulls) -> Result<Vec<[f32; 4]>, crate::GpuError> {
-    let bodies: Vec<tumble_geom::Polyhedron> = plan.shapes.iter().map(|s| s.body.clone()).chain(hulls.shapes().cloned()).collect();
+    let bodies: Vec<tumble_geom::Polyhedron> = plan.model.shapes.iter().map(|s| s.body.clone()).chain(hulls.shapes().cloned()).collect();
     crate::shapes::shape_table(&bodies).map_err(|e| crate::GpuError::Feature(e.0))
 }
 
@@ -219,7 +219,7 @@ pub fn plan_shapes(plan: &Plan, hulls: &PrismHulls) -> Result<Vec<[f32; 4]>, cra
 /// shape table, which follows everything the walls append so the two regions never overlap.
 pub fn tables_with_shapes(plan: &Plan, hulls: &PrismHulls) -> Result<(Vec<[f32; 4]>, usize), crate::GpuError> {
     let mut t = tables(plan, hulls);
-    if !plan.polyhedra {
+    if !plan.model.polyhedra {
         return Ok((t, 0));
     }
     let shapes = plan_shapes(plan, hulls)?;
@@ -250,7 +250,7 @@ fn code(c: u32) -> f32 {
 /// The pair table: PAIR_ENTRY_WORDS vec4 per material pair (forces.wgsl).
 pub fn pair_table(plan: &Plan) -> Vec<[f32; 4]> {
     let mut t = Vec::new();
-    for p in &plan.pairs {
+    for p in &plan.model.pairs {
         let e = p.normal.restitution();
         let factor = (std::f64::consts::PI.powi(2) + e.ln().powi(2)).sqrt();
         t.push(match p.normal {
@@ -285,7 +285,7 @@ pub fn pair_table(plan: &Plan) -> Vec<[f32; 4]> {
 
 /// True when some wall moves (the MOVING switch: wall velocities, poses uploaded every step, wall power).
 pub fn moving_walls(plan: &Plan) -> bool {
-    plan.walls.iter().any(|w| w.motion.is_some())
+    plan.model.walls.iter().any(|w| w.motion.is_some())
 }
 
 /// The wall section of the table (it follows the pair table, at `PAIR_ENTRY_WORDS · materials²`)
@@ -294,13 +294,13 @@ pub fn moving_walls(plan: &Plan) -> bool {
 /// particles, its hull's pose), whose first index is the entry's w0.w.
 pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
     let entry_words = codes::WALL_ENTRY_WORDS as usize;
-    let walls_base = codes::PAIR_ENTRY_WORDS as usize * plan.pairs.len();
+    let walls_base = codes::PAIR_ENTRY_WORDS as usize * plan.model.pairs.len();
     let moving = moving_walls(plan);
     let origin = centre(plan);
-    let mut main = Vec::with_capacity(entry_words * plan.walls.len());
+    let mut main = Vec::with_capacity(entry_words * plan.model.walls.len());
     let mut extras = Vec::new();
-    for (k, w) in plan.walls.iter().enumerate() {
-        let extra = (walls_base + entry_words * plan.walls.len() + extras.len()) as f32;
+    for (k, w) in plan.model.walls.iter().enumerate() {
+        let extra = (walls_base + entry_words * plan.model.walls.len() + extras.len()) as f32;
         let first_extra = extras.len();
         if moving {
             // ω and the velocity at the domain's centre: v(x) = ω × (x − centre) + v(centre).
@@ -348,11 +348,11 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
 /// Why the GPU backend cannot run the plan's walls, if it cannot.
 pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
     // The contact pass books each group's power once, walking the walls in group order.
-    if moving_walls(plan) && plan.walls.windows(2).any(|w| w[1].group < w[0].group) {
+    if moving_walls(plan) && plan.model.walls.windows(2).any(|w| w[1].group < w[0].group) {
         return Some("its wall surfaces are not in wall-group order".into());
     }
     // Table indices are stored as f32 (exact below 2^24).
-    let entries = codes::PAIR_ENTRY_WORDS as usize * plan.pairs.len() + wall_table(plan, 0.0, hulls).len();
+    let entries = codes::PAIR_ENTRY_WORDS as usize * plan.model.pairs.len() + wall_table(plan, 0.0, hulls).len();
     if entries >= 1 << 24 {
         return Some(format!("its pair and wall tables have {entries} entries (at most 2^24)"));
     }

@@ -9,17 +9,22 @@ use tumble_state::DrumProfile;
 impl GpuSimulation {
     /// The walls in the pose of the last contact pass (moving walls at that pass's time).
     pub fn walls(&self) -> Vec<Wall> {
-        self.plan.walls.iter().map(|w| if w.motion.is_some() { Wall { shape: w.shape_at(self.wall_time), ..w.clone() } } else { w.clone() }).collect()
+        self.plan
+            .model
+            .walls
+            .iter()
+            .map(|w| if w.motion.is_some() { Wall { shape: w.shape_at(self.wall_time), ..w.clone() } } else { w.clone() })
+            .collect()
     }
 
     /// Bytes of the per-(id, group) wall entries of `element_bytes` each (zero without moving walls).
     pub(crate) fn wall_entry_bytes(&self, element_bytes: u64) -> u64 {
-        if self.moving { element_bytes * self.slots as u64 * self.plan.wall_groups.len() as u64 } else { 0 }
+        if self.moving { element_bytes * self.slots as u64 * self.plan.model.wall_groups.len() as u64 } else { 0 }
     }
 
     /// Per wall group, the sum over particles (in id order, f64) of `entry(id, group)` read back as `bytes`.
     pub(crate) fn group_sums_of<T: bytemuck::Pod>(&self, bytes: &[u8], value: impl Fn(&T) -> f64) -> Vec<f64> {
-        let groups = self.plan.wall_groups.len();
+        let groups = self.plan.model.wall_groups.len();
         let mut out = vec![0.0; groups];
         if bytes.is_empty() || groups == 0 {
             return out;
@@ -36,7 +41,7 @@ impl GpuSimulation {
     fn group_sums<T: bytemuck::Pod>(&self, buffer: &wgpu::Buffer, value: impl Fn(&T) -> f64) -> Vec<f64> {
         let bytes = self.wall_entry_bytes(std::mem::size_of::<T>() as u64);
         if bytes == 0 {
-            return vec![0.0; self.plan.wall_groups.len()];
+            return vec![0.0; self.plan.model.wall_groups.len()];
         }
         self.group_sums_of(&self.read_bytes(&[(buffer, bytes)])[0], value)
     }
@@ -55,7 +60,7 @@ impl GpuSimulation {
 
     /// The charge profile of each drum of the plan, from the read-back state.
     pub fn drum_profiles(&self) -> Vec<DrumProfile> {
-        if self.plan.drums.is_empty() {
+        if self.plan.model.drums.is_empty() {
             return Vec::new();
         }
         tumble_state::drum_profiles(&self.plan, &self.state())

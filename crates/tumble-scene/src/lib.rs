@@ -22,9 +22,10 @@
 //! "#;
 //! let scene = tumble_scene::parse_scene(text).unwrap();
 //! let compiled = tumble_scene::compile(&scene).unwrap();
-//! assert!(!compiled.plan.rotation);
+//! assert!(!compiled.plan.model.rotation);
 //! ```
 
+mod compile;
 mod error;
 mod load;
 mod particles;
@@ -36,10 +37,11 @@ pub mod targets;
 mod timescales;
 mod walls;
 
+pub use compile::compile;
 pub use error::SceneError;
 pub use load::{parse_scene, read_scene};
 pub use particles::InitialParticles;
-pub use plan::{CompiledScene, Drag, Feature, Fluid, Material, PairParams, Plan, Timescales, Wall, compile};
+pub use plan::{CompiledScene, Drag, Feature, Fluid, Material, PairParams, PhysicsModel, Plan, PlanReport, RunSettings, Timescales, Tuning, Wall};
 pub use rng::Rng;
 pub use schema::Scene;
 pub use shapes::{ParticleShape, SPHERE};

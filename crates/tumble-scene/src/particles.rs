@@ -1,5 +1,6 @@
 //! Turning particle groups (explicit, lattice, random) into initial particle arrays.
 
+use crate::compile::{non_negative, positive};
 use crate::rng::Rng;
 use crate::schema::{DiameterSpec, FlowSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, VelocitySpec};
 use crate::shapes::{ParticleShape, SPHERE};
@@ -7,6 +8,7 @@ use crate::{Scene, SceneError};
 use glam::{DQuat, DVec3};
 use std::collections::HashMap;
 use tumble_contact::FlowField;
+use tumble_geom::PeriodicBox;
 
 /// Initial state of every particle, indexed by particle id.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -136,6 +138,127 @@ pub fn generate(
         }
     }
     Ok(out)
+}
+
+/// The particle groups' shapes, their generated particles, validated and placed inside the
+/// domain without overlaps among explicit positions.
+pub(crate) fn compile_particles(
+    scene: &Scene,
+    material_index: &HashMap<String, u16>,
+    domain: &PeriodicBox,
+) -> Result<(InitialParticles, Vec<ParticleShape>), SceneError> {
+    let mut shapes = Vec::new();
+    let mut group_shape = Vec::with_capacity(scene.particles.len());
+    for (g, group) in scene.particles.iter().enumerate() {
+        group_shape.push(crate::shapes::group_shape(group, g)?.map(|s| {
+            shapes.push(s);
+            (shapes.len() - 1) as u16
+        }));
+    }
+    let particles = generate(scene, material_index, &group_shape, &shapes)?;
+    for (g, group) in scene.particles.iter().enumerate() {
+        let ShapeSection::Sphere(s) = &group.shape else { continue };
+        let f = |x: &str| format!("particles[{g}].shape.sphere.{x}");
+        match s.diameter {
+            DiameterSpec::Fixed(d) => {
+                positive(&f("diameter"), d)?;
+            }
+            DiameterSpec::Uniform(r) => {
+                positive(&f("diameter.min"), r.min)?;
+                if !(r.max >= r.min) {
+                    return Err(SceneError::field(f("diameter.max"), format!("must be at least diameter.min = {}, got {}", r.min, r.max)));
+                }
+            }
+        }
+        if let Some(de) = s.effect_diameter {
+            let d_max = match s.diameter {
+                DiameterSpec::Fixed(d) => d,
+                DiameterSpec::Uniform(r) => r.max,
+            };
+            if !(de >= d_max) {
+                return Err(SceneError::field(f("effect_diameter"), format!("must be at least the body diameter {d_max}, got {de}")));
+            }
+        }
+        if let Some(ratio) = s.effect_ratio
+            && !(ratio >= 1.0)
+        {
+            return Err(SceneError::field(f("effect_ratio"), format!("must be at least 1, got {ratio}")));
+        }
+        if let Some(VelocitySpec::Random(r)) = &group.velocity {
+            non_negative(&format!("particles[{g}].velocity.random.mean_speed"), r.random.mean_speed)?;
+            non_negative(&format!("particles[{g}].velocity.random.std"), r.random.std)?;
+        }
+    }
+    if particles.is_empty() {
+        return Err(SceneError::field("particles", "the scene has no particles; add a [[particles]] group"));
+    }
+    for i in 0..particles.len() {
+        if !particles.position[i].is_finite() || !particles.velocity[i].is_finite() {
+            return Err(SceneError::field(format!("particles[{}]", particles.group[i]), "positions and velocities must be finite numbers"));
+        }
+        if !domain.contains(particles.position[i]) {
+            let p = particles.position[i];
+            return Err(SceneError::field(
+                format!("particles[{}]", particles.group[i]),
+                format!("particle at [{}, {}, {}] lies outside the domain [{:?} .. {:?}]", p.x, p.y, p.z, scene.domain.min, scene.domain.max),
+            ));
+        }
+    }
+    check_explicit_overlaps(scene, &particles, &shapes, domain)?;
+
+    Ok((particles, shapes))
+}
+
+/// Body contacts closer than this fraction of the smaller diameter count as overlapping.
+const OVERLAP_TOLERANCE: f64 = 1e-9;
+
+fn check_explicit_overlaps(scene: &Scene, p: &InitialParticles, shapes: &[ParticleShape], domain: &PeriodicBox) -> Result<(), SceneError> {
+    use tumble_geom::{Pose, polyhedron_polyhedron, sphere_polyhedron};
+    // Depth of the body overlap of i and j (bounding spheres are only a first test for polyhedra).
+    let body_overlap = |i: usize, j: usize, d: DVec3, sphere_overlap: f64| -> f64 {
+        let pose = |k: usize, x: DVec3| (&shapes[p.shape[k] as usize].body, Pose::new(x, p.orientation[k]));
+        let (xi, xj) = (p.position[i], p.position[i] - d);
+        let contact = match (p.shape[i] != SPHERE, p.shape[j] != SPHERE) {
+            (false, false) => return sphere_overlap,
+            (true, true) => {
+                let ((a, pa), (b, pb)) = (pose(i, xi), pose(j, xj));
+                polyhedron_polyhedron(a, &pa, b, &pb)
+            }
+            (true, false) => {
+                let (a, pa) = pose(i, xi);
+                sphere_polyhedron(xj, p.radius[j], a, &pa)
+            }
+            (false, true) => {
+                let (b, pb) = pose(j, xj);
+                sphere_polyhedron(xi, p.radius[i], b, &pb)
+            }
+        };
+        contact.map_or(-1.0, |c| c.depth)
+    };
+    let explicit: Vec<usize> = (0..p.len()).filter(|&i| scene.particles[p.group[i] as usize].positions.is_some()).collect();
+    if explicit.len() > 20_000 {
+        return Ok(()); // too many to check pairwise; lattice and random groups are safe by construction
+    }
+    for (a, &i) in explicit.iter().enumerate() {
+        for &j in &explicit[a + 1..] {
+            let dv = domain.minimum_image(p.position[i] - p.position[j]);
+            let mut overlap = p.radius[i] + p.radius[j] - dv.length();
+            if overlap > 0.0 {
+                overlap = body_overlap(i, j, dv, overlap);
+            }
+            if overlap > OVERLAP_TOLERANCE * 2.0 * p.radius[i].min(p.radius[j]) {
+                return Err(SceneError::field(
+                    format!("particles[{}].positions", p.group[j]),
+                    format!(
+                        "particle at {:?} overlaps the particle at {:?} by {overlap:.3e} m; explicit particles must not overlap",
+                        p.position[j].to_array(),
+                        p.position[i].to_array()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn group_positions(

@@ -8,12 +8,11 @@
 //! Taylor–Green scales are u_0 = ⟨|u|⟩ (the mean speed over the periodic cell, by quadrature:
 //! u_0 = 0.7799 A, see [`taylor_green_mean_speed`]) and the vortex size l_0 = π/a.
 
-use crate::SceneError;
 use crate::particles::InitialParticles;
-use crate::plan::{Drag, Fluid, Material, PairParams};
-use crate::schema::{CohesionSection, Scene, ViscositySpec};
+use crate::plan::Material;
 use std::f64::consts::PI;
-use tumble_contact::{FlowField, stickiness_number};
+#[cfg(test)]
+use tumble_contact::stickiness_number;
 
 /// The Taylor–Green scales and the Stokes number of a scene's particles.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,7 +42,7 @@ pub struct Stickiness {
     pub restitution: f64,
 }
 
-/// What [`resolve`] found, for the plan.
+/// The target numbers a scene's plan reports.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Targets {
     pub taylor_green: Option<TaylorGreenNumbers>,
@@ -92,112 +91,30 @@ pub fn cohesion_for_stickiness_number(sy: f64, restitution: f64, effect_length: 
     q * speed * speed * m_star / (effect_length * effect_length * (1.0 - q))
 }
 
-fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
-    if v.is_finite() && v > 0.0 { Ok(v) } else { Err(SceneError::field(field, format!("must be a positive number, got {v}"))) }
+/// The representative values over the movable particles that the target numbers are taken at.
+pub(crate) struct MovableMeans {
+    /// No particle is movable (the means are then zero).
+    pub none: bool,
+    /// The first movable particle, whose material with itself is the stickiness pair.
+    pub first: Option<usize>,
+    /// mean(ρ d²), kg/m.
+    pub rho_d2: f64,
+    /// L_e = d_e − d_b, m.
+    pub effect_length: f64,
+    /// m* = m̄/2, kg.
+    pub reduced_mass: f64,
 }
 
-/// Fills in the viscosity and cohesion stiffnesses the scene gives as target numbers, and reports
-/// Stk and Sy. `cohesion` holds, per material pair (same order as `pairs`), the field root and the
-/// cohesion section that applies.
-pub(crate) fn resolve(
-    scene: &Scene,
-    p: &InitialParticles,
-    materials: &[Material],
-    pairs: &mut [PairParams],
-    cohesion: &[(String, Option<CohesionSection>)],
-    fluid: &mut Option<Fluid>,
-) -> Result<Targets, SceneError> {
-    let movable: Vec<usize> = (0..p.len()).filter(|&i| !p.fixed[i]).collect();
-    let count = movable.len().max(1) as f64;
-    let density = |i: usize| materials[p.material[i] as usize].density;
-    let mean_rho_d2 = movable.iter().map(|&i| density(i) * 4.0 * p.radius[i] * p.radius[i]).sum::<f64>() / count;
-    let mean_mass = movable.iter().map(|&i| density(i) * p.volume[i]).sum::<f64>() / count;
-    let effect_length = movable.iter().map(|&i| 2.0 * (p.effect_radius[i] - p.radius[i])).sum::<f64>() / count;
-    let m_star = 0.5 * mean_mass;
-    let mut out = Targets::default();
-
-    let tg = match fluid.as_ref().map(|f| f.flow) {
-        Some(FlowField::TaylorGreen { amplitude, frequency }) => Some((taylor_green_mean_speed(amplitude), PI / frequency)),
-        _ => None,
-    };
-    if let Some(ViscositySpec::Target(t)) = scene.fluid.as_ref().and_then(|f| f.viscosity) {
-        let field = "fluid.viscosity.stokes_number";
-        let stk = positive(field, t.stokes_number)?;
-        let Some((u0, l0)) = tg else {
-            return Err(SceneError::field(field, "needs flow = { taylor_green = { … } } (u_0 and l_0 come from the vortex)"));
-        };
-        if !matches!(fluid.as_ref().map(|f| f.drag), Some(Drag::Stokes { .. })) {
-            return Err(SceneError::field(field, "needs drag = \"stokes\" (the Stokes number is defined by Stokes drag)"));
-        }
-        if u0 == 0.0 || movable.is_empty() {
-            return Err(SceneError::field(field, "needs a non-zero flow amplitude and movable particles"));
-        }
-        if let Some(f) = fluid.as_mut()
-            && let Drag::Stokes { viscosity } = &mut f.drag
-        {
-            *viscosity = viscosity_for_stokes_number(stk, mean_rho_d2, u0, l0);
-        }
+impl MovableMeans {
+    pub(crate) fn new(p: &InitialParticles, materials: &[Material]) -> MovableMeans {
+        let movable: Vec<usize> = (0..p.len()).filter(|&i| !p.fixed[i]).collect();
+        let count = movable.len().max(1) as f64;
+        let density = |i: usize| materials[p.material[i] as usize].density;
+        let rho_d2 = movable.iter().map(|&i| density(i) * 4.0 * p.radius[i] * p.radius[i]).sum::<f64>() / count;
+        let mean_mass = movable.iter().map(|&i| density(i) * p.volume[i]).sum::<f64>() / count;
+        let effect_length = movable.iter().map(|&i| 2.0 * (p.effect_radius[i] - p.radius[i])).sum::<f64>() / count;
+        MovableMeans { none: movable.is_empty(), first: movable.first().copied(), rho_d2, effect_length, reduced_mass: 0.5 * mean_mass }
     }
-    if let Some((u0, l0)) = tg {
-        let viscosity = match fluid.as_ref().map(|f| f.drag) {
-            Some(Drag::Stokes { viscosity }) => Some(viscosity),
-            _ => None,
-        };
-        let stokes_number = viscosity.filter(|_| !movable.is_empty()).map(|mu| mean_rho_d2 * u0 / (18.0 * mu * l0));
-        out.taylor_green = Some(TaylorGreenNumbers { mean_flow_speed: u0, vortex_size: l0, stokes_number, viscosity });
-    }
-
-    let u0 = tg.map(|t| t.0).filter(|&u| u > 0.0);
-    for (k, (root, spec)) in cohesion.iter().enumerate() {
-        let Some(spec) = spec else { continue };
-        let speed = match spec.collision_speed {
-            Some(u) => Some(positive(&format!("{root}.cohesion.collision_speed"), u)?),
-            None => u0,
-        };
-        let Some(sy) = spec.stickiness_number else { continue };
-        let field = format!("{root}.cohesion.stickiness_number");
-        positive(&field, sy)?;
-        let e = pairs[k].normal.restitution();
-        if sy * e >= 1.0 {
-            return Err(SceneError::field(
-                field,
-                format!("Sy = {sy} with restitution e = {e} is out of reach: Sy < 1/e = {:.4} for any k_c (lower Sy or e)", 1.0 / e),
-            ));
-        }
-        if effect_length.is_nan() || effect_length <= 0.0 {
-            return Err(SceneError::field(field, "needs an effect_diameter larger than the body diameter (L_e = d_e − d_b > 0)"));
-        }
-        let Some(u) = speed else {
-            return Err(SceneError::field(
-                field,
-                format!("needs {root}.cohesion.collision_speed (m/s), or a Taylor–Green flow whose mean speed u_0 is taken"),
-            ));
-        };
-        pairs[k].cohesion = cohesion_for_stickiness_number(sy, e, effect_length, u, m_star);
-    }
-
-    // Report Sy for the first movable particle's material with itself.
-    if let Some(&i) = movable.first() {
-        let n = materials.len();
-        let k = p.material[i] as usize * (n + 1);
-        let pair = &pairs[k];
-        let speed = cohesion[k].1.as_ref().and_then(|c| c.collision_speed).or(u0);
-        if pair.cohesion > 0.0
-            && effect_length > 0.0
-            && let Some(u) = speed
-        {
-            let e = pair.normal.restitution();
-            out.stickiness = Some(Stickiness {
-                number: stickiness_number(effect_length, pair.cohesion, e, u, m_star),
-                stiffness: pair.cohesion,
-                collision_speed: u,
-                effect_length,
-                reduced_mass: m_star,
-                restitution: e,
-            });
-        }
-    }
-    Ok(out)
 }
 
 #[cfg(test)]

@@ -27,7 +27,8 @@ pub struct Timescales {
 }
 
 /// The scene's time scales; `shapes` is the plan's shape table (a polyhedron's contact mass is
-/// its effective mass at its worst vertex, not its mass).
+/// its effective mass at its worst vertex, not its mass); the default step also respects the
+/// moving-geometry limit `wall_step_limit`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn timescales(
     p: &InitialParticles,
@@ -40,6 +41,7 @@ pub(crate) fn timescales(
     gravity: DVec3,
     domain: &PeriodicBox,
     rotation: bool,
+    wall_step_limit: Option<f64>,
 ) -> Timescales {
     let n_mat = materials.len();
     let mass = |i: usize| materials[p.material[i] as usize].density * p.volume[i];
@@ -169,7 +171,8 @@ pub(crate) fn timescales(
     if limit.is_finite() {
         ts.stability_limit = Some(limit);
     }
-    ts.default_dt = if default_dt.is_finite() { default_dt } else { 1e-3 };
+    let default_dt = if default_dt.is_finite() { default_dt } else { 1e-3 };
+    ts.default_dt = wall_step_limit.map_or(default_dt, |w| default_dt.min(w));
     ts
 }
 

@@ -2,7 +2,8 @@
 //! prisms, motions and the groups whose power `observables.csv` reports.
 
 use crate::SceneError;
-use crate::plan::{Drum, Motion, Wall, WallGroup, finite3, positive, unit};
+use crate::compile::{finite3, positive, unit};
+use crate::plan::{Drum, Motion, Wall, WallGroup};
 use crate::schema::*;
 use glam::DVec3;
 use tumble_geom::{Cylinder, PeriodicBox, Plane, Prism, Quad, SurfaceShape};

@@ -56,7 +56,7 @@ pub trait Backend: Any {
     fn steps(&self) -> u64;
     /// Simulated time.
     fn time(&self) -> f64 {
-        self.steps() as f64 * self.plan().dt
+        self.steps() as f64 * self.plan().model.dt
     }
     /// Particles still in the domain.
     fn particles(&self) -> usize;

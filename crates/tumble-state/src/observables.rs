@@ -123,8 +123,9 @@ pub fn tracks(s: &State) -> Vec<TrackRow> {
 /// The charge profile of each drum of `plan` from any backend's state (NaN angles without gravity
 /// across the axis).
 pub fn drum_profiles(plan: &tumble_scene::Plan, s: &State) -> Vec<DrumProfile> {
-    let g = plan.gravity;
-    plan.drums
+    let g = plan.model.gravity;
+    plan.model
+        .drums
         .iter()
         .map(|d| {
             let g_plane = g - d.axis * g.dot(d.axis);

@@ -152,11 +152,11 @@ impl Snapshot {
         if self.version != SNAPSHOT_VERSION {
             return Err(SnapshotError::Version { found: self.version, expected: SNAPSHOT_VERSION });
         }
-        if self.scene != plan.name {
-            return Err(SnapshotError::Mismatch(format!("written for scene `{}`, this run is `{}`", self.scene, plan.name)));
+        if self.scene != plan.run.name {
+            return Err(SnapshotError::Mismatch(format!("written for scene `{}`, this run is `{}`", self.scene, plan.run.name)));
         }
-        if self.dt.to_bits() != plan.dt.to_bits() {
-            return Err(SnapshotError::Mismatch(format!("written with dt = {:e} s, this run has dt = {:e} s", self.dt, plan.dt)));
+        if self.dt.to_bits() != plan.model.dt.to_bits() {
+            return Err(SnapshotError::Mismatch(format!("written with dt = {:e} s, this run has dt = {:e} s", self.dt, plan.model.dt)));
         }
         Ok(())
     }

@@ -48,47 +48,47 @@ impl State {
         let n = p.len();
         let mut s = State::default();
         for i in 0..n {
-            let density = plan.materials[p.material[i] as usize].density;
+            let density = plan.model.materials[p.material[i] as usize].density;
             let m = density * p.volume[i];
             s.id.push(i as u32);
             s.pos.push(p.position[i]);
             s.vel.push(p.velocity[i]);
             s.acc.push(DVec3::ZERO);
             s.radius.push(p.radius[i]);
-            s.reach.push(if plan.cohesion { p.effect_radius[i].max(p.radius[i]) } else { p.radius[i] });
+            s.reach.push(if plan.model.cohesion { p.effect_radius[i].max(p.radius[i]) } else { p.radius[i] });
             s.mass.push(m);
             s.inv_mass.push(if p.fixed[i] { 0.0 } else { 1.0 / m });
             s.material.push(p.material[i]);
             s.group.push(p.group[i]);
             s.track.push(p.track[i]);
             s.dissipated.push(0.0);
-            if plan.rotation {
+            if plan.model.rotation {
                 s.omega.push(p.angular_velocity[i]);
                 s.alpha.push(DVec3::ZERO);
                 let principal = match p.shape[i] {
                     tumble_scene::SPHERE => DVec3::splat(0.4 * m * p.radius[i] * p.radius[i]),
-                    k => plan.shapes[k as usize].body.principal_inertia(density),
+                    k => plan.model.shapes[k as usize].body.principal_inertia(density),
                 };
                 let inv = if p.fixed[i] { DVec3::ZERO } else { principal.recip() };
                 // The scalar serves spheres and caps the rolling couple: the largest (softest) axis.
                 s.inv_inertia.push(inv.max_element());
-                if plan.polyhedra {
+                if plan.model.polyhedra {
                     s.shape.push(p.shape[i]);
                     s.orient.push(p.orientation[i]);
                     s.inv_inertia_body.push(inv);
                 }
             }
-            if let Some(f) = &plan.fluid {
+            if let Some(f) = &plan.model.fluid {
                 s.fluid_work.push(0.0);
                 s.drag.push(match f.drag {
                     Drag::Stokes { viscosity } => {
-                        tumble_contact::stokes_relaxation_time(plan.materials[p.material[i] as usize].density, 2.0 * p.radius[i], viscosity)
+                        tumble_contact::stokes_relaxation_time(plan.model.materials[p.material[i] as usize].density, 2.0 * p.radius[i], viscosity)
                     }
                     Drag::Quadratic { coefficient } => coefficient / m,
                 });
             }
         }
-        s.history = HistorySlots::new(n, if plan.history { plan.history_slots } else { 0 });
+        s.history = HistorySlots::new(n, if plan.model.history { plan.tuning.history_slots } else { 0 });
         s
     }
 

@@ -12,7 +12,7 @@ use tumble_scene::schema::BackendName;
 /// about the axis of the wall forces on the ball, (x − a) × F + I α.
 pub fn a_drum_drive_power_is_torque_times_omega(backend: BackendName) {
     let s = compiled(&replaced(&test_scene("drum_one_ball"), "duration = 3.0", "duration = 1.0"));
-    let steps = s.plan.steps;
+    let steps = s.plan.run.steps;
     let mut sim = Simulation::on(backend, s, 1).unwrap();
     let omega = 10.0 * std::f64::consts::TAU / 60.0;
     let g = DVec3::new(0.0, -9.81, 0.0);

@@ -1,0 +1,118 @@
+//! `compile`: a scene validated section by section, each value computed once, when its inputs
+//! are known. The sections run in a fixed order (each after those it depends on), so a scene
+//! with several mistakes is always told about the same first one.
+
+mod fluid;
+mod materials;
+mod model;
+mod pairs;
+mod report;
+mod run;
+mod tuning;
+
+use crate::SceneError;
+use crate::particles::compile_particles;
+use crate::plan::{CompiledScene, PhysicsModel, Plan, PlanReport, RunSettings, Tuning};
+use crate::schema::{Scene, V3};
+use crate::targets::{MovableMeans, Targets};
+use glam::DVec3;
+
+/// Validates a scene, generates its particles and compiles the plan.
+pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
+    if scene.name.trim().is_empty() {
+        return Err(SceneError::field("name", "must not be empty"));
+    }
+    let table = materials::materials(scene)?;
+    let domain = model::domain(scene)?;
+    let pair_laws = pairs::pair_laws(scene, &table)?;
+    let (particles, shapes) = compile_particles(scene, &table.index, &domain)?;
+    let (walls, wall_groups, drums) = crate::walls::compile_walls(scene, &|field: String, name: &str| table.lookup(scene, field, name), &domain)?;
+    let flow_planes = model::flow_planes(scene)?;
+    let means = MovableMeans::new(&particles, &table.materials);
+    let (fluid, taylor_green) = fluid::fluid(scene, &means)?;
+    let first_material = means.first.map(|i| particles.material[i]);
+    let flow_speed = taylor_green.map(|t| t.mean_flow_speed);
+    let (pairs, stickiness) = pairs::pair_table(&pair_laws, &means, first_material, table.materials.len(), flow_speed)?;
+    let gravity = model::gravity(scene)?;
+    let history_slots = tuning::history_slots(scene)?;
+    let mechanics = model::mechanics(scene, &pairs, &shapes, &particles, fluid.as_ref())?;
+    let (cell_size, skin) = tuning::search(scene, &particles, mechanics.cohesion, &domain)?;
+
+    positive("run.duration", scene.run.duration)?;
+    let integrator = model::integrator(scene);
+    let wall_step_limit = run::wall_step_limit(&walls, &wall_groups, &particles);
+    let timescales = crate::timescales::timescales(
+        &particles,
+        &shapes,
+        &table.materials,
+        &pairs,
+        &walls,
+        fluid.as_ref(),
+        integrator,
+        gravity,
+        &domain,
+        mechanics.rotation,
+        wall_step_limit.as_ref().map(|w| w.dt),
+    );
+    let dt = run::step(scene, &timescales, wall_step_limit.as_ref())?;
+    let schedule = run::schedule(scene, dt)?;
+    let resort_interval = tuning::resort_interval(scene)?;
+    let monitor = run::monitor(scene)?;
+
+    let model = PhysicsModel {
+        dt,
+        integrator,
+        rotation: mechanics.rotation,
+        polyhedra: mechanics.polyhedra,
+        shapes,
+        cohesion: mechanics.cohesion,
+        history: mechanics.history,
+        rolling: mechanics.rolling,
+        fluid,
+        gravity,
+        domain,
+        materials: table.materials,
+        pairs,
+        walls,
+        wall_groups,
+        drums,
+        flow_planes,
+        group_names: scene.particles.iter().enumerate().map(|(g, p)| p.name.clone().unwrap_or_else(|| format!("group{g}"))).collect(),
+    };
+    let run = RunSettings {
+        name: scene.name.clone(),
+        duration: scene.run.duration,
+        steps: schedule.steps,
+        output_every: schedule.output_every,
+        snapshot_every: schedule.snapshot_every,
+        backend: scene.run.backend,
+        monitor,
+        agglomerates: scene.run.agglomerates.unwrap_or(mechanics.cohesion),
+    };
+    let tuning = Tuning { cell_size, skin, resort_interval, history_slots, bytes_per_particle: tuning::bytes_per_particle(&model, history_slots) };
+    let report = PlanReport {
+        features: report::features(scene, &model, &mechanics, &tuning, &run),
+        warnings: report::warnings(&model, &timescales, &particles),
+        timescales,
+        wall_step_limit,
+        targets: Targets { taylor_green, stickiness },
+    };
+    Ok(CompiledScene { plan: Plan { model, run, tuning, report }, particles })
+}
+
+pub(crate) fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
+    if v.is_finite() && v > 0.0 { Ok(v) } else { Err(SceneError::field(field, format!("must be a positive number, got {v}"))) }
+}
+
+pub(crate) fn non_negative(field: &str, v: f64) -> Result<f64, SceneError> {
+    if v.is_finite() && v >= 0.0 { Ok(v) } else { Err(SceneError::field(field, format!("must be zero or positive, got {v}"))) }
+}
+
+pub(crate) fn finite3(field: &str, v: V3) -> Result<DVec3, SceneError> {
+    if v.iter().all(|c| c.is_finite()) { Ok(DVec3::from_array(v)) } else { Err(SceneError::field(field, "every component must be a finite number")) }
+}
+
+pub(crate) fn unit(field: &str, v: V3) -> Result<DVec3, SceneError> {
+    let d = finite3(field, v)?;
+    if d.length() > 0.0 { Ok(d.normalize()) } else { Err(SceneError::field(field, "must be a non-zero direction")) }
+}

@@ -1,0 +1,94 @@
+//! The run's schedule: the step Δt (chosen or checked against the stability and
+//! moving-geometry limits), the step count and the output and snapshot cadence.
+
+use super::positive;
+use crate::SceneError;
+use crate::particles::InitialParticles;
+use crate::plan::{WALL_ADVANCE_FRACTION, Wall, WallGroup, WallStepLimit};
+use crate::schema::*;
+use crate::timescales::Timescales;
+
+/// Moving geometry: a wall must not advance more than 0.025 r_min per step.
+pub(super) fn wall_step_limit(walls: &[Wall], wall_groups: &[WallGroup], particles: &InitialParticles) -> Option<WallStepLimit> {
+    walls.iter().filter(|w| w.surface_speed > 0.0).max_by(|a, b| a.surface_speed.total_cmp(&b.surface_speed)).and_then(|w| {
+        let r_min = (0..particles.len()).filter(|&i| !particles.fixed[i]).map(|i| particles.radius[i]).fold(f64::INFINITY, f64::min);
+        r_min.is_finite().then(|| WallStepLimit {
+            dt: WALL_ADVANCE_FRACTION * r_min / w.surface_speed,
+            wall: wall_groups[w.group as usize].name.clone(),
+            speed: w.surface_speed,
+            r_min,
+        })
+    })
+}
+
+/// Δt: the scene's, or the plan's default; refused above a limit unless the scene allows it.
+pub(super) fn step(scene: &Scene, timescales: &Timescales, wall_step_limit: Option<&WallStepLimit>) -> Result<f64, SceneError> {
+    let run = &scene.run;
+    let dt = match run.dt {
+        None => timescales.default_dt.min(run.duration),
+        Some(DtSpec::Seconds(dt)) => positive("run.dt", dt)?,
+        Some(DtSpec::Fraction(f)) => {
+            positive("run.dt.collision_fraction", f.collision_fraction)?;
+            let t = timescales
+                .collision_time
+                .ok_or_else(|| SceneError::field("run.dt.collision_fraction", "this scene has no contact time to divide; give dt in seconds"))?;
+            t / f.collision_fraction
+        }
+    };
+    if let Some(limit) = timescales.stability_limit
+        && dt > limit
+        && !run.allow_unstable_dt
+    {
+        return Err(SceneError::field(
+            "run.dt",
+            format!(
+                "dt = {dt:.4e} s is above the stability limit {limit:.4e} s of this scene; use dt <= {limit:.4e} (the plan's default is {:.4e}) or set run.allow_unstable_dt = true",
+                timescales.default_dt
+            ),
+        ));
+    }
+    if let Some(w) = wall_step_limit
+        && dt > w.dt
+        && !run.allow_unstable_dt
+    {
+        return Err(SceneError::field(
+            "run.dt",
+            format!(
+                "dt = {dt:.4e} s lets wall \"{}\" (moving at {:.4} m/s) advance more than {WALL_ADVANCE_FRACTION} r_min = {:.3e} m per step; use dt <= {:.4e} or set run.allow_unstable_dt = true",
+                w.wall,
+                w.speed,
+                WALL_ADVANCE_FRACTION * w.r_min,
+                w.dt
+            ),
+        ));
+    }
+    Ok(dt)
+}
+
+/// Steps to the end, steps per output row and per snapshot.
+pub(super) struct Schedule {
+    pub steps: u64,
+    pub output_every: u64,
+    pub snapshot_every: Option<u64>,
+}
+
+pub(super) fn schedule(scene: &Scene, dt: f64) -> Result<Schedule, SceneError> {
+    let run = &scene.run;
+    let steps = (run.duration / dt - 1e-9).ceil().max(1.0) as u64;
+    let output_interval = run.output_interval.unwrap_or(run.duration / 100.0);
+    positive("run.output_interval", output_interval)?;
+    let output_every = ((output_interval / dt).round() as u64).max(1);
+    let snapshot_every = match run.snapshot_interval {
+        Some(s) => Some(((positive("run.snapshot_interval", s)? / dt).round() as u64).max(1)),
+        None => None,
+    };
+    Ok(Schedule { steps, output_every, snapshot_every })
+}
+
+/// The instability monitor's thresholds.
+pub(super) fn monitor(scene: &Scene) -> Result<MonitorSection, SceneError> {
+    let monitor = scene.run.monitor;
+    positive("run.monitor.max_overlap_ratio", monitor.max_overlap_ratio)?;
+    positive("run.monitor.energy_growth", monitor.energy_growth)?;
+    Ok(monitor)
+}
