@@ -5,7 +5,8 @@
 // Bindings: bindings.rs (REDUCE).
 //
 // Energies are two-float (hi, lo) terms and sums: each operation keeps its rounding error
-// in lo, so a sum is good to about 2⁻⁴⁸ per term of Σ|term|, close to the host's f64 sum.
+// in lo where the compiler keeps IEEE order (lavapipe's folds it away, leaving f32 terms
+// summed pairwise; tumble-gpu's reduce.rs states the accuracy).
 
 // One level's inputs and partials.
 struct ReduceParams {

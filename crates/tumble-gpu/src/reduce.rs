@@ -7,17 +7,17 @@
 //! partial, each level above sums `REDUCE_BLOCK` partials of the one below, until one is left.
 //! There are no atomics, so a run gives bit-identical sums every time on one device.
 //!
-//! Accuracy: the energies are two-float (hi, lo) values, about 48 bits: each particle's term
-//! is formed from the f32 arrays with exact products (fma) and two-float sums (gravity and the
-//! polyhedra's principal inertia come from the host's f64 as two-float too, the rotation to the
-//! body frame follows the host's formula), and the terms are summed as two-float pairs. A
-//! term is then good to a few 2⁻⁴⁸ of itself and a sum to about 2⁻⁴⁸ per level and term of
-//! Σ|term|: the energies agree with the host's f64 sum of the same f32 arrays to about 1e-12
-//! of Σ|term| (printed observables do not move); contacts, particles, the largest overlap ratio
-//! and the finite flag are exact. An adapter whose fma rounds twice loses the products' low
-//! parts, about 1e-7 of Σ|term| for kinetic, rotational and potential energy. The potential is
-//! summed relative to the device's origin (the domain's centre); the origin's term,
-//! −M g·origin with M the movable mass, is added on the host in f64.
+//! Accuracy: each particle's term is formed in f32 from the f32 arrays (gravity and the
+//! polyhedra's principal inertia from the host's f64, the body-frame rotation in the host's
+//! formula) and the tree sums pairwise, so an energy is within about (a few + log₂ n)·2⁻²⁴ of
+//! Σ|term| of the host's f64 sum of the same arrays; contacts, particles, the largest overlap
+//! ratio and the finite flag are exact. The terms and sums are written as two-float (hi, lo)
+//! values (fma products, TwoSum additions), which would bring that to about 1e-12 where the
+//! shader compiler keeps IEEE order, but naga marks no operation exact and lavapipe's
+//! compiler folds the compensation away: measured there, 1e-8 to 1.1e-7 of Σ|term|
+//! (`tests/backends/reduced_rows.rs`, which allows 1e-6). The potential is summed relative to
+//! the device's origin (the domain's centre); the origin's term, −M g·origin with M the
+//! movable mass, is added on the host in f64.
 
 use crate::GpuSimulation;
 use crate::buffers::Buffers;
