@@ -27,5 +27,5 @@ pub use flow::FlowCounter;
 pub use monitor::{Instability, Monitor};
 pub use run::{RunError, RunOptions, RunSummary, load_scene, run_compiled, run_scene_file};
 pub use simulation::Simulation;
-pub use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};
 pub use tumble_state::{Backend, DrumProfile, Fault, Frame, Observables, Snapshot, SnapshotError, State, TrackRow};
+pub use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};

@@ -124,8 +124,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let plan_text = compiled.plan.describe(compiled.particles.len());
     let backend = options.backend.unwrap_or(compiled.plan.backend);
     // The backend is set up before any file is written: a missing adapter changes nothing.
-    let mut sim = Simulation::on(backend, compiled, options.threads)
-        .map_err(|e| RunError::Backend(format!("backend {}: {e}", format!("{backend:?}").to_lowercase())))?;
+    let mut sim = Simulation::on(backend, compiled, options.threads).map_err(|e| RunError::Backend(format!("backend {}: {e}", format!("{backend:?}").to_lowercase())))?;
     io(&out_dir, std::fs::create_dir_all(&out_dir))?;
     let fluid = sim.plan().fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, sim.plan()))?;

@@ -2,17 +2,8 @@ use super::*;
 use std::collections::BTreeSet;
 
 /// Module-scope constants the WGSL files declare themselves: sentinels no host code sees.
-const SHADER_LOCAL: &[&str] = &[
-    "POLY_BIG",
-    "POLY_NONE",
-    "REDUCE_KINETIC",
-    "REDUCE_ROTATIONAL",
-    "REDUCE_POTENTIAL",
-    "REDUCE_MASS",
-    "REDUCE_ELASTIC",
-    "REDUCE_DISSIPATED",
-    "REDUCE_FLUID",
-];
+const SHADER_LOCAL: &[&str] =
+    &["POLY_BIG", "POLY_NONE", "REDUCE_KINETIC", "REDUCE_ROTATIONAL", "REDUCE_POTENTIAL", "REDUCE_MASS", "REDUCE_ELASTIC", "REDUCE_DISSIPATED", "REDUCE_FLUID"];
 
 /// Names of the module-scope `const` declarations of a WGSL text (function-scope ones are indented).
 fn module_constants(text: &str) -> Vec<&str> {
@@ -40,10 +31,7 @@ fn wgsl_files_declare_only_their_own_sentinels_and_no_bindings() {
     for (file, text) in FILES {
         for name in module_constants(text) {
             assert!(!shared.contains(name), "{file} declares {name}, which the prelude declares from layout.rs");
-            assert!(
-                SHADER_LOCAL.contains(&name),
-                "{file} declares const {name}: move it to layout.rs if the host shares it, else list it in SHADER_LOCAL"
-            );
+            assert!(SHADER_LOCAL.contains(&name), "{file} declares const {name}: move it to layout.rs if the host shares it, else list it in SHADER_LOCAL");
         }
         assert!(!text.contains("@binding("), "{file} declares a binding; bindings.rs generates them");
     }

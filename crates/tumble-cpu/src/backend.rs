@@ -49,17 +49,14 @@ impl CpuSimulation {
         }
         let s = &snap.state;
         let n = s.len();
-        let consistent =
-            [s.id.len(), s.vel.len(), s.acc.len(), s.radius.len(), s.reach.len(), s.mass.len(), s.inv_mass.len()].iter().all(|&l| l == n)
-                && s.omega.len() == if self.plan.rotation { n } else { 0 }
-                && s.orient.len() == if self.plan.polyhedra { n } else { 0 }
-                && s.history.slots == self.state.history.slots
-                && (snap.last_pass.is_empty() || snap.last_pass.len() == n)
-                && snap.walls.power.len() == self.group_power.len();
+        let consistent = [s.id.len(), s.vel.len(), s.acc.len(), s.radius.len(), s.reach.len(), s.mass.len(), s.inv_mass.len()].iter().all(|&l| l == n)
+            && s.omega.len() == if self.plan.rotation { n } else { 0 }
+            && s.orient.len() == if self.plan.polyhedra { n } else { 0 }
+            && s.history.slots == self.state.history.slots
+            && (snap.last_pass.is_empty() || snap.last_pass.len() == n)
+            && snap.walls.power.len() == self.group_power.len();
         if !consistent {
-            return Err(SnapshotError::Mismatch(
-                "its arrays do not match this plan's model (rotation, polyhedra, history slots, wall groups)".into(),
-            ));
+            return Err(SnapshotError::Mismatch("its arrays do not match this plan's model (rotation, polyhedra, history slots, wall groups)".into()));
         }
         self.state = snap.state.clone();
         self.step = snap.step;

@@ -4,13 +4,13 @@
 
 use crate::neighbours::NeighbourList;
 use crate::polyhedra::{equivalent_radius, polyhedron_pair, polyhedron_wall};
+use tumble_state::{ContactSum, Spring, State, WALL_KEY};
 use glam::DVec3;
 use tumble_contact::{
     TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, history_force, normal_force, rolling_torque, tangential_force,
 };
 use tumble_geom::sphere_sphere;
 use tumble_scene::{PairParams, Plan, SPHERE, Wall};
-use tumble_state::{ContactSum, Spring, State, WALL_KEY};
 
 /// A particle's copy in cell order, for the candidate scan.
 #[derive(Clone, Copy, Debug, Default)]

@@ -7,12 +7,12 @@
 //! in a fixed order: no atomics, the same result for any thread count.
 
 use crate::forces::SortedEntry;
+use tumble_state::State;
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
 use tumble_geom::PeriodicBox;
 use tumble_scene::Wall;
-use tumble_state::State;
 
 /// Pairs that may touch before the next rebuild, and each particle's share of them.
 #[derive(Clone, Debug, Default)]

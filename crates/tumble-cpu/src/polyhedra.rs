@@ -5,13 +5,13 @@
 //! force about each centre (a normal force on a polyhedron need not pass through its centre).
 
 use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
+use tumble_state::Spring;
 use glam::DVec3;
 use tumble_contact::{normal_force, rolling_torque};
 use tumble_geom::{PolyContact, Polyhedron, Pose, polyhedron_polyhedron, sphere_polyhedron};
 use tumble_integrate::world_inverse_inertia_times;
 use tumble_scene::PairParams;
 use tumble_scene::{SPHERE, Wall};
-use tumble_state::Spring;
 
 /// Particle `i`'s polyhedron and pose, when it is one.
 #[inline(always)]

@@ -2,6 +2,7 @@
 
 use crate::CpuSimulation;
 use crate::forces::{ContactInputs, SortedEntry, SpringSlots, gather, pair_contact};
+use tumble_state::{HistoryOverflow, Spring};
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
@@ -12,7 +13,6 @@ use tumble_integrate::{
     world_inverse_inertia_times,
 };
 use tumble_scene::Drag;
-use tumble_state::{HistoryOverflow, Spring};
 
 /// Per-particle body-force context, copied out of the plan once per pass.
 #[derive(Clone, Copy)]

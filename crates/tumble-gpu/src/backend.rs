@@ -18,12 +18,7 @@ impl Backend for GpuSimulation {
             name: "gpu",
             precision: "f32",
             device: a.to_string(),
-            adapter: Some(AdapterInfo {
-                name: a.name.clone(),
-                backend: a.backend.clone(),
-                driver: a.driver.clone(),
-                device_type: a.device_type.clone(),
-            }),
+            adapter: Some(AdapterInfo { name: a.name.clone(), backend: a.backend.clone(), driver: a.driver.clone(), device_type: a.device_type.clone() }),
         }
     }
 
@@ -94,13 +89,7 @@ impl Backend for GpuSimulation {
             removed: self.removed() as u64,
             state: frame.state.map(Cow::into_owned).unwrap_or_default(),
             last_pass: Vec::new(),
-            walls: WallState {
-                time: self.wall_time,
-                built_at: self.wall_time,
-                power: frame.wall_power,
-                work: frame.wall_work,
-                work_compensation: Vec::new(),
-            },
+            walls: WallState { time: self.wall_time, built_at: self.wall_time, power: frame.wall_power, work: frame.wall_work, work_compensation: Vec::new() },
             neighbours: None,
             last_resort: self.last_resort,
             fault: self.fault(),

@@ -95,59 +95,19 @@ pub fn check_limits(limits: &wgpu::Limits, adapter: &AdapterDescription, switche
     for shader in sources_for(switches) {
         let storage = shader.storage_buffers(switches) as u64;
         let pass = pass_name(shader.name);
-        refuse(
-            format!("{pass} binds {storage} storage buffers{with} and"),
-            "max_storage_buffers_per_shader_stage",
-            storage,
-            limits.max_storage_buffers_per_shader_stage as u64,
-        )?;
+        refuse(format!("{pass} binds {storage} storage buffers{with} and"), "max_storage_buffers_per_shader_stage", storage, limits.max_storage_buffers_per_shader_stage as u64)?;
         let bindings = shader.module.bindings.len() as u64;
-        refuse(
-            format!("{pass} numbers its bindings up to {} and", bindings - 1),
-            "max_bindings_per_bind_group",
-            bindings,
-            limits.max_bindings_per_bind_group as u64,
-        )?;
+        refuse(format!("{pass} numbers its bindings up to {} and", bindings - 1), "max_bindings_per_bind_group", bindings, limits.max_bindings_per_bind_group as u64)?;
     }
     let uniform = std::mem::size_of::<Params>().max(std::mem::size_of::<ScanParams>()) as u64;
-    refuse(
-        format!("the step parameters take {uniform} bytes and"),
-        "max_uniform_buffer_binding_size",
-        uniform,
-        limits.max_uniform_buffer_binding_size,
-    )?;
+    refuse(format!("the step parameters take {uniform} bytes and"), "max_uniform_buffer_binding_size", uniform, limits.max_uniform_buffer_binding_size)?;
     let threads = WORKGROUP.max(SCAN_THREADS) as u64;
-    refuse(
-        format!("the scan runs {threads} threads per workgroup and"),
-        "max_compute_workgroup_size_x",
-        threads,
-        limits.max_compute_workgroup_size_x as u64,
-    )?;
-    refuse(
-        format!("the scan runs {threads} threads per workgroup and"),
-        "max_compute_invocations_per_workgroup",
-        threads,
-        limits.max_compute_invocations_per_workgroup as u64,
-    )?;
-    refuse(
-        format!("the scan shares {} bytes per workgroup and", 4 * SCAN_THREADS),
-        "max_compute_workgroup_storage_size",
-        4 * SCAN_THREADS as u64,
-        limits.max_compute_workgroup_storage_size as u64,
-    )?;
+    refuse(format!("the scan runs {threads} threads per workgroup and"), "max_compute_workgroup_size_x", threads, limits.max_compute_workgroup_size_x as u64)?;
+    refuse(format!("the scan runs {threads} threads per workgroup and"), "max_compute_invocations_per_workgroup", threads, limits.max_compute_invocations_per_workgroup as u64)?;
+    refuse(format!("the scan shares {} bytes per workgroup and", 4 * SCAN_THREADS), "max_compute_workgroup_storage_size", 4 * SCAN_THREADS as u64, limits.max_compute_workgroup_storage_size as u64)?;
     let reduce = WORKGROUP as u64 * crate::reduce::PARTIAL_BYTES;
-    refuse(
-        format!("the output-row reduction shares {reduce} bytes per workgroup and"),
-        "max_compute_workgroup_storage_size",
-        reduce,
-        limits.max_compute_workgroup_storage_size as u64,
-    )?;
-    refuse(
-        format!("dispatch rows of {MAX_GROUPS_X} workgroups need"),
-        "max_compute_workgroups_per_dimension",
-        MAX_GROUPS_X as u64,
-        limits.max_compute_workgroups_per_dimension as u64,
-    )
+    refuse(format!("the output-row reduction shares {reduce} bytes per workgroup and"), "max_compute_workgroup_storage_size", reduce, limits.max_compute_workgroup_storage_size as u64)?;
+    refuse(format!("dispatch rows of {MAX_GROUPS_X} workgroups need"), "max_compute_workgroups_per_dimension", MAX_GROUPS_X as u64, limits.max_compute_workgroups_per_dimension as u64)
 }
 
 /// How an error names a module's pass.
@@ -283,12 +243,7 @@ mod tests {
     use super::*;
 
     fn gl() -> AdapterDescription {
-        AdapterDescription {
-            name: "llvmpipe (LLVM 19.1.7, 256 bits)".into(),
-            backend: "Gl".into(),
-            driver: "llvmpipe".into(),
-            device_type: "Cpu".into(),
-        }
+        AdapterDescription { name: "llvmpipe (LLVM 19.1.7, 256 bits)".into(), backend: "Gl".into(), driver: "llvmpipe".into(), device_type: "Cpu".into() }
     }
 
     /// A desktop Vulkan adapter's limits as far as the kernels care.
@@ -302,17 +257,7 @@ mod tests {
         let everything = Switches::everything();
         let e = check_limits(&gl_limits, &gl(), &everything).unwrap_err();
         let text = e.to_string();
-        for part in [
-            "contact pass",
-            "18 storage buffers",
-            "contact history, moving walls, polyhedra",
-            "max_storage_buffers_per_shader_stage",
-            "allows 16",
-            "llvmpipe",
-            "Gl",
-            "Vulkan",
-            "backend = \"cpu\"",
-        ] {
+        for part in ["contact pass", "18 storage buffers", "contact history, moving walls, polyhedra", "max_storage_buffers_per_shader_stage", "allows 16", "llvmpipe", "Gl", "Vulkan", "backend = \"cpu\""] {
             assert!(text.contains(part), "{part}: {text}");
         }
         assert!(matches!(e, GpuError::Limit { needed: 18, allowed: 16, .. }), "{e:?}");

@@ -7,9 +7,9 @@
 //! a switched-off feature uses is not bound at all. `tests/naga_validation.rs` validates every
 //! source and every combination of switches a plan can produce.
 
+pub use tumble_shaders::{Feature, MODULES, Module, POLYHEDRA_TEST_MODULE, prelude};
 use tumble_integrate::Integrator;
 use tumble_scene::{Drag, Plan};
-pub use tumble_shaders::{Feature, MODULES, Module, POLYHEDRA_TEST_MODULE, prelude};
 
 /// One shader module as a plan's pipelines build it: its name, the text that decides which
 /// switches it uses, and the complete source.
@@ -131,13 +131,7 @@ impl Switches {
                 continue;
             }
             use tumble_shaders::{DRAG_NONE, DRAG_QUADRATIC, DRAG_STOKES};
-            let drags = [
-                (DRAG_NONE, false, false),
-                (DRAG_STOKES, false, false),
-                (DRAG_STOKES, true, false),
-                (DRAG_QUADRATIC, false, false),
-                (DRAG_NONE, false, true),
-            ];
+            let drags = [(DRAG_NONE, false, false), (DRAG_STOKES, false, false), (DRAG_STOKES, true, false), (DRAG_QUADRATIC, false, false), (DRAG_NONE, false, true)];
             for (drag, taylor_green, polyhedra) in drags {
                 // Polyhedra rotate and neither cohere nor feel drag.
                 if polyhedra && (!b(0) || b(1)) {

@@ -5,9 +5,9 @@
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use tumble_contact::{FlowField, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter};
+use tumble_state::State;
 use tumble_geom::SurfaceShape;
 use tumble_scene::Plan;
-use tumble_state::State;
 
 use crate::prisms::PrismHulls;
 use tumble_shaders as codes;
@@ -472,13 +472,8 @@ mod tests {
         for module in ["broad", "reorder", "forces", "integrate"] {
             assert_eq!(wgsl_struct(module, "Params"), (host.to_vec(), std::mem::size_of::<Params>()), "{module}");
         }
-        let scan = [
-            ("n", offset_of!(ScanParams, n)),
-            ("offsets", offset_of!(ScanParams, offsets)),
-            ("row", offset_of!(ScanParams, row)),
-            ("_pad", offset_of!(ScanParams, _pad)),
-        ]
-        .map(|(n, o)| (n.to_string(), o));
+        let scan = [("n", offset_of!(ScanParams, n)), ("offsets", offset_of!(ScanParams, offsets)), ("row", offset_of!(ScanParams, row)), ("_pad", offset_of!(ScanParams, _pad))]
+            .map(|(n, o)| (n.to_string(), o));
         assert_eq!(wgsl_struct("scan", "ScanParams"), (scan.to_vec(), std::mem::size_of::<ScanParams>()));
     }
 

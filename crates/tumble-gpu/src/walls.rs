@@ -3,8 +3,8 @@
 //! drum charge profiles (from read-back state).
 
 use crate::GpuSimulation;
-use tumble_scene::Wall;
 use tumble_state::DrumProfile;
+use tumble_scene::Wall;
 
 impl GpuSimulation {
     /// The walls in the pose of the last contact pass (moving walls at that pass's time).
