@@ -117,6 +117,30 @@ pub const INTEGRATE: &[Binding] = &[
     b("tables", V4F, Read, Always),
 ];
 
+/// reduce.wgsl: the output row's observables reduction and tracked-particle gather. Every
+/// level of the reduction binds the same table (level 0 reads the particle arrays, the levels
+/// above read `partials_in`).
+pub const REDUCE: &[Binding] = &[
+    b("params", "Params", Uniform, Always),
+    b("reduce_level", "ReduceParams", Uniform, Always),
+    b("pos", V4F, Read, Always),
+    b("vel", V4F, Read, Always),
+    b("omega", V4F, Read, Always),
+    b("alpha", V4F, Read, Always),
+    b("props", V4U, Read, Always),
+    b("energy", V4F, Read, Always),
+    b("force", V4F, Read, Always),
+    b("stats", "array<vec2<u32>>", Read, Always),
+    b("orient", V4F, Read, Polyhedra),
+    // Principal moments of inertia per (shape, material), body frame (polyhedra).
+    b("body_inertia", V4F, Read, Polyhedra),
+    b("partials_in", "array<Partial>", Read, Always),
+    b("partials_out", "array<Partial>", ReadWrite, Always),
+    // Track rank by particle id (NO_TRACK when untracked), and the gathered rows by rank.
+    b("track_rank", U32S, Read, Always),
+    b("tracks", V4U, ReadWrite, Always),
+];
+
 /// polyhedra_test.wgsl: the narrow-phase harness.
 pub const POLYHEDRA_TEST: &[Binding] = &[
     b("count", "vec4<u32>", Uniform, Always),

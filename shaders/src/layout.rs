@@ -33,6 +33,15 @@ shared! {
     SCAN_PER_THREAD = 4;
     /// Values per workgroup of the scan.
     SCAN_BLOCK = SCAN_THREADS * SCAN_PER_THREAD;
+    /// Values one workgroup of the output-row reduction sums (WORKGROUP threads, four each).
+    REDUCE_BLOCK = WORKGROUP * 4;
+
+    // ---- Tracked particles (reduce.wgsl) ----
+    /// vec4<u32> words per gathered row: (position bits, id), (velocity bits, 1 when present),
+    /// (angular velocity bits, 0), (orientation bits).
+    TRACK_ROW_WORDS = 4;
+    /// The track rank of an untracked particle id.
+    NO_TRACK = u32::MAX;
 
     // ---- Integrators (the INTEGRATOR override) ----
     INTEGRATOR_EULER = 0;

@@ -42,6 +42,8 @@ pub const SPHERE_POLYHEDRON: &str = include_str!("../sphere_polyhedron.wgsl");
 pub const POLYHEDRON_WALLS: &str = include_str!("../polyhedron_walls.wgsl");
 /// The test harness of the polyhedra narrow phase.
 pub const POLYHEDRA_TEST: &str = include_str!("../polyhedra_test.wgsl");
+/// The output row's observables reduction and tracked-particle gather.
+pub const REDUCE: &str = include_str!("../reduce.wgsl");
 /// Body forces and the integrators.
 pub const INTEGRATE: &str = include_str!("../integrate.wgsl");
 
@@ -63,6 +65,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("polyhedron_walls.wgsl", POLYHEDRON_WALLS),
     ("polyhedra_test.wgsl", POLYHEDRA_TEST),
     ("integrate.wgsl", INTEGRATE),
+    ("reduce.wgsl", REDUCE),
 ];
 
 const NARROW_PHASE: [&str; 5] = [QUATERNION, POLYHEDRA, POLYHEDRON_POLYHEDRON, SPHERE_POLYHEDRON, POLYHEDRON_WALLS];
@@ -104,6 +107,12 @@ pub const MODULES: &[Module] = &[
         files: &[COMMON, QUATERNION, POLYHEDRA, POLYHEDRON_POLYHEDRON, SPHERE_POLYHEDRON, POLYHEDRON_WALLS, INTEGRATE],
         bindings: bindings::INTEGRATE,
         entry_points: &["initial", "kick_drift", "finish"],
+    },
+    Module {
+        name: "reduce",
+        files: &[COMMON, QUATERNION, REDUCE],
+        bindings: bindings::REDUCE,
+        entry_points: &["reduce_particles", "reduce_partials", "gather_tracks"],
     },
 ];
 

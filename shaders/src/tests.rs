@@ -2,7 +2,17 @@ use super::*;
 use std::collections::BTreeSet;
 
 /// Module-scope constants the WGSL files declare themselves: sentinels no host code sees.
-const SHADER_LOCAL: &[&str] = &["POLY_BIG", "POLY_NONE"];
+const SHADER_LOCAL: &[&str] = &[
+    "POLY_BIG",
+    "POLY_NONE",
+    "REDUCE_KINETIC",
+    "REDUCE_ROTATIONAL",
+    "REDUCE_POTENTIAL",
+    "REDUCE_MASS",
+    "REDUCE_ELASTIC",
+    "REDUCE_DISSIPATED",
+    "REDUCE_FLUID",
+];
 
 /// Names of the module-scope `const` declarations of a WGSL text (function-scope ones are indented).
 fn module_constants(text: &str) -> Vec<&str> {

@@ -12,6 +12,8 @@ mod polyhedra_contact;
 mod polyhedra_moving;
 /// Polyhedral particles in the GPU step against the CPU engine.
 mod polyhedra_step;
+/// The GPU's small output rows: device-reduced observables and gathered tracks.
+mod reduced_rows;
 /// GPU runs continued from snapshots of the device's memory.
 mod restore;
 /// The backend seam on the GPU: one read-back per output row, tracked orientations.
@@ -67,6 +69,9 @@ fn main() {
         restore::a_snapshot_that_does_not_fit_is_refused_and_changes_nothing,
         seams::an_output_row_is_one_read_back,
         seams::tracked_polyhedra_carry_the_cpus_orientation,
+        reduced_rows::device_reduced_rows_match_the_host_sums_of_the_full_arrays,
+        reduced_rows::an_output_row_reads_back_the_same_few_bytes_whatever_the_particle_count,
+        reduced_rows::device_reduced_rows_are_bit_identical_run_to_run,
     ];
     tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only].into_iter().flatten().collect());
 }

@@ -101,7 +101,7 @@ pub fn octahedron_cube_elastic_rebound_matches_the_cpu() {
 /// into a box under gravity: 112 cubes (and 32 spheres), 6,300 steps to 0.36 s (t_col at a cube corner / 10). On lavapipe
 /// this is minutes, so the beds are small; the spheres settle slowest (they roll), so the
 /// mixture is compared while the layers land on each other (to 0.18 s).
-fn bed(spheres: bool, duration: f64) -> CompiledScene {
+pub(crate) fn bed(spheres: bool, duration: f64) -> CompiledScene {
     let mut text = format!(
         r#"
 name = "cube-bed"

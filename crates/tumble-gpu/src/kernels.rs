@@ -65,7 +65,7 @@ fn bound<'a>(bindings: &'a [Binding], switches: &'a Switches) -> impl Iterator<I
 }
 
 /// A bind group of a module: each binding it needs gets the buffer `buffer` names for it.
-fn bind<'a>(
+pub(crate) fn bind<'a>(
     gpu: &Gpu,
     (shader, layout): (&ShaderSource, &wgpu::BindGroupLayout),
     switches: &Switches,
@@ -133,6 +133,13 @@ pub fn check_limits(limits: &wgpu::Limits, adapter: &AdapterDescription, switche
         format!("the scan shares {} bytes per workgroup and", 4 * SCAN_THREADS),
         "max_compute_workgroup_storage_size",
         4 * SCAN_THREADS as u64,
+        limits.max_compute_workgroup_storage_size as u64,
+    )?;
+    let reduce = WORKGROUP as u64 * crate::reduce::PARTIAL_BYTES;
+    refuse(
+        format!("the output-row reduction shares {reduce} bytes per workgroup and"),
+        "max_compute_workgroup_storage_size",
+        reduce,
         limits.max_compute_workgroup_storage_size as u64,
     )?;
     refuse(

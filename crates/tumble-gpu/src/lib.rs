@@ -31,6 +31,7 @@ mod kernels;
 mod prisms;
 pub mod profile;
 mod readback;
+mod reduce;
 mod restore;
 pub mod shaders;
 pub mod shapes;
@@ -73,6 +74,10 @@ pub struct GpuSimulation {
     overflow: Cell<Option<tumble_state::HistoryOverflow>>,
     /// Read-backs from the device so far (each one submission and one mapping).
     readbacks: Cell<u64>,
+    /// Bytes those read-backs copied.
+    readback_bytes: Cell<u64>,
+    /// The output row's reductions and track gather (reduce.rs).
+    reduction: reduce::Reduction,
     /// Particles still in the domain, when known since the last step.
     alive: Cell<Option<usize>>,
     /// Some wall moves: its pose is uploaded before every contact pass.
@@ -112,6 +117,7 @@ impl GpuSimulation {
         };
         let buffers = Buffers::new(&gpu, &arrays, &tables, &params, &grid, upload::history_slots(&plan), walls)?;
         let kernels = Kernels::new(&gpu, &buffers, &shaders::Switches::from_plan(&plan))?;
+        let reduction = reduce::Reduction::new(&gpu, &buffers, &kernels, &plan, slots, &state.track);
         let mut sim = GpuSimulation {
             group: state.group.clone(),
             track: state.track.clone(),
@@ -126,6 +132,8 @@ impl GpuSimulation {
             generation: 0,
             overflow: Cell::new(None),
             readbacks: Cell::new(0),
+            readback_bytes: Cell::new(0),
+            reduction,
             alive: Cell::new(Some(slots as usize)),
             moving,
             wall_entries,
@@ -245,5 +253,10 @@ impl GpuSimulation {
     /// Read-backs from the device so far: each is one submission, one mapping and one wait.
     pub fn readbacks(&self) -> u64 {
         self.readbacks.get()
+    }
+
+    /// Bytes copied back from the device by those read-backs so far.
+    pub fn readback_bytes(&self) -> u64 {
+        self.readback_bytes.get()
     }
 }

@@ -1,5 +1,6 @@
-//! Reading the device state back: particle arrays in id order, observables
-//! (summed on the host in f64, in id order) and tracked particles.
+//! Reading the device state back: particle arrays in id order, and output rows: from the
+//! device's reductions (reduce.rs), or at snapshot times and with drums from the full arrays
+//! (observables summed on the host in f64, in id order).
 
 use crate::GpuSimulation;
 use crate::upload::FLAG_DEAD;
@@ -46,8 +47,14 @@ impl GpuSimulation {
 
     /// Copies the first bytes of several buffers back in one submission and one mapping.
     pub(crate) fn read_bytes(&self, parts: &[(&wgpu::Buffer, u64)]) -> Vec<Vec<u8>> {
+        self.read_bytes_after(|_| {}, parts)
+    }
+
+    /// Like [`GpuSimulation::read_bytes`], the copies recorded after what `record` records.
+    pub(crate) fn read_bytes_after(&self, record: impl FnOnce(&mut wgpu::CommandEncoder), parts: &[(&wgpu::Buffer, u64)]) -> Vec<Vec<u8>> {
         let total: u64 = parts.iter().map(|p| p.1).sum();
         self.readbacks.set(self.readbacks.get() + 1);
+        self.readback_bytes.set(self.readback_bytes.get() + total);
         if total == 0 {
             return parts.iter().map(|_| Vec::new()).collect();
         }
@@ -59,6 +66,7 @@ impl GpuSimulation {
             mapped_at_creation: false,
         });
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+        record(&mut encoder);
         let mut offset = 0;
         for (buffer, bytes) in parts {
             if *bytes > 0 {
@@ -125,8 +133,15 @@ impl GpuSimulation {
         (arrays, rest)
     }
 
-    /// One output row from one read-back: the particle arrays and the wall entries.
+    /// One output row from one read-back. With the state (snapshot times) or drums (their
+    /// profiles need every particle): the particle arrays and the wall entries, observables
+    /// summed on the host in f64; otherwise the device's sums and track rows (reduce.rs).
     pub fn frame(&self, with_state: bool) -> Frame<'static> {
+        if with_state || !self.plan.model.drums.is_empty() { self.full_frame(with_state) } else { self.reduced_frame() }
+    }
+
+    /// An output row from the particle arrays and the wall entries, in one read-back.
+    pub fn full_frame(&self, with_state: bool) -> Frame<'static> {
         let power_bytes = self.wall_entry_bytes(4);
         let work_bytes = self.wall_entry_bytes(8);
         let (a, walls) = self.read_arrays(&[(&self.buffers.wall_power, power_bytes), (&self.buffers.wall_work, work_bytes)]);
@@ -188,7 +203,7 @@ impl GpuSimulation {
         s
     }
 
-    /// Whole-system observables, summed in f64 on the host in id order (one read-back).
+    /// Whole-system observables of the output row (one read-back; see [`GpuSimulation::frame`]).
     pub fn observables(&self) -> Observables {
         self.frame(false).observables
     }

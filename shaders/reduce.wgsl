@@ -1,0 +1,257 @@
+// The output row's reductions on the device (tumble-gpu's reduce.rs): the observables'
+// particle sums as a fixed-shape tree (each workgroup reduces REDUCE_BLOCK values into one
+// partial, then the partials are reduced the same way until one is left; no atomics, so
+// every run sums in the same order), and the tracked particles gathered into rows by rank.
+// Bindings: bindings.rs (REDUCE).
+//
+// Energies are two-float (hi, lo) terms and sums: each operation keeps its rounding error
+// in lo where the compiler keeps IEEE order (lavapipe's folds it away, leaving f32 terms
+// summed pairwise; tumble-gpu's reduce.rs states the accuracy).
+
+// One level's inputs and partials.
+struct ReduceParams {
+    // Values this level reduces (slots at level 0, partials above).
+    inputs: u32,
+    // Partials it writes (one per workgroup).
+    groups: u32,
+    // Materials per shape row of body_inertia.
+    materials: u32,
+    _pad: u32,
+    // Gravity as two-float (hi, lo) per axis (the host's is f64).
+    gravity_hi: vec4<f32>,
+    gravity_lo: vec4<f32>,
+}
+
+// The sums of a range of slots (tumble-gpu's reduce::Partial, field for field).
+struct Partial {
+    // (hi, lo) pairs: kinetic, rotational, potential (relative to the device origin),
+    // movable mass (the host adds the origin's potential with it), elastic, dissipated,
+    // fluid work, unused.
+    sums: array<vec2<f32>, 8>,
+    // Contacts, largest overlap ratio (f32 bits), finite (1 or 0), particles in the domain.
+    counts: vec4<u32>,
+}
+
+const REDUCE_KINETIC: u32 = 0u;
+const REDUCE_ROTATIONAL: u32 = 1u;
+const REDUCE_POTENTIAL: u32 = 2u;
+const REDUCE_MASS: u32 = 3u;
+const REDUCE_ELASTIC: u32 = 4u;
+const REDUCE_DISSIPATED: u32 = 5u;
+const REDUCE_FLUID: u32 = 6u;
+
+var<workgroup> reduce_shared: array<Partial, WORKGROUP>;
+
+// Two-float arithmetic: a value is hi + lo with |lo| ≤ ½ ulp(hi), about 48 bits. Each
+// term is formed this way as well as summed, so a sum is close to the host's f64 one.
+
+// a + b (TwoSum of the high parts, the low parts and the error renormalised into the pair).
+fn tf_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let s = a.x + b.x;
+    let v = s - a.x;
+    let e = (a.x - (s - v)) + (b.x - v);
+    return tf_renormalise(s, e + a.y + b.y);
+}
+
+// s + e as a pair, for |e| small against |s|.
+fn tf_renormalise(s: f32, e: f32) -> vec2<f32> {
+    let hi = s + e;
+    return vec2<f32>(hi, e - (hi - s));
+}
+
+// a b exactly (the error of the rounded product by fma; an adapter whose fma rounds twice
+// loses only the compensation).
+fn tf_product(a: f32, b: f32) -> vec2<f32> {
+    let p = a * b;
+    return vec2<f32>(p, fma(a, b, -p));
+}
+
+fn tf_mul_f(a: vec2<f32>, b: f32) -> vec2<f32> {
+    let p = tf_product(a.x, b);
+    return tf_renormalise(p.x, p.y + a.y * b);
+}
+
+fn tf_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let p = tf_product(a.x, b.x);
+    return tf_renormalise(p.x, p.y + (a.x * b.y + a.y * b.x));
+}
+
+fn tf_div_f(a: vec2<f32>, d: f32) -> vec2<f32> {
+    let q = a.x / d;
+    let r = tf_add(a, -tf_product(q, d));
+    return tf_renormalise(q, r.x / d);
+}
+
+// a · b of f32 vectors.
+fn tf_dot(a: vec3<f32>, b: vec3<f32>) -> vec2<f32> {
+    return tf_add(tf_add(tf_product(a.x, b.x), tf_product(a.y, b.y)), tf_product(a.z, b.z));
+}
+
+// a · b of a two-float vector (hi, lo per axis) and an f32 one.
+fn tf_dot_tf(a_hi: vec3<f32>, a_lo: vec3<f32>, b: vec3<f32>) -> vec2<f32> {
+    var s = vec2<f32>(0.0);
+    for (var k = 0u; k < 3u; k++) {
+        s = tf_add(s, tf_mul_f(vec2<f32>(a_hi[k], a_lo[k]), b[k]));
+    }
+    return s;
+}
+
+// Axis k of q⁻¹ v for the host's glam formula, v (w² − b·b) + b 2(v·b) + (b × v) 2w with
+// b = −q.xyz (the host rotates by the conjugate), in two-float.
+fn tf_body_axis(q: vec4<f32>, v: vec3<f32>, k: u32) -> vec2<f32> {
+    let b = -q.xyz;
+    let scale = tf_add(tf_product(q.w, q.w), -tf_dot(b, b));
+    let along = tf_dot(v, b);
+    let i = (k + 1u) % 3u;
+    let j = (k + 2u) % 3u;
+    let b_cross_v = tf_add(tf_product(b[i], v[j]), -tf_product(b[j], v[i]));
+    let out = tf_add(tf_mul_f(scale, v[k]), tf_mul_f(along, 2.0 * b[k]));
+    return tf_add(out, tf_mul_f(b_cross_v, 2.0 * q.w));
+}
+
+fn empty_partial() -> Partial {
+    var p: Partial;
+    p.counts = vec4<u32>(0u, 0u, 1u, 0u);
+    return p;
+}
+
+fn combine(a: Partial, b: Partial) -> Partial {
+    var p: Partial;
+    for (var k = 0u; k < 8u; k++) {
+        p.sums[k] = tf_add(a.sums[k], b.sums[k]);
+    }
+    p.counts = vec4<u32>(a.counts.x + b.counts.x, max(a.counts.y, b.counts.y), a.counts.z & b.counts.z, a.counts.w + b.counts.w);
+    return p;
+}
+
+// Neither infinite nor NaN (by the exponent bits, which no compiler assumes away).
+fn finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn finite3(v: vec3<f32>) -> bool {
+    return finite(v.x) && finite(v.y) && finite(v.z);
+}
+
+// Rotational energy ½ ω·I ω of movable slot i (body-frame principal inertia for polyhedra).
+fn rotational_energy(i: u32, w: vec4<f32>, shape: u32) -> vec2<f32> {
+    if POLYHEDRA && shape != SPHERE_SHAPE {
+        let q = orient[i];
+        let row = shape * reduce_level.materials + props[i].y;
+        let inertia_hi = body_inertia[2u * row];
+        let inertia_lo = body_inertia[2u * row + 1u];
+        var e = vec2<f32>(0.0);
+        for (var k = 0u; k < 3u; k++) {
+            let body = tf_body_axis(q, w.xyz, k);
+            e = tf_add(e, tf_mul(tf_mul(body, body), vec2<f32>(inertia_hi[k], inertia_lo[k])));
+        }
+        return 0.5 * e;
+    }
+    // Spheres: |ω|² / (1/I); in a polyhedra scene the host's rotation to the body frame
+    // changes |ω| only by its rounding.
+    return 0.5 * tf_div_f(tf_dot(w.xyz, w.xyz), w.w);
+}
+
+// Slot i's terms, as the host's Observables::of_particles and add_contacts take them:
+// energies of movable particles only, books and contacts of every particle in the domain.
+fn slot_partial(i: u32) -> Partial {
+    var p = empty_partial();
+    let flags = props[i].w;
+    if (flags & FLAG_DEAD) != 0u {
+        return p;
+    }
+    let x = pos[i];
+    let v = vel[i];
+    let f = force[i];
+    let books = energy[i];
+    // The host's finish() also asks the elastic and dissipated sums to be finite.
+    var ok = finite3(x.xyz) && finite3(v.xyz) && finite(f.w) && finite(books.x);
+    if v.w != 0.0 {
+        let m = alpha[i].w;
+        p.sums[REDUCE_KINETIC] = 0.5 * tf_mul_f(tf_dot(v.xyz, v.xyz), m);
+        p.sums[REDUCE_POTENTIAL] = -tf_mul_f(tf_dot_tf(reduce_level.gravity_hi.xyz, reduce_level.gravity_lo.xyz, x.xyz), m);
+        p.sums[REDUCE_MASS].x = m;
+        if ROTATION {
+            let w = omega[i];
+            ok = ok && finite3(w.xyz);
+            p.sums[REDUCE_ROTATIONAL] = rotational_energy(i, w, flags >> SHAPE_SHIFT);
+        }
+    }
+    p.sums[REDUCE_ELASTIC].x = f.w;
+    p.sums[REDUCE_DISSIPATED].x = books.x;
+    if DRAG != DRAG_NONE {
+        p.sums[REDUCE_FLUID].x = books.y;
+    }
+    // The host's f64 max over ratios from 0 ignores NaN and negative values.
+    let ratio = stats[i].y;
+    p.counts = vec4<u32>(stats[i].x, select(0u, ratio, ratio <= 0x7f800000u), u32(ok), 1u);
+    return p;
+}
+
+// Reduces this workgroup's partials in reduce_shared to one and writes it.
+fn finish_group(lid: u32, group: u32) {
+    workgroupBarrier();
+    for (var stride = WORKGROUP / 2u; stride > 0u; stride = stride / 2u) {
+        if lid < stride {
+            reduce_shared[lid] = combine(reduce_shared[lid], reduce_shared[lid + stride]);
+        }
+        workgroupBarrier();
+    }
+    if lid == 0u && group < reduce_level.groups {
+        partials_out[group] = reduce_shared[0];
+    }
+}
+
+// Level 0: REDUCE_BLOCK slots per workgroup, each thread summing every WORKGROUP-th one.
+@compute @workgroup_size(WORKGROUP)
+fn reduce_particles(@builtin(local_invocation_index) lid: u32, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let group = wid.x + wid.y * nwg.x;
+    var acc = empty_partial();
+    for (var k = 0u; k < REDUCE_BLOCK / WORKGROUP; k++) {
+        let i = group * REDUCE_BLOCK + k * WORKGROUP + lid;
+        if i < reduce_level.inputs {
+            acc = combine(acc, slot_partial(i));
+        }
+    }
+    reduce_shared[lid] = acc;
+    finish_group(lid, group);
+}
+
+// Levels above: REDUCE_BLOCK partials of the level below per workgroup.
+@compute @workgroup_size(WORKGROUP)
+fn reduce_partials(@builtin(local_invocation_index) lid: u32, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let group = wid.x + wid.y * nwg.x;
+    var acc = empty_partial();
+    for (var k = 0u; k < REDUCE_BLOCK / WORKGROUP; k++) {
+        let j = group * REDUCE_BLOCK + k * WORKGROUP + lid;
+        if j < reduce_level.inputs {
+            acc = combine(acc, partials_in[j]);
+        }
+    }
+    reduce_shared[lid] = acc;
+    finish_group(lid, group);
+}
+
+// Each tracked particle in the domain writes its row at its rank (ranks are unique, so are
+// the writes; the host clears the rows first, so a removed one reads as absent).
+@compute @workgroup_size(WORKGROUP)
+fn gather_tracks(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = flat_index(gid);
+    if i >= params.particles || (props[i].w & FLAG_DEAD) != 0u {
+        return;
+    }
+    let id = props[i].z;
+    let rank = track_rank[id];
+    if rank == NO_TRACK {
+        return;
+    }
+    var q = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    if POLYHEDRA {
+        q = orient[i];
+    }
+    let row = rank * TRACK_ROW_WORDS;
+    tracks[row] = vec4<u32>(bitcast<vec3<u32>>(pos[i].xyz), id);
+    tracks[row + 1u] = vec4<u32>(bitcast<vec3<u32>>(vel[i].xyz), 1u);
+    tracks[row + 2u] = vec4<u32>(bitcast<vec3<u32>>(omega[i].xyz), 0u);
+    tracks[row + 3u] = bitcast<vec4<u32>>(q);
+}
