@@ -1,6 +1,19 @@
 //! Behaviours both backends must show, each written once as a function of the backend and
-//! checked against a closed form with [`Tolerance`](crate::Tolerance)'s per-precision
-//! tolerances; [`testgen!`](crate::testgen) makes one trial of each per backend.
+//! checked against a closed form or an exact invariant with [`Tolerance`](crate::Tolerance)'s
+//! per-precision tolerances; [`testgen!`](crate::testgen) makes one trial of each per backend.
+//!
+//! - `verification`: a projectile (exact for Verlet), the linear spring-dashpot collision
+//!   (x(t) at second order, the rebound at e |u0|), the Hertz impact (case 7), a sphere
+//!   resting on a plane at m g / k;
+//! - `history`: tangential springs and rolling resistance (case 8, oblique impacts, inclines);
+//! - `invariants`: exactly opposite pair forces;
+//! - `walls`: a drum's drive power, flow planes and moving-wall series, a sphere on a belt;
+//! - `polyhedra`: a tumbling box (E and L), a cube resting face-down, an elastic
+//!   octahedron–cube impact, a cube struck by a plate and dragged by a belt;
+//! - `determinism`: two runs bit-identical (and on the CPU one and two threads).
+//!
+//! Each stays at CI size: a few thousand steps, on scenes whose GPU shader variants the
+//! backends binary compiles anyway (docs/verification.md lists what each measures).
 
 mod determinism;
 mod history;

@@ -80,14 +80,21 @@ pub fn a_sphere_set_on_a_plane_rests_at_m_g_over_k(backend: BackendName) {
     let e = 0.5;
     let t_col = 50.0 * floor_dt(e);
     // Twenty contact times: the oscillation has decayed by e^20 = 1e-6.
-    let floor = FloorScene { restitution: e, position: DVec3::new(0.0, 0.0, 0.5 * DIAMETER), ..FloorScene::incline(FrictionModel::History, 0.5, 0.0, 20.0 * t_col) };
+    let floor = FloorScene {
+        restitution: e,
+        position: DVec3::new(0.0, 0.0, 0.5 * DIAMETER),
+        ..FloorScene::incline(FrictionModel::History, 0.5, 0.0, 20.0 * t_col)
+    };
     let t = trajectory_on(backend, floor.compile());
     let rest = sphere_mass() * G / 1.0e5;
     let overlaps: Vec<f64> = t.samples.iter().map(|(_, r)| 0.5 * DIAMETER - r[0].position.z).collect();
     let peak = parabola_peak(&overlaps);
     let last = &t.samples.last().unwrap().1[0];
     let (end, speed) = (0.5 * DIAMETER - last.position.z, last.velocity.length());
-    println!("{backend:?}: peak overlap {peak:.6e} ((1 + e) m g / k = {:.6e}), rest {end:.6e} (m g / k = {rest:.6e}), speed {speed:.1e}", (1.0 + e) * rest);
+    println!(
+        "{backend:?}: peak overlap {peak:.6e} ((1 + e) m g / k = {:.6e}), rest {end:.6e} (m g / k = {rest:.6e}), speed {speed:.1e}",
+        (1.0 + e) * rest
+    );
     assert!((peak / ((1.0 + e) * rest) - 1.0).abs() < Tolerance::on(PeakOverlap, backend), "peak overlap {peak} vs (1 + e) m g / k");
     assert!((end / rest - 1.0).abs() < Tolerance::on(RestOverlap, backend), "rests at overlap {end} vs m g / k = {rest}");
     assert!(speed < Tolerance::on(RestSpeed, backend), "still moving at {speed} m/s");

@@ -81,7 +81,12 @@ pub fn a_belt_drags_a_rolling_sphere_until_its_contact_point_moves_with_it(backe
     let contact = st.vel[0] + st.omega[0].cross(DVec3::new(0.0, 0.0, -0.05));
     let o = sim.observables();
     let gain = o.mechanical_energy() + o.dissipated_energy - start.mechanical_energy() - start.dissipated_energy;
-    println!("{backend:?}: belt: contact point {contact}, centre {} (2/7 V = {}), work {:.6e}, gain {gain:.6e}", st.vel[0], 2.0 / 7.0 * v, o.wall_work);
+    println!(
+        "{backend:?}: belt: contact point {contact}, centre {} (2/7 V = {}), work {:.6e}, gain {gain:.6e}",
+        st.vel[0],
+        2.0 / 7.0 * v,
+        o.wall_work
+    );
     assert!((contact.x - v).abs() < Tolerance::on(BeltSpeed, backend), "contact point moves at {contact}, belt at {v}");
     assert!((st.vel[0].x - 2.0 / 7.0 * v).abs() < Tolerance::on(BeltSpeed, backend), "centre at {} vs 2/7 V", st.vel[0]);
     // Sliding and rolling friction dissipate; the belt's work is booked against both.
