@@ -8,7 +8,14 @@ use tumble_scene::schema::BackendName;
 
 /// Every particle's position, velocity, acceleration, spin and orientation as bits, by id,
 /// with the walls' work and power and the contact count.
-fn fingerprint(sim: &Simulation) -> (Vec<(u32, Vec<u64>)>, Vec<u64>, u64) {
+#[derive(PartialEq)]
+struct Fingerprint {
+    particles: Vec<(u32, Vec<u64>)>,
+    walls: Vec<u64>,
+    contacts: u64,
+}
+
+fn fingerprint(sim: &Simulation) -> Fingerprint {
     let s = sim.state();
     let mut rows: Vec<(u32, Vec<u64>)> = (0..s.len())
         .map(|i| {
@@ -19,11 +26,11 @@ fn fingerprint(sim: &Simulation) -> (Vec<(u32, Vec<u64>)>, Vec<u64>, u64) {
         .collect();
     rows.sort_unstable_by_key(|r| r.0);
     let walls = sim.wall_work().into_iter().chain(sim.wall_power()).map(f64::to_bits).collect();
-    (rows, walls, sim.observables().contacts)
+    Fingerprint { particles: rows, walls, contacts: sim.observables().contacts }
 }
 
 /// Runs `scene` for `steps` on `backend` with `threads` (CPU) and fingerprints the end.
-fn run(backend: BackendName, scene: &CompiledScene, steps: u64, threads: usize) -> (Vec<(u32, Vec<u64>)>, Vec<u64>, u64) {
+fn run(backend: BackendName, scene: &CompiledScene, steps: u64, threads: usize) -> Fingerprint {
     let mut sim = Simulation::on(backend, scene.clone(), threads).unwrap();
     sim.advance(steps);
     fingerprint(&sim)
@@ -40,11 +47,11 @@ pub fn two_runs_of_a_scene_are_bit_identical(backend: BackendName) {
     ];
     for (name, scene, steps) in cases {
         let first = run(backend, &scene, steps, 1);
-        assert!(first.2 > 0, "{name}: the particles should touch");
+        assert!(first.contacts > 0, "{name}: the particles should touch");
         assert!(first == run(backend, &scene, steps, 1), "{name}: two runs on {backend:?} differ");
         if backend == BackendName::Cpu {
             assert!(first == run(backend, &scene, steps, 2), "{name}: one and two threads differ");
         }
-        println!("{backend:?} {name}: {} particles, {steps} steps, {} contacts: bit-identical", first.0.len(), first.2);
+        println!("{backend:?} {name}: {} particles, {steps} steps, {} contacts: bit-identical", first.particles.len(), first.contacts);
     }
 }
