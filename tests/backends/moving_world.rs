@@ -108,8 +108,9 @@ fn belt(rotation: &str, balls: &str) -> String {
 }
 
 pub fn spheres_on_a_belt_are_dragged_as_on_the_cpu() {
-    // A rolling sphere ends with its contact point at the belt speed and its centre at 2/7
-    // of it; a second, stacked on a third, is carried along by friction through the first.
+    // Three spheres, one stacked on another, carried along by friction (one alone against its
+    // closed form, 2/7 of the belt speed, is in the suite): positions, velocities and the belt's
+    // work as on the CPU.
     let s = scene(&belt("on", "[0.0, 0.0, 0.05], [1.0, 0.0, 0.05], [1.0, 0.0, 0.1505]"));
     let steps = s.plan.run.steps;
     let mut cpu = Simulation::new(s.clone(), 1);
@@ -118,10 +119,6 @@ pub fn spheres_on_a_belt_are_dragged_as_on_the_cpu() {
     cpu.advance(steps);
     gpu.advance(steps);
     let st = gpu.state();
-    let contact = st.vel[0] + st.omega[0].cross(DVec3::new(0.0, 0.0, -0.05));
-    println!("belt: contact point {contact}, centre {}", st.vel[0]);
-    assert!((contact.x - 0.5).abs() < 2e-3, "contact point {contact}");
-    assert!((st.vel[0].x - 0.5 * 2.0 / 7.0).abs() < 2e-3, "centre {}", st.vel[0]);
     let cs = cpu.state();
     assert_eq!(cs.len(), st.len());
     for (k, &id) in st.id.iter().enumerate() {

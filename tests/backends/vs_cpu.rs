@@ -5,7 +5,7 @@ use crate::support::scene;
 use tumble::Simulation;
 use tumble_gpu::GpuSimulation;
 use tumble_scene::{CompiledScene, compile, parse_scene};
-use tumble_testkit::scenes::file;
+use tumble_testkit::scenes::{file, shortened};
 
 fn verify_scene(name: &str) -> String {
     file(&format!("scenes/verify/{name}"))
@@ -52,11 +52,7 @@ fn compare_observables(scene: CompiledScene, steps: u64, tolerance: f64) -> (tum
 }
 
 fn short(text: &str, steps: f64) -> CompiledScene {
-    let full = scene(text);
-    let mut s = parse_scene(text).unwrap();
-    s.run.duration = steps * full.plan.model.dt;
-    s.run.dt = Some(tumble_scene::schema::DtSpec::Seconds(full.plan.model.dt));
-    compile(&s).unwrap()
+    shortened(text, steps as u64)
 }
 
 pub fn verification_scenes_end_where_the_cpu_ends() {
@@ -132,24 +128,6 @@ pub fn particles_leaving_the_domain_are_removed_as_on_the_cpu() {
     assert_eq!(gpu.removed(), 1);
     assert_eq!(gpu.particles(), 0);
     assert!(gpu.tracks().is_empty());
-}
-
-pub fn two_runs_give_bit_identical_states() {
-    // Many contacts, walls, friction, rotation and re-sorts: any order dependence would show.
-    let scene = short(&verify_scene("09_energy_balance.toml"), 300.0);
-    let run = || {
-        let mut gpu = GpuSimulation::new(scene.clone()).unwrap();
-        gpu.advance(300);
-        gpu.device_arrays()
-    };
-    let (a, b) = (run(), run());
-    let bits = |v: &Vec<[f32; 4]>| v.iter().flat_map(|x| x.map(f32::to_bits)).collect::<Vec<u32>>();
-    assert_eq!(bits(&a.pos), bits(&b.pos));
-    assert_eq!(bits(&a.vel), bits(&b.vel));
-    assert_eq!(bits(&a.omega), bits(&b.omega));
-    assert_eq!(bits(&a.force), bits(&b.force));
-    assert_eq!(a.props, b.props);
-    assert_eq!(a.stats, b.stats);
 }
 
 pub fn the_broad_phase_tables_are_a_sorted_counting_sort_with_a_three_level_scan() {

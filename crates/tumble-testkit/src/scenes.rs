@@ -39,3 +39,32 @@ pub fn spinning(shape: &str, omega: [f64; 3], dt: f64, duration: f64) -> String 
     let text = replaced(&text, "shape = { box = { size = [0.1, 0.2, 0.3] } }", &format!("shape = {shape}"));
     replaced(&text, "angular_velocity = [0.001, 5.0, 0.001]", &format!("angular_velocity = [{}, {}, {}]", omega[0], omega[1], omega[2]))
 }
+
+/// `scenes/test/cube_drop.toml`: its cube at `position` turned by the quaternion `orientation`
+/// ([w, x, y, z]), with `restitution`, for `duration`.
+pub fn cube_drop(position: [f64; 3], orientation: [f64; 4], restitution: f64, duration: f64) -> String {
+    let text = test_scene("cube_drop");
+    let text = replaced(&text, "duration = 1.0", &format!("duration = {duration}"));
+    let text = replaced(&text, "restitution = 0.5", &format!("restitution = {restitution}"));
+    let text = replaced(&text, "positions = [[0.0, 0.0, 0.05]]", &format!("positions = [{position:?}]"));
+    replaced(&text, "orientation = [1.0, 0.0, 0.0, 0.0]", &format!("orientation = {orientation:?}"))
+}
+
+/// A scene text compiled to run only its first `steps` steps, at the step its whole run would take.
+pub fn shortened(text: &str, steps: u64) -> CompiledScene {
+    let dt = dt(&compiled(text));
+    let mut scene = parse_scene(text).unwrap_or_else(|e| panic!("{e}"));
+    scene.run.duration = steps as f64 * dt;
+    scene.run.dt = Some(tumble_scene::schema::DtSpec::Seconds(dt));
+    compile(&scene).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The number of steps a compiled scene's plan runs.
+pub fn steps(scene: &CompiledScene) -> u64 {
+    scene.plan.run.steps
+}
+
+/// The time step of a compiled scene's plan.
+pub fn dt(scene: &CompiledScene) -> f64 {
+    scene.plan.model.dt
+}

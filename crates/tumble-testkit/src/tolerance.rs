@@ -50,6 +50,42 @@ pub enum Observable {
     Mass,
     /// A wall's drive power against torque × ω, relative.
     WallPower,
+    /// A projectile's position against its parabola, m (Verlet is exact for a constant force).
+    FreeFallPosition,
+    /// A projectile's velocity against v0 + g t, m/s.
+    FreeFallVelocity,
+    /// A linear contact's x(t) against the damped oscillator at t_col/32, over |u0|/b.
+    OscillatorTrajectory,
+    /// A convergence order fitted from two steps, against the integrator's order, absolute.
+    ConvergenceOrder,
+    /// The elastic rebound speed over the impact speed, against 1, absolute.
+    ElasticRebound,
+    /// The damped linear rebound against e |u0|, relative (first order: the dashpot switches off between steps).
+    DampedRebound,
+    /// δ_max, F_max, t_H and the rebound of a Hertz impact against Hertz theory, relative.
+    HertzImpact,
+    /// A resting contact's overlap against m g / k, relative.
+    RestOverlap,
+    /// The first peak overlap of a contact loaded from touching at rest, against (1 + e) m g / k, relative.
+    PeakOverlap,
+    /// The speed of a body left at rest on a plane, m/s.
+    RestSpeed,
+    /// A free body's angular momentum against its start, relative.
+    AngularMomentum,
+    /// A free body's rotational energy against its start, relative.
+    RotationalEnergy,
+    /// A body's speed against a moving wall's closed form (2V off a plate, V on a belt), relative.
+    WallDrivenSpeed,
+    /// A moving wall's work against the kinetic energy its closed form gives, relative.
+    WallWork,
+    /// The speed of a cube left at rest face-down on a plane, m/s.
+    PolyhedronRestSpeed,
+    /// A polyhedron's elastic rebound speed over its impact speed, against 1, absolute.
+    PolyhedronRebound,
+    /// The spin after a central impact, rad/s.
+    CentralImpactSpin,
+    /// A rolling sphere's contact-point and centre speeds on a belt against V and 2/7 V, m/s.
+    BeltSpeed,
 }
 
 /// The tolerance table.
@@ -90,6 +126,55 @@ impl Tolerance {
             // Measured 5.5e-16 (f64), 1.9e-7 (f32).
             (WallPower, F64) => 1e-9,
             (WallPower, F32) => 2e-3,
+            // Symplectic Euler's first-order error over the tests' 0.15 s at Δt = 1 ms is g t Δt / 2 =
+            // 7.4e-4 m; f32 rounds each of the 150 position updates at 3e-8 m.
+            (FreeFallPosition, F64) => 1e-12,
+            (FreeFallPosition, F32) => 2e-5,
+            // A missing or doubled g Δt is 1e-2 m/s per step.
+            (FreeFallVelocity, F64) => 1e-12,
+            (FreeFallVelocity, F32) => 1e-4,
+            // Verlet measures 9.0e-4 at t_col/32 (3.7e-3 at t_col/16); a first-order x(t) would be ~3e-2.
+            (OscillatorTrajectory, _) => 1.2e-3,
+            (ConvergenceOrder, _) => 0.3,
+            // Measured 1.6e-5 (f64), 3.1e-5 (f32); Verlet's energy error at t_col/50 is O(1e-4).
+            (ElasticRebound, F64) => 1e-4,
+            (ElasticRebound, F32) => 5e-4,
+            // Measured 4.0e-3 on both at t_col/50: the damping force jumps to zero between two steps.
+            (DampedRebound, _) => 1e-2,
+            // Measured 3e-3 to 4.5e-3 at 0.2 Δt_R; Hertz's 4/3 E* √R missing its 4/3 would be 19 % in δ_max.
+            (HertzImpact, _) => 1e-2,
+            // f32 positions resolve the 5e-7 m overlap of the light sphere to 0.7 %.
+            (RestOverlap, F64) => 1e-6,
+            (RestOverlap, F32) => 2e-2,
+            // The three samples around the peak fitted with a parabola: O((π/50)⁴); a wrong damping (e → 1) is 11 %.
+            (PeakOverlap, F64) => 2e-3,
+            (PeakOverlap, F32) => 2e-2,
+            (RestSpeed, F64) => 1e-9,
+            (RestSpeed, F32) => 1e-5,
+            // The CPU conserves L to rounding; the GPU rounds the body/world round trip of ω in f32
+            // (measured 1.4e-4 over 5,000 steps and two flips).
+            (AngularMomentum, F64) => 1e-10,
+            (AngularMomentum, F32) => 5e-4,
+            // Verlet's bounded O(Δt²) energy error at Δt = 2 ms, measured 6.9e-6 (a first-order
+            // scheme drifts ~1e-2); f32 measured 2.8e-4.
+            (RotationalEnergy, F64) => 3e-5,
+            (RotationalEnergy, F32) => 1e-3,
+            // Measured 2.5e-5 (f64) and the same in f32 off a plate; half the speed (a wall that does not
+            // move in the contact law) would be 50 %.
+            (WallDrivenSpeed, F64) => 1e-3,
+            (WallDrivenSpeed, F32) => 2e-3,
+            (WallWork, _) => 5e-3,
+            // f64 decays by e per contact time: 2.2e-8 m/s after 20 of them, from the 7.7e-3 m/s an
+            // undamped contact would keep. f32 reads back 2.5e-4 m/s (about g Δt / 2) at a fixed
+            // position, 1.5 % deeper than m g / k.
+            (PolyhedronRestSpeed, F64) => 1e-7,
+            (PolyhedronRestSpeed, F32) => 1e-3,
+            // Measured 1.8e-5 on both; a contact that lost energy across features would be O(1e-2).
+            (PolyhedronRebound, _) => 5e-3,
+            (CentralImpactSpin, F64) => 1e-9,
+            (CentralImpactSpin, F32) => 1e-3,
+            // 2/7 against the 1 of a sphere that slides along: 0.36 m/s at V = 0.5 m/s.
+            (BeltSpeed, _) => 2e-3,
         }
     }
 

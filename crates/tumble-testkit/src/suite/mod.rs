@@ -1,9 +1,25 @@
 //! Behaviours both backends must show, each written once as a function of the backend and
-//! checked against a closed form with [`Tolerance`](crate::Tolerance)'s per-precision
-//! tolerances; [`testgen!`](crate::testgen) makes one trial of each per backend.
+//! checked against a closed form or an exact invariant with [`Tolerance`](crate::Tolerance)'s
+//! per-precision tolerances; [`testgen!`](crate::testgen) makes one trial of each per backend.
+//!
+//! - `verification`: a projectile (exact for Verlet), the linear spring-dashpot collision
+//!   (x(t) at second order, the rebound at e |u0|), the Hertz impact (case 7), a sphere
+//!   resting on a plane at m g / k;
+//! - `history`: tangential springs and rolling resistance (case 8, oblique impacts, inclines);
+//! - `invariants`: exactly opposite pair forces;
+//! - `walls`: a drum's drive power, flow planes and moving-wall series, a sphere on a belt;
+//! - `polyhedra`: a tumbling box (E and L), a cube resting face-down, an elastic
+//!   octahedron–cube impact, a cube struck by a plate and dragged by a belt;
+//! - `determinism`: two runs bit-identical (and on the CPU one and two threads).
+//!
+//! Each stays at CI size: a few thousand steps, on scenes whose GPU shader variants the
+//! backends binary compiles anyway (docs/verification.md lists what each measures).
 
+mod determinism;
 mod history;
 mod invariants;
+mod polyhedra;
+mod verification;
 mod walls;
 
 use crate::harness::{cpu_trial, gpu_trial};
@@ -19,6 +35,11 @@ macro_rules! behaviours {
 }
 
 behaviours![
+    verification::a_projectile_follows_its_parabola_exactly,
+    verification::a_damped_linear_contact_follows_the_oscillator_at_second_order,
+    verification::linear_collisions_rebound_at_e_times_the_impact_speed,
+    verification::a_hertz_impact_meets_hertz_theory,
+    verification::a_sphere_set_on_a_plane_rests_at_m_g_over_k,
     history::slide_to_roll_at_five_sevenths,
     history::oblique_impacts_follow_coulomb_theory_while_sliding,
     history::a_spring_holds_a_sphere_on_an_incline,
@@ -27,6 +48,13 @@ behaviours![
     invariants::pair_forces_are_exactly_equal_and_opposite,
     walls::a_drum_drive_power_is_torque_times_omega,
     walls::flow_planes_count_the_mass_through_and_moving_walls_write_a_series,
+    walls::a_belt_drags_a_rolling_sphere_until_its_contact_point_moves_with_it,
+    polyhedra::a_box_spun_about_its_intermediate_axis_tumbles_keeping_energy_and_momentum,
+    polyhedra::a_cube_set_face_down_on_a_plane_rests_at_m_g_over_k,
+    polyhedra::an_octahedron_striking_a_cube_face_rebounds_elastically,
+    polyhedra::a_plate_striking_a_cube_face_on_throws_it_at_twice_its_speed,
+    polyhedra::a_belt_drags_a_cube_to_its_speed,
+    determinism::two_runs_of_a_scene_are_bit_identical,
 ];
 
 /// One trial per behaviour on `backend`, named `backend::module::behaviour`.

@@ -3,7 +3,7 @@
 
 use crate::Observable::*;
 use crate::Tolerance;
-use crate::scenes::{compiled, replaced, test_scene};
+use crate::scenes::{compiled, replaced, steps, test_scene};
 use glam::DVec3;
 use tumble::{RunOptions, Simulation, compile, parse_scene, run_compiled};
 use tumble_scene::schema::BackendName;
@@ -12,7 +12,7 @@ use tumble_scene::schema::BackendName;
 /// about the axis of the wall forces on the ball, (x − a) × F + I α.
 pub fn a_drum_drive_power_is_torque_times_omega(backend: BackendName) {
     let s = compiled(&replaced(&test_scene("drum_one_ball"), "duration = 3.0", "duration = 1.0"));
-    let steps = s.plan.run.steps;
+    let steps = steps(&s);
     let mut sim = Simulation::on(backend, s, 1).unwrap();
     let omega = 10.0 * std::f64::consts::TAU / 60.0;
     let g = DVec3::new(0.0, -9.81, 0.0);
@@ -65,4 +65,30 @@ pub fn flow_planes_count_the_mass_through_and_moving_walls_write_a_series(backen
     let b = std::fs::read_to_string(out.join("snapshots/walls_000004.vtp")).unwrap();
     assert_ne!(a, b, "the paddle turned");
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `scenes/test/belt.toml`: a sphere dropped on a belt at V slips until its contact point moves
+/// with the belt; the friction impulse J gives v = J/m and ω r = 5J/(2m), so its centre then
+/// moves at 2/7 V, and the belt's work is the sphere's energy gain plus what was dissipated.
+pub fn a_belt_drags_a_rolling_sphere_until_its_contact_point_moves_with_it(backend: BackendName) {
+    let v = 0.5;
+    let s = compiled(&test_scene("belt"));
+    let steps = steps(&s);
+    let mut sim = Simulation::on(backend, s, 1).unwrap();
+    let start = sim.observables();
+    sim.advance(steps);
+    let st = sim.state();
+    let contact = st.vel[0] + st.omega[0].cross(DVec3::new(0.0, 0.0, -0.05));
+    let o = sim.observables();
+    let gain = o.mechanical_energy() + o.dissipated_energy - start.mechanical_energy() - start.dissipated_energy;
+    println!(
+        "{backend:?}: belt: contact point {contact}, centre {} (2/7 V = {}), work {:.6e}, gain {gain:.6e}",
+        st.vel[0],
+        2.0 / 7.0 * v,
+        o.wall_work
+    );
+    assert!((contact.x - v).abs() < Tolerance::on(BeltSpeed, backend), "contact point moves at {contact}, belt at {v}");
+    assert!((st.vel[0].x - 2.0 / 7.0 * v).abs() < Tolerance::on(BeltSpeed, backend), "centre at {} vs 2/7 V", st.vel[0]);
+    // Sliding and rolling friction dissipate; the belt's work is booked against both.
+    assert!((o.wall_work - gain).abs() < 0.02 * o.wall_work, "work {} vs gain {gain}", o.wall_work);
 }
