@@ -26,6 +26,26 @@ pub struct DeviceArrays {
 }
 
 impl DeviceArrays {
+    /// The arrays from their bytes, in field order ([`GpuSimulation::array_parts`]).
+    pub(crate) fn from_bytes(bytes: [&[u8]; 11]) -> DeviceArrays {
+        fn cast<T: Pod>(bytes: &[u8]) -> Vec<T> {
+            bytemuck::pod_collect_to_vec(bytes)
+        }
+        DeviceArrays {
+            pos: cast(bytes[0]),
+            vel: cast(bytes[1]),
+            omega: cast(bytes[2]),
+            acc: cast(bytes[3]),
+            alpha: cast(bytes[4]),
+            props: cast(bytes[5]),
+            energy: cast(bytes[6]),
+            force: cast(bytes[7]),
+            torque: cast(bytes[8]),
+            stats: cast(bytes[9]),
+            orient: cast(bytes[10]),
+        }
+    }
+
     /// Slots of the particles still in the domain, by id.
     pub fn alive_by_id(&self) -> Vec<usize> {
         let mut order: Vec<usize> = (0..self.pos.len()).filter(|&i| self.props[i][3] & FLAG_DEAD == 0).collect();
@@ -94,11 +114,11 @@ impl GpuSimulation {
         self.read_arrays(&[]).0
     }
 
-    /// The particle arrays and `extra` buffer prefixes, in one read-back.
-    fn read_arrays(&self, extra: &[(&wgpu::Buffer, u64)]) -> (DeviceArrays, Vec<Vec<u8>>) {
+    /// The buffers of [`DeviceArrays`], in its field order, with the bytes of each it holds.
+    pub(crate) fn array_parts(&self) -> [(&wgpu::Buffer, u64); 11] {
         let b = &self.buffers;
         let n = self.slots as u64;
-        let mut parts = vec![
+        [
             (&b.pos, 16 * n),
             (&b.vel, 16 * n),
             (&b.omega, 16 * n),
@@ -110,27 +130,16 @@ impl GpuSimulation {
             (&b.torque, 16 * n),
             (&b.stats, 8 * n),
             (&b.orient, if b.oriented { 16 * n } else { 0 }),
-        ];
+        ]
+    }
+
+    /// The particle arrays and `extra` buffer prefixes, in one read-back.
+    fn read_arrays(&self, extra: &[(&wgpu::Buffer, u64)]) -> (DeviceArrays, Vec<Vec<u8>>) {
+        let mut parts = self.array_parts().to_vec();
         parts.extend_from_slice(extra);
         let mut v = self.read_bytes(&parts);
         let rest = v.split_off(11);
-        fn cast<T: Pod>(bytes: &[u8]) -> Vec<T> {
-            bytemuck::pod_collect_to_vec(bytes)
-        }
-        let arrays = DeviceArrays {
-            pos: cast(&v[0]),
-            vel: cast(&v[1]),
-            omega: cast(&v[2]),
-            acc: cast(&v[3]),
-            alpha: cast(&v[4]),
-            props: cast(&v[5]),
-            energy: cast(&v[6]),
-            force: cast(&v[7]),
-            torque: cast(&v[8]),
-            stats: cast(&v[9]),
-            orient: cast(&v[10]),
-        };
-        (arrays, rest)
+        (DeviceArrays::from_bytes(std::array::from_fn(|k| v[k].as_slice())), rest)
     }
 
     /// One output row from one read-back. With the state (snapshot times) or drums (their
@@ -145,10 +154,15 @@ impl GpuSimulation {
         let power_bytes = self.wall_entry_bytes(4);
         let work_bytes = self.wall_entry_bytes(8);
         let (a, walls) = self.read_arrays(&[(&self.buffers.wall_power, power_bytes), (&self.buffers.wall_work, work_bytes)]);
-        let wall_power = self.group_sums_of(&walls[0], crate::walls::wall_power_value);
-        let wall_work = self.group_sums_of(&walls[1], crate::walls::wall_work_value);
-        let s = self.state_from(&a);
-        let observables = self.observables_of(&a, &s, &wall_work);
+        self.frame_from(&a, &walls[0], &walls[1], with_state)
+    }
+
+    /// An output row from read-back particle arrays and wall power and work entries.
+    pub(crate) fn frame_from(&self, a: &DeviceArrays, power: &[u8], work: &[u8], with_state: bool) -> Frame<'static> {
+        let wall_power = self.group_sums_of(power, crate::walls::wall_power_value);
+        let wall_work = self.group_sums_of(work, crate::walls::wall_work_value);
+        let s = self.state_from(a);
+        let observables = self.observables_of(a, &s, &wall_work);
         let drums = if self.plan.model.drums.is_empty() { Vec::new() } else { tumble_state::drum_profiles(&self.plan, &s) };
         Frame { observables, tracks: tumble_state::tracks(&s), wall_power, wall_work, drums, state: with_state.then(|| std::borrow::Cow::Owned(s)) }
     }

@@ -2,6 +2,7 @@
 //! read or write, byte for byte, so a run restored on the same adapter goes on bit-identically.
 
 use crate::GpuSimulation;
+use crate::readback::DeviceArrays;
 use std::borrow::Cow;
 use tumble_state::{DeviceImage, Fault, SNAPSHOT_VERSION, Snapshot, SnapshotError, WallState};
 
@@ -44,10 +45,18 @@ impl GpuSimulation {
     /// The run between two steps: the device image (one read-back of every persistent buffer)
     /// and, beside it, the particles in id order widened to f64 for other readers.
     pub fn snapshot(&self) -> Snapshot {
-        let frame = self.frame(true);
         let buffers = self.persistent_buffers();
         let parts: Vec<(&wgpu::Buffer, u64)> = buffers.iter().map(|(_, b)| (*b, b.size())).collect();
         let bytes = self.read_bytes(&parts);
+        // The frame beside the image comes from the same bytes: the prefixes a frame reads.
+        let prefix = |buffer: &wgpu::Buffer, len: u64| {
+            let k = buffers.iter().position(|(_, b)| std::ptr::eq(*b, buffer)).expect("a frame reads persistent buffers only");
+            &bytes[k][..len as usize]
+        };
+        let arrays = DeviceArrays::from_bytes(self.array_parts().map(|(buffer, len)| prefix(buffer, len)));
+        let power = prefix(&self.buffers.wall_power, self.wall_entry_bytes(4));
+        let work = prefix(&self.buffers.wall_work, self.wall_entry_bytes(8));
+        let frame = self.frame_from(&arrays, power, work, true);
         let device = DeviceImage {
             adapter: self.adapter().to_string(),
             buffers: buffers.into_iter().map(|(name, _)| name).zip(bytes).collect(),
