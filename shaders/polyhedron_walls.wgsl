@@ -27,6 +27,20 @@ fn polyhedron_plane(s: u32, q: vec4<f32>, x: vec3<f32>, point: vec3<f32>, normal
     return PolyHit(true, normal, depth, mean, poly_spread);
 }
 
+// Overlap along m of the quad (corners qc, body frame) over the polyhedron h: how far the
+// polyhedron must move along m to clear it.
+fn quad_overlap(h: ShapeHead, qc: array<vec3<f32>, 4>, m: vec3<f32>) -> f32 {
+    var qmax = -POLY_BIG;
+    for (var j = 0u; j < 4u; j++) {
+        qmax = max(qmax, dot(qc[j], m));
+    }
+    var pmin = POLY_BIG;
+    for (var i = 0u; i < h.nv; i++) {
+        pmin = min(pmin, dot(shape_vertex(h, i), m));
+    }
+    return qmax - pmin;
+}
+
 // Polyhedron s at x (orientation q) against a quad (corners counter-clockwise
 // about `normal`), one- or two-sided: separating axes over the quad's normal, the
 // polyhedron's faces and the cross products of its edges with the quad's edges.
@@ -45,7 +59,8 @@ fn polyhedron_quad(s: u32, q: vec4<f32>, x: vec3<f32>, corners_in: array<vec3<f3
     }
     let qn = quat_rotate(qi, normal);
     let tie = 2e-6 * h.radius;
-    // Axis kinds: 0 quad face (its side in `face_sign`), 1 polyhedron face, 2 edge pair.
+    // Axis kinds: 0 quad face (its side in `face_sign`), 1 polyhedron face, 2 edge pair,
+    // 3 an in-plane normal (one-sided quads).
     var best_depth = POLY_BIG;
     var best_m = vec3<f32>(0.0);
     var best_kind = POLY_NONE;
@@ -94,38 +109,47 @@ fn polyhedron_quad(s: u32, q: vec4<f32>, x: vec3<f32>, corners_in: array<vec3<f3
             best_i = f;
         }
     }
-    // Edge pairs, both orientations.
-    for (var e = 0u; e < h.ne; e++) {
-        let ed = shape_edge(h, e);
-        let u = shape_vertex(h, ed.y) - shape_vertex(h, ed.x);
-        for (var k = 0u; k < 4u; k++) {
-            let v = qc[(k + 1u) % 4u] - qc[k];
-            let mm = cross(u, v);
-            if dot(mm, mm) <= 1e-12 * dot(u, u) * dot(v, v) {
-                continue;
+    // Edge pairs, both orientations (kind 2, candidate c = 4 e + k); then, one-sided, the rim
+    // of the allowed directions, the quad's plane, where the least overlap lies along an
+    // in-plane normal of a quad edge or a polyhedron edge (kind 3).
+    let pairs = 4u * h.ne;
+    let rim = select(0u, 4u + h.ne, !two_sided);
+    for (var c = 0u; c < pairs + rim; c++) {
+        var a: vec3<f32>;
+        var b: vec3<f32>;
+        var kind = 2u;
+        if c < pairs {
+            let ed = shape_edge(h, c / 4u);
+            a = shape_vertex(h, ed.y) - shape_vertex(h, ed.x);
+            b = qc[(c % 4u + 1u) % 4u] - qc[c % 4u];
+        } else {
+            kind = 3u;
+            a = qn;
+            let w = c - pairs;
+            if w < 4u {
+                b = qc[(w + 1u) % 4u] - qc[w];
+            } else {
+                let ed = shape_edge(h, w - 4u);
+                b = shape_vertex(h, ed.y) - shape_vertex(h, ed.x);
             }
-            let m0 = normalize(mm);
-            for (var side = 0u; side < 2u; side++) {
-                let m = select(-m0, m0, side == 0u);
-                var qmax = -POLY_BIG;
-                for (var j = 0u; j < 4u; j++) {
-                    qmax = max(qmax, dot(qc[j], m));
-                }
-                var pmin = POLY_BIG;
-                for (var i = 0u; i < h.nv; i++) {
-                    pmin = min(pmin, dot(shape_vertex(h, i), m));
-                }
-                let depth = qmax - pmin;
-                if depth <= 0.0 {
-                    return no_poly_hit();
-                }
-                if (two_sided || dot(m, qn) >= -1e-6) && depth < best_depth - tie {
-                    best_depth = depth;
-                    best_m = m;
-                    best_kind = 2u;
-                    best_i = e;
-                    best_k = k;
-                }
+        }
+        let mm = cross(a, b);
+        if dot(mm, mm) <= 1e-12 * dot(a, a) * dot(b, b) {
+            continue;
+        }
+        let m0 = normalize(mm);
+        for (var side = 0u; side < 2u; side++) {
+            let m = select(-m0, m0, side == 0u);
+            let depth = quad_overlap(h, qc, m);
+            if depth <= 0.0 {
+                return no_poly_hit();
+            }
+            if (two_sided || dot(m, qn) >= -1e-6) && depth < best_depth - tie {
+                best_depth = depth;
+                best_m = m;
+                best_kind = kind;
+                best_i = c / 4u;
+                best_k = c % 4u;
             }
         }
     }
@@ -158,6 +182,8 @@ fn polyhedron_quad(s: u32, q: vec4<f32>, x: vec3<f32>, corners_in: array<vec3<f3
             }
         }
         point = face_contact_point(n_ref, pl.xyz, pl.w, 4u, best_depth, deepest);
+    } else if best_kind == 3u {
+        point = shape_vertex(h, shape_support(h, -best_m)) + best_m * (0.5 * best_depth);
     } else {
         let ed = shape_edge(h, best_i);
         point = segments_midpoint(shape_vertex(h, ed.x), shape_vertex(h, ed.y), qc[best_k], qc[(best_k + 1u) % 4u]);

@@ -44,6 +44,7 @@ impl Quad {
             QuadFace(f64),
             PolyFace(usize),
             Edges(usize, usize),
+            InPlane,
         }
         let mut best: Option<(f64, DVec3, Axis)> = None;
         let consider = |depth: f64, m: DVec3, axis: Axis, best: &mut Option<(f64, DVec3, Axis)>| -> bool {
@@ -88,6 +89,26 @@ impl Quad {
                 }
             }
         }
+        // A one-sided quad bars the back half of the sphere of directions, so the least overlap
+        // over the front half can lie on its rim, the quad's plane: there the overlap is the 2D
+        // support function of the shapes' shadows, least along an edge normal of a shadow.
+        if !self.two_sided {
+            let quad_edges = (0..4).map(|k| qc[(k + 1) % 4] - qc[k]);
+            let poly_edges = poly.edges().iter().map(|e| verts[e.vertices[1] as usize] - verts[e.vertices[0] as usize]);
+            for w in quad_edges.chain(poly_edges) {
+                let m = qn.cross(w);
+                if m.length_squared() <= 1e-20 * w.length_squared() {
+                    continue;
+                }
+                let m = m.normalize();
+                for m in [m, -m] {
+                    let depth = max_dot(&qc, m) - min_dot(verts, m);
+                    if !consider(depth, m, Axis::InPlane, &mut best) {
+                        return None;
+                    }
+                }
+            }
+        }
         let (depth, m, axis) = best?;
         let contact = match axis {
             Axis::QuadFace(sign) => {
@@ -108,6 +129,8 @@ impl Quad {
                 let (pa, pb) = segment_closest_points(verts[e.vertices[0] as usize], verts[e.vertices[1] as usize], qc[k], qc[(k + 1) % 4]);
                 PolyContact::single(m, depth, 0.5 * (pa + pb), ContactFeature::Surface)
             }
+            // Halfway between the polyhedron's deepest vertex and the quad's supporting line.
+            Axis::InPlane => PolyContact::single(m, depth, verts[poly.support_index(-m)] + m * (0.5 * depth), ContactFeature::Surface),
         };
         Some(contact.transformed(pose))
     }

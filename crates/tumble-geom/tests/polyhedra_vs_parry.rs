@@ -306,6 +306,9 @@ mod walls {
                     let mut dirs = samples.clone();
                     dirs.push(quad.normal);
                     dirs.push(-quad.normal);
+                    // The rim of a one-sided quad's allowed directions, where its least overlap can lie.
+                    let (t1, t2) = (quad.normal.any_orthonormal_vector(), quad.normal.cross(quad.normal.any_orthonormal_vector()));
+                    dirs.extend((0..720).map(|i| { let a = i as f64 * std::f64::consts::PI / 360.0; t1 * a.cos() + t2 * a.sin() }));
                     for d in dirs {
                         if !two_sided && d.dot(quad.normal) < 0.0 { continue; }
                         let o = overlap_pts(&p, &pose, &quad.corners, d);
