@@ -1,8 +1,12 @@
-// The output row's reductions on the device (tumble-gpu's reduce.rs): the observables'
-// particle sums as a fixed-shape tree (each workgroup reduces REDUCE_BLOCK values into one
-// partial, then the partials are reduced the same way until one is left; no atomics, so
-// every run sums in the same order), and the tracked particles gathered into rows by rank.
+// The output row's reductions on the device (tumble-gpu's reduce.rs): the particle sums
+// as a fixed-shape tree (each workgroup reduces REDUCE_BLOCK values into one partial, then
+// the partials are reduced the same way until one is left; no float atomics, so every run
+// sums in the same order), and the tracked particles gathered into rows by rank.
 // Bindings: bindings.rs (REDUCE).
+//
+// Each level runs one workgroup row per lane (workgroup_id.z): lane 0 the observables, then
+// one per wall group (its power and work), then one per drum (its charge mass and Σ m·radial,
+// and the shell layer's angle histogram in integer counts).
 //
 // Energies are two-float (hi, lo) terms and sums: each operation keeps its rounding error
 // in lo where the compiler keeps IEEE order (lavapipe's folds it away, leaving f32 terms
@@ -10,25 +14,32 @@
 
 // One level's inputs and partials.
 struct ReduceParams {
-    // Values this level reduces (slots at level 0, partials above).
+    // Values this level reduces per lane (slots at level 0, partials above).
     inputs: u32,
-    // Partials it writes (one per workgroup).
+    // Partials it writes per lane (one per workgroup).
     groups: u32,
-    // Materials per shape row of body_inertia.
+    // Materials per shape row of the inertia table.
     materials: u32,
-    _pad: u32,
+    // Lanes: 1 + wall groups (with MOVING) + drums.
+    lanes: u32,
+    wall_groups: u32,
+    drums: u32,
+    // First vec4 of the drum rows in reduce_table.
+    drum_rows: u32,
+    // 1 at level 0 (inputs are slots), 0 above (inputs are partials).
+    first: u32,
     // Gravity as two-float (hi, lo) per axis (the host's is f64).
     gravity_hi: vec4<f32>,
     gravity_lo: vec4<f32>,
 }
 
-// The sums of a range of slots (tumble-gpu's reduce::Partial, field for field).
+// The sums of a range of slots in one lane (tumble-gpu's reduce::Partial, field for field).
 struct Partial {
-    // (hi, lo) pairs: kinetic, rotational, potential (relative to the device origin),
+    // (hi, lo) pairs. Lane 0: kinetic, rotational, potential (relative to the device origin),
     // movable mass (the host adds the origin's potential with it), elastic, dissipated,
-    // fluid work, unused.
+    // fluid work, unused. A wall group: power, work. A drum: charge mass, Σ m·radial (x, y, z).
     sums: array<vec2<f32>, 8>,
-    // Contacts, largest overlap ratio (f32 bits), finite (1 or 0), particles in the domain.
+    // Lane 0: contacts, largest overlap ratio (f32 bits), finite (1 or 0), particles in the domain.
     counts: vec4<u32>,
 }
 
@@ -138,8 +149,8 @@ fn rotational_energy(i: u32, w: vec4<f32>, shape: u32) -> vec2<f32> {
     if POLYHEDRA && shape != SPHERE_SHAPE {
         let q = orient[i];
         let row = shape * reduce_level.materials + props[i].y;
-        let inertia_hi = body_inertia[2u * row];
-        let inertia_lo = body_inertia[2u * row + 1u];
+        let inertia_hi = reduce_table[2u * row];
+        let inertia_lo = reduce_table[2u * row + 1u];
         var e = vec2<f32>(0.0);
         for (var k = 0u; k < 3u; k++) {
             let body = tf_body_axis(q, w.xyz, k);
@@ -188,8 +199,79 @@ fn slot_partial(i: u32) -> Partial {
     return p;
 }
 
-// Reduces this workgroup's partials in reduce_shared to one and writes it.
-fn finish_group(lid: u32, group: u32) {
+// Slot (= particle id) i's entries of wall group g: power and work (a Kahan pair).
+fn wall_partial(i: u32, g: u32) -> Partial {
+    var p = empty_partial();
+    if MOVING {
+        let k = i * reduce_level.wall_groups + g;
+        p.sums[0].x = wall_power[k];
+        let w = wall_work[k];
+        p.sums[1] = tf_renormalise(w.x, -w.y);
+    }
+    return p;
+}
+
+// Slot i's share of drum d's profile (tumble-state's drum_profiles): movable particles with
+// their centre inside the drum, and the shell layer's angles counted into drum_bins.
+fn drum_partial(i: u32, d: u32) -> Partial {
+    var p = empty_partial();
+    if !MOVING || (props[i].w & FLAG_DEAD) != 0u || vel[i].w == 0.0 {
+        return p;
+    }
+    let row = reduce_level.drum_rows + d * DRUM_ROW_WORDS;
+    let point = reduce_table[row];
+    let axis = reduce_table[row + 1u];
+    let rel = pos[i].xyz - point.xyz;
+    let z = dot(rel, axis.xyz);
+    let radial = rel - axis.xyz * z;
+    let rho = length(radial);
+    if z < 0.0 || z > axis.w || rho > point.w {
+        return p;
+    }
+    let m = alpha[i].w;
+    p.sums[0].x = m;
+    for (var k = 0u; k < 3u; k++) {
+        p.sums[1u + k] = tf_product(m, radial[k]);
+    }
+    let r = pos[i].w;
+    if point.w - rho - r <= 0.5 * r {
+        let angle = degrees(atan2(dot(radial, reduce_table[row + 3u].xyz), dot(radial, reduce_table[row + 2u].xyz)));
+        let bin = min(u32(max((angle + 180.0) / 360.0 * f32(DRUM_BINS), 0.0)), DRUM_BINS - 1u);
+        atomicAdd(&drum_bins[d * DRUM_BINS + bin], 1u);
+    }
+    return p;
+}
+
+// Level 0's term of slot i in `lane`.
+fn lane_partial(i: u32, lane: u32) -> Partial {
+    if lane == 0u {
+        return slot_partial(i);
+    }
+    if lane <= reduce_level.wall_groups {
+        return wall_partial(i, lane - 1u);
+    }
+    return drum_partial(i, lane - 1u - reduce_level.wall_groups);
+}
+
+// One level in one lane: REDUCE_BLOCK inputs per workgroup (slots at level 0, the level
+// below's partials above), each thread summing every WORKGROUP-th one, then the workgroup's
+// partials pairwise into one.
+@compute @workgroup_size(WORKGROUP)
+fn reduce_rows(@builtin(local_invocation_index) lid: u32, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let group = wid.x + wid.y * nwg.x;
+    let lane = wid.z;
+    var acc = empty_partial();
+    for (var k = 0u; k < REDUCE_BLOCK / WORKGROUP; k++) {
+        let j = group * REDUCE_BLOCK + k * WORKGROUP + lid;
+        if j < reduce_level.inputs {
+            if reduce_level.first != 0u {
+                acc = combine(acc, lane_partial(j, lane));
+            } else {
+                acc = combine(acc, partials_in[j * reduce_level.lanes + lane]);
+            }
+        }
+    }
+    reduce_shared[lid] = acc;
     workgroupBarrier();
     for (var stride = WORKGROUP / 2u; stride > 0u; stride = stride / 2u) {
         if lid < stride {
@@ -198,38 +280,8 @@ fn finish_group(lid: u32, group: u32) {
         workgroupBarrier();
     }
     if lid == 0u && group < reduce_level.groups {
-        partials_out[group] = reduce_shared[0];
+        partials_out[group * reduce_level.lanes + lane] = reduce_shared[0];
     }
-}
-
-// Level 0: REDUCE_BLOCK slots per workgroup, each thread summing every WORKGROUP-th one.
-@compute @workgroup_size(WORKGROUP)
-fn reduce_particles(@builtin(local_invocation_index) lid: u32, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let group = wid.x + wid.y * nwg.x;
-    var acc = empty_partial();
-    for (var k = 0u; k < REDUCE_BLOCK / WORKGROUP; k++) {
-        let i = group * REDUCE_BLOCK + k * WORKGROUP + lid;
-        if i < reduce_level.inputs {
-            acc = combine(acc, slot_partial(i));
-        }
-    }
-    reduce_shared[lid] = acc;
-    finish_group(lid, group);
-}
-
-// Levels above: REDUCE_BLOCK partials of the level below per workgroup.
-@compute @workgroup_size(WORKGROUP)
-fn reduce_partials(@builtin(local_invocation_index) lid: u32, @builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let group = wid.x + wid.y * nwg.x;
-    var acc = empty_partial();
-    for (var k = 0u; k < REDUCE_BLOCK / WORKGROUP; k++) {
-        let j = group * REDUCE_BLOCK + k * WORKGROUP + lid;
-        if j < reduce_level.inputs {
-            acc = combine(acc, partials_in[j]);
-        }
-    }
-    reduce_shared[lid] = acc;
-    finish_group(lid, group);
 }
 
 // Each tracked particle in the domain writes its row at its rank (ranks are unique, so are

@@ -117,9 +117,9 @@ pub const INTEGRATE: &[Binding] = &[
     b("tables", V4F, Read, Always),
 ];
 
-/// reduce.wgsl: the output row's observables reduction and tracked-particle gather. Every
-/// level of the reduction binds the same table (level 0 reads the particle arrays, the levels
-/// above read `partials_in`).
+/// reduce.wgsl: the output row's reductions (observables, wall groups, drums) and the
+/// tracked-particle gather. Every level of the reduction binds the same table (level 0 reads
+/// the particle arrays, the levels above read `partials_in`).
 pub const REDUCE: &[Binding] = &[
     b("params", "Params", Uniform, Always),
     b("reduce_level", "ReduceParams", Uniform, Always),
@@ -132,10 +132,16 @@ pub const REDUCE: &[Binding] = &[
     b("force", V4F, Read, Always),
     b("stats", "array<vec2<u32>>", Read, Always),
     b("orient", V4F, Read, Polyhedra),
-    // Principal moments of inertia per (shape, material), body frame (polyhedra).
-    b("body_inertia", V4F, Read, Polyhedra),
+    // Principal moments of inertia per (shape, material), body frame (polyhedra), then the
+    // drums (DRUM_ROW_WORDS each, from ReduceParams.drum_rows).
+    b("reduce_table", V4F, Read, Always),
+    b("wall_power", "array<f32>", Read, Moving),
+    b("wall_work", "array<vec2<f32>>", Read, Moving),
+    // Per block, one partial per lane: the observables, then each wall group, then each drum.
     b("partials_in", "array<Partial>", Read, Always),
     b("partials_out", "array<Partial>", ReadWrite, Always),
+    // Per drum, DRUM_BINS counts of the shell layer's angles (integer atomics: any order sums alike).
+    b("drum_bins", ATOMICS, ReadWrite, Moving),
     // Track rank by particle id (NO_TRACK when untracked), and the gathered rows by rank.
     b("track_rank", U32S, Read, Always),
     b("tracks", V4U, ReadWrite, Always),
@@ -149,8 +155,8 @@ pub const POLYHEDRA_TEST: &[Binding] = &[
     b("answers", V4F, ReadWrite, Always),
 ];
 
-/// The WGSL declarations of `bindings`; a binding whose feature is off becomes a private
-/// one-element stand-in.
+/// The WGSL declarations of `bindings`; a binding whose feature is off becomes a private (for
+/// atomics, workgroup) one-element stand-in.
 pub fn declarations(bindings: &[Binding], enabled: impl Fn(Feature) -> bool) -> String {
     let mut out = String::new();
     for (k, binding) in bindings.iter().enumerate() {
@@ -164,7 +170,9 @@ pub fn declarations(bindings: &[Binding], enabled: impl Fn(Feature) -> bool) -> 
             format!("@group(0) @binding({k}) var<{space}> {name}: {ty};\n")
         } else {
             let element = ty.strip_prefix("array<").and_then(|t| t.strip_suffix('>')).expect("only storage arrays depend on a feature");
-            format!("var<private> {name}: array<{element}, 1>;\n")
+            // Atomics live only in storage or workgroup memory.
+            let space = if element.starts_with("atomic") { "workgroup" } else { "private" };
+            format!("var<{space}> {name}: array<{element}, 1>;\n")
         };
         out.push_str(&line);
     }

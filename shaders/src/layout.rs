@@ -43,6 +43,13 @@ shared! {
     /// The track rank of an untracked particle id.
     NO_TRACK = u32::MAX;
 
+    // ---- Drum profiles (reduce.wgsl) ----
+    /// vec4 entries per drum in the reduce table: (axis point, radius), (axis, length),
+    /// (down, 0), (along, 0), relative to the domain's centre.
+    DRUM_ROW_WORDS = 4;
+    /// Bins of the shell layer's angle histogram over (−180°, 180°] (0.1° each).
+    DRUM_BINS = 3600;
+
     // ---- Integrators (the INTEGRATOR override) ----
     INTEGRATOR_EULER = 0;
     INTEGRATOR_SYMPLECTIC_EULER = 1;

@@ -42,7 +42,7 @@ pub const SPHERE_POLYHEDRON: &str = include_str!("../sphere_polyhedron.wgsl");
 pub const POLYHEDRON_WALLS: &str = include_str!("../polyhedron_walls.wgsl");
 /// The test harness of the polyhedra narrow phase.
 pub const POLYHEDRA_TEST: &str = include_str!("../polyhedra_test.wgsl");
-/// The output row's observables reduction and tracked-particle gather.
+/// The output row's reductions (observables, wall groups, drums) and tracked-particle gather.
 pub const REDUCE: &str = include_str!("../reduce.wgsl");
 /// Body forces and the integrators.
 pub const INTEGRATE: &str = include_str!("../integrate.wgsl");
@@ -108,12 +108,7 @@ pub const MODULES: &[Module] = &[
         bindings: bindings::INTEGRATE,
         entry_points: &["initial", "kick_drift", "finish"],
     },
-    Module {
-        name: "reduce",
-        files: &[COMMON, QUATERNION, REDUCE],
-        bindings: bindings::REDUCE,
-        entry_points: &["reduce_particles", "reduce_partials", "gather_tracks"],
-    },
+    Module { name: "reduce", files: &[COMMON, QUATERNION, REDUCE], bindings: bindings::REDUCE, entry_points: &["reduce_rows", "gather_tracks"] },
 ];
 
 /// The polyhedra narrow phase with its test harness (entry point `evaluate`; no overrides).

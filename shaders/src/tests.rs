@@ -103,3 +103,14 @@ fn bindings_are_numbered_by_position_and_a_feature_that_is_off_gets_a_private_st
         assert!(m.source(|_| true).starts_with(&prelude()), "{}", m.name);
     }
 }
+
+#[test]
+fn entry_points_are_unique_across_modules() {
+    // The host looks pipelines up by entry point name alone.
+    let mut seen = BTreeSet::new();
+    for m in MODULES {
+        for e in m.entry_points {
+            assert!(seen.insert(*e), "entry point {e} of module {} is also another module's", m.name);
+        }
+    }
+}

@@ -66,6 +66,7 @@ fn main() {
         reduced_rows::device_reduced_rows_match_the_host_sums_of_the_full_arrays,
         reduced_rows::an_output_row_reads_back_the_same_few_bytes_whatever_the_particle_count,
         reduced_rows::device_reduced_rows_are_bit_identical_run_to_run,
+        reduced_rows::drums_and_wall_groups_reduced_on_the_device_match_the_host_sums,
     ];
     tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only].into_iter().flatten().collect());
 }

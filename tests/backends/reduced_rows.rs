@@ -1,13 +1,16 @@
-//! The GPU's small output rows: observables reduced on the device and tracked particles
-//! gathered there, against the host's f64 sums and `tumble_state::tracks` of the full
-//! read-back; one read-back per row whose size does not grow with the particles; run to run
-//! bit-identical.
+//! The GPU's small output rows: observables, wall-group power and work and drum profiles
+//! reduced on the device and tracked particles gathered there, against the host's f64 sums,
+//! `tumble_state::drum_profiles` and `tumble_state::tracks` of the full read-back; one
+//! read-back per row whose size does not grow with the particles; run to run bit-identical.
 
 use crate::support::scene;
 use tumble::Observables;
 use tumble_gpu::GpuSimulation;
 use tumble_scene::CompiledScene;
 use tumble_testkit::scenes::file;
+
+const SMALL_MILL: &str = include_str!("../../scenes/conformance/small_mill.toml");
+const SMALL_CUBE_DRUM: &str = include_str!("../../scenes/conformance/cube_drum.toml");
 
 /// The energy-balance box (spheres, rotation, walls, friction) for `steps` steps, with its
 /// lattice up to `top` (m), moving in random directions (so they meet within a few steps),
@@ -82,12 +85,59 @@ fn assert_reduced_matches_full(name: &str, gpu: &GpuSimulation) {
         assert!(*error <= 1e-6, "{name}: {name_k} device {dv:e} host {hv:e} ({error:.2e} of Σ|term|)");
     }
     assert!(d.elastic_energy != 0.0 && d.dissipated_energy != 0.0 || name == "stokes drag", "{name}: the row has contacts");
-    assert_eq!((d.time, d.contacts, d.particles, d.finite, d.wall_work), (h.time, h.contacts, h.particles, h.finite, h.wall_work), "{name}");
+    assert_eq!((d.time, d.contacts, d.particles, d.finite), (h.time, h.contacts, h.particles, h.finite), "{name}");
+    assert_wall_groups_and_drums_match(name, &reduced, &full);
     assert_eq!(d.max_overlap_ratio.to_bits(), h.max_overlap_ratio.to_bits(), "{name}: max overlap ratio");
     assert!(!full.tracks.is_empty(), "{name}: tracked particles");
     assert_eq!(reduced.tracks, full.tracks, "{name}: tracked rows");
     assert_eq!(reduced.tracks, tumble_state::tracks(&gpu.state()), "{name}: tracked rows against tumble_state::tracks");
     println!("{name}: {} particles, {} tracked", d.particles, reduced.tracks.len());
+}
+
+/// Per wall group, power and work within 1e-5 of the largest group's (f32 entries summed
+/// pairwise, against f64 in id order); per drum, the charge's mass and centre of mass as the
+/// host sums them, toe and shoulder within one histogram bin (0.1°).
+fn assert_wall_groups_and_drums_match(name: &str, d: &tumble_state::Frame, h: &tumble_state::Frame) {
+    for (what, dv, hv) in [("power", &d.wall_power, &h.wall_power), ("work", &d.wall_work, &h.wall_work)] {
+        assert_eq!(dv.len(), hv.len());
+        let scale = hv.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let worst = dv.iter().zip(hv).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        println!("{name}: wall {what} per group {dv:.6?}, largest difference {:.1e} of the largest group", worst / scale.max(1e-300));
+        assert!(worst <= 1e-5 * scale, "{name}: wall {what} device {dv:?} host {hv:?}");
+    }
+    let total = |w: &[f64]| w.iter().sum::<f64>();
+    assert!(
+        (d.observables.wall_work - total(&d.wall_work)).abs() <= 1e-12 * total(&h.wall_work).abs().max(1e-300),
+        "{name}: the row's wall work is the groups' sum"
+    );
+    assert_eq!(d.drums.len(), h.drums.len(), "{name}: drums");
+    for (k, (a, b)) in d.drums.iter().zip(&h.drums).enumerate() {
+        println!("{name}: drum {k}: device {a:?}\n{name}: drum {k}: host   {b:?}");
+        let rel = |x: f64, y: f64| (x - y).abs() / y.abs().max(1e-300);
+        assert!(b.charge_mass > 0.0, "{name}: drum {k} holds a charge");
+        assert!(rel(a.charge_mass, b.charge_mass) <= 1e-6, "{name}: drum {k} charge mass");
+        assert!(rel(a.com_radius, b.com_radius) <= 1e-5 && (a.com_angle - b.com_angle).abs() <= 1e-3, "{name}: drum {k} centre of mass");
+        // The torque-arm power follows from these by the one function both sides call.
+        assert!(b.toe.is_finite() && b.shoulder.is_finite(), "{name}: drum {k} has a shell layer");
+        assert!((a.toe - b.toe).abs() <= 0.1 && (a.shoulder - b.shoulder).abs() <= 0.1, "{name}: drum {k} toe and shoulder");
+    }
+}
+
+pub fn drums_and_wall_groups_reduced_on_the_device_match_the_host_sums() {
+    for (name, text, steps) in [("small mill", SMALL_MILL, 1500), ("cube drum", SMALL_CUBE_DRUM, 1200)] {
+        let sc = tracking_every_seventh(scene(text));
+        let (groups, drums) = (sc.plan.model.wall_groups.len() as u64, sc.plan.model.drums.len() as u64);
+        let tracked = sc.particles.track.iter().filter(|&&t| t).count() as u64;
+        let mut gpu = GpuSimulation::new(sc).unwrap();
+        gpu.advance(steps);
+        let before = (gpu.readbacks(), gpu.readback_bytes());
+        gpu.frame(false);
+        // One partial per lane (observables, wall groups, drums), the track rows, 3600 bins per drum.
+        let row = (1 + groups + drums) * 80 + tracked * 64 + drums * 3600 * 4;
+        assert_eq!((gpu.readbacks() - before.0, gpu.readback_bytes() - before.1), (1, row), "{name}: one read-back of {row} bytes");
+        assert!(groups >= 2 && drums >= 1, "{name}: {groups} wall groups, {drums} drums");
+        assert_reduced_matches_full(name, &gpu);
+    }
 }
 
 pub fn device_reduced_rows_match_the_host_sums_of_the_full_arrays() {
@@ -132,7 +182,12 @@ pub fn an_output_row_reads_back_the_same_few_bytes_whatever_the_particle_count()
 }
 
 pub fn device_reduced_rows_are_bit_identical_run_to_run() {
-    let sc = tracking_every_seventh(energy_box(0.196, 300));
+    for sc in [tracking_every_seventh(energy_box(0.196, 300)), tracking_every_seventh(scene(SMALL_MILL))] {
+        rows_repeat(sc);
+    }
+}
+
+fn rows_repeat(sc: CompiledScene) {
     let run = || {
         let mut gpu = GpuSimulation::new(sc.clone()).unwrap();
         let mut rows = Vec::new();
@@ -151,6 +206,9 @@ pub fn device_reduced_rows_are_bit_identical_run_to_run() {
         assert_eq!(bits(&x.observables), bits(&y.observables));
         assert_eq!(x.observables, y.observables);
         assert_eq!(x.tracks, y.tracks);
+        let walls = |f: &tumble_state::Frame| f.wall_power.iter().chain(&f.wall_work).map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(walls(x), walls(y));
+        assert_eq!(format!("{:?}", x.drums), format!("{:?}", y.drums));
     }
     println!("three rows of two runs bit-identical ({} particles)", a[0].observables.particles);
 }

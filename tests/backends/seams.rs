@@ -37,6 +37,8 @@ pub fn an_output_row_is_one_read_back() {
     assert_eq!(frame.wall_work, sim.wall_work());
     assert_eq!(frame.wall_power, sim.wall_power());
     assert_eq!(frame.tracks, sim.tracks());
+    assert_eq!(format!("{:?}", frame.drums), format!("{:?}", sim.drum_profiles()));
+    assert_eq!(format!("{:?}", frame.drums), format!("{:?}", with_state.drums), "the snapshot row's drums are the device's");
     println!("read-backs per output row: 1 ({} in all so far)", readbacks(&sim));
 }
 

@@ -135,7 +135,8 @@ pub fn check_limits(limits: &wgpu::Limits, adapter: &AdapterDescription, switche
         4 * SCAN_THREADS as u64,
         limits.max_compute_workgroup_storage_size as u64,
     )?;
-    let reduce = WORKGROUP as u64 * crate::reduce::PARTIAL_BYTES;
+    // Without moving walls the drum histogram's stand-in is one workgroup atomic.
+    let reduce = WORKGROUP as u64 * crate::reduce::PARTIAL_BYTES + if switches.moving { 0 } else { 4 };
     refuse(
         format!("the output-row reduction shares {reduce} bytes per workgroup and"),
         "max_compute_workgroup_storage_size",

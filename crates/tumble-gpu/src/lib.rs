@@ -26,6 +26,7 @@
 mod backend;
 mod buffers;
 mod context;
+mod drums;
 mod history;
 mod kernels;
 mod prisms;

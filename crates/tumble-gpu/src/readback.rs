@@ -1,6 +1,6 @@
-//! Reading the device state back: particle arrays in id order, and output rows: from the
-//! device's reductions (reduce.rs), or at snapshot times and with drums from the full arrays
-//! (observables summed on the host in f64, in id order).
+//! Reading the device state back: particle arrays in id order, and output rows from the
+//! device's reductions (reduce.rs), with the arrays at snapshot times; `full_frame` and the
+//! snapshot's frame sum the full arrays on the host in f64, in id order, instead.
 
 use crate::GpuSimulation;
 use crate::upload::FLAG_DEAD;
@@ -142,14 +142,14 @@ impl GpuSimulation {
         (DeviceArrays::from_bytes(std::array::from_fn(|k| v[k].as_slice())), rest)
     }
 
-    /// One output row from one read-back. With the state (snapshot times) or drums (their
-    /// profiles need every particle): the particle arrays and the wall entries, observables
-    /// summed on the host in f64; otherwise the device's sums and track rows (reduce.rs).
+    /// One output row from one read-back: the device's sums, track rows and drum profiles
+    /// (reduce.rs), with the particle arrays when `with_state` (snapshot times).
     pub fn frame(&self, with_state: bool) -> Frame<'static> {
-        if with_state || !self.plan.model.drums.is_empty() { self.full_frame(with_state) } else { self.reduced_frame() }
+        self.reduced_frame(with_state)
     }
 
-    /// An output row from the particle arrays and the wall entries, in one read-back.
+    /// An output row from the particle arrays and the wall entries, in one read-back, summed on
+    /// the host in f64 (the oracle the device's reductions are checked against).
     pub fn full_frame(&self, with_state: bool) -> Frame<'static> {
         let power_bytes = self.wall_entry_bytes(4);
         let work_bytes = self.wall_entry_bytes(8);
@@ -172,7 +172,7 @@ impl GpuSimulation {
         self.state_from(&self.device_arrays())
     }
 
-    fn state_from(&self, a: &DeviceArrays) -> State {
+    pub(crate) fn state_from(&self, a: &DeviceArrays) -> State {
         let origin = crate::upload::centre(&self.plan);
         let mut s = State::default();
         for i in a.alive_by_id() {

@@ -1,11 +1,14 @@
-//! The output row's read-back kept small: the observables' particle sums reduced on the
-//! device, and the tracked particles gathered there (reduce.wgsl), so a row reads back one
-//! 80-byte partial and one 64-byte row per tracked particle (plus the moving walls' entries),
-//! whatever the number of particles.
+//! The output row's read-back kept small: the observables' particle sums, each wall group's
+//! power and work and each drum's charge profile reduced on the device, and the tracked
+//! particles gathered there (reduce.wgsl), so a row reads back one 80-byte partial per lane
+//! (observables, wall groups, drums), one 64-byte row per tracked particle and
+//! `DRUM_BINS` counts per drum, whatever the number of particles.
 //!
 //! The reduction is a fixed-shape tree: each workgroup sums `REDUCE_BLOCK` slots into one
-//! partial, each level above sums `REDUCE_BLOCK` partials of the one below, until one is left.
-//! There are no atomics, so a run gives bit-identical sums every time on one device.
+//! partial, each level above sums `REDUCE_BLOCK` partials of the one below, until one is left;
+//! every lane runs the same tree. There are no float atomics, so a run gives bit-identical sums
+//! every time on one device (the drums' angle histograms count with integer atomics, which give
+//! the same counts in any order).
 //!
 //! Accuracy: each particle's term is formed in f32 from the f32 arrays (gravity and the
 //! polyhedra's principal inertia from the host's f64, the body-frame rotation in the host's
@@ -17,7 +20,9 @@
 //! compiler folds the compensation away: measured there, 1e-8 to 1.1e-7 of Σ|term|
 //! (`tests/backends/reduced_rows.rs`, which allows 1e-6). The potential is summed relative to
 //! the device's origin (the domain's centre); the origin's term, −M g·origin with M the
-//! movable mass, is added on the host in f64.
+//! movable mass, is added on the host in f64. Wall power and work are the same tree over the
+//! per-(id, group) entries; a drum's toe and shoulder are read from its histogram, to within
+//! half a bin (0.05°) of the percentiles of the exact angles (drums.rs).
 
 use crate::GpuSimulation;
 use crate::buffers::Buffers;
@@ -28,18 +33,26 @@ use crate::upload::{WORKGROUP, dispatch};
 use bytemuck::{Pod, Zeroable};
 use glam::{DQuat, DVec3};
 use tumble_scene::Plan;
-use tumble_shaders::{NO_TRACK, REDUCE_BLOCK, TRACK_ROW_WORDS};
+use tumble_shaders::{DRUM_BINS, NO_TRACK, REDUCE_BLOCK, TRACK_ROW_WORDS};
 use tumble_state::{Frame, Observables, TrackRow};
 use wgpu::util::DeviceExt;
 
-/// The sums of a range of slots (reduce.wgsl's `Partial`, field for field).
+/// The sums of a range of slots in one lane (reduce.wgsl's `Partial`, field for field).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(crate) struct Partial {
-    /// (hi, lo) pairs, indexed by the `SUM_*` constants.
+    /// (hi, lo) pairs: in lane 0 indexed by the `SUM_*` constants; a wall group's power and
+    /// work; a drum's charge mass and Σ m·radial.
     sums: [[f32; 2]; 8],
-    /// Contacts, largest overlap ratio (f32 bits), finite (1 or 0), particles in the domain.
+    /// Lane 0: contacts, largest overlap ratio (f32 bits), finite (1 or 0), particles in the domain.
     counts: [u32; 4],
+}
+
+impl Partial {
+    /// Sum `k` as f64 (hi + lo).
+    pub(crate) fn sum(&self, k: usize) -> f64 {
+        self.sums[k][0] as f64 + self.sums[k][1] as f64
+    }
 }
 
 const SUM_KINETIC: usize = 0;
@@ -63,7 +76,11 @@ struct ReduceParams {
     inputs: u32,
     groups: u32,
     materials: u32,
-    _pad: u32,
+    lanes: u32,
+    wall_groups: u32,
+    drums: u32,
+    drum_rows: u32,
+    first: u32,
     gravity_hi: [f32; 4],
     gravity_lo: [f32; 4],
 }
@@ -105,9 +122,12 @@ pub(crate) fn track_ranks(track: &[bool]) -> (Vec<u32>, usize) {
 }
 
 /// Principal moments of inertia per (shape, material), body frame, as the host's state takes
-/// them: two vec4 per row, the high and the low f32 parts.
+/// them: two vec4 per row, the high and the low f32 parts (polyhedra scenes; none otherwise).
 fn body_inertia(plan: &Plan) -> Vec<[f32; 4]> {
     let mut out = Vec::new();
+    if !plan.model.polyhedra {
+        return out;
+    }
     for shape in &plan.model.shapes {
         for material in &plan.model.materials {
             let i = shape.body.principal_inertia(material.density).to_array().map(two_float);
@@ -132,13 +152,19 @@ fn storage(gpu: &Gpu, label: &str, contents: &[u8]) -> wgpu::Buffer {
 /// The reduction's buffers and bind groups of one simulation.
 pub(crate) struct Reduction {
     levels: Vec<(u32, u32)>,
-    /// The partials each level writes; the last holds the whole sum.
+    /// Lanes of every level: the observables, each wall group (with moving walls), each drum.
+    lanes: u32,
+    /// Wall groups with a lane (all of them with moving walls, none otherwise).
+    wall_lanes: usize,
+    /// The partials each level writes, `lanes` per workgroup; the last holds the whole sums.
     partials: Vec<wgpu::Buffer>,
     /// One per level (level 0 also serves the gather).
     groups: Vec<wgpu::BindGroup>,
     /// The gathered rows, by rank.
     tracks: wgpu::Buffer,
     tracked: usize,
+    /// Each drum's shell-angle histogram (`DRUM_BINS` counts).
+    drum_bins: wgpu::Buffer,
     /// Buffers only the bind groups refer to.
     _bound: Vec<wgpu::Buffer>,
 }
@@ -149,25 +175,40 @@ impl Reduction {
         let switches = Switches::from_plan(plan);
         let module = MODULES.iter().find(|m| m.name == "reduce").expect("the reduce module");
         let shader = ShaderSource::new(module, &switches);
-        let layout = kernels.pipeline("reduce_particles").get_bind_group_layout(0);
+        let layout = kernels.pipeline("reduce_rows").get_bind_group_layout(0);
         let levels = levels(slots);
-        let partials: Vec<wgpu::Buffer> =
-            levels.iter().map(|&(_, groups)| storage(gpu, "reduce partials", &vec![0; (PARTIAL_BYTES * groups as u64) as usize])).collect();
+        let drums = plan.model.drums.len();
+        assert!(drums == 0 || switches.moving, "a drum is a rotating wall");
+        let wall_lanes = if switches.moving { plan.model.wall_groups.len() } else { 0 };
+        let lanes = (1 + wall_lanes + drums) as u32;
+        let partials: Vec<wgpu::Buffer> = levels
+            .iter()
+            .map(|&(_, groups)| storage(gpu, "reduce partials", &vec![0; (PARTIAL_BYTES * groups as u64 * lanes as u64) as usize]))
+            .collect();
         // Level 0 reads no partials, but its binding needs a buffer other than the one it writes.
         let stand_in = storage(gpu, "reduce stand-in", &[0; PARTIAL_BYTES as usize]);
         let (ranks, tracked) = track_ranks(track);
         let track_rank = storage(gpu, "track rank", bytemuck::cast_slice(&ranks));
         let tracks = storage(gpu, "tracks", &vec![0; (TRACK_ROW_BYTES * tracked as u64) as usize]);
-        let inertia = storage(gpu, "body inertia", bytemuck::cast_slice(&body_inertia(plan)));
+        let mut table = body_inertia(plan);
+        let drum_rows = table.len() as u32;
+        table.extend(crate::drums::drum_rows(plan));
+        let table = storage(gpu, "reduce table", bytemuck::cast_slice(&table));
+        let drum_bins = storage(gpu, "drum bins", &vec![0; 4 * DRUM_BINS as usize * drums]);
         let uniforms: Vec<wgpu::Buffer> = levels
             .iter()
-            .map(|&(inputs, groups)| {
+            .enumerate()
+            .map(|(l, &(inputs, groups))| {
                 let g = plan.model.gravity.to_array().map(two_float);
                 let p = ReduceParams {
                     inputs,
                     groups,
                     materials: plan.model.materials.len() as u32,
-                    _pad: 0,
+                    lanes,
+                    wall_groups: wall_lanes as u32,
+                    drums: drums as u32,
+                    drum_rows,
+                    first: u32::from(l == 0),
                     gravity_hi: [g[0][0], g[1][0], g[2][0], 0.0],
                     gravity_lo: [g[0][1], g[1][1], g[2][1], 0.0],
                 };
@@ -187,7 +228,8 @@ impl Reduction {
                     "partials_out" => Some(&partials[l]),
                     "force" => Some(&b.force),
                     "stats" => Some(&b.stats),
-                    "body_inertia" => Some(&inertia),
+                    "reduce_table" => Some(&table),
+                    "drum_bins" => Some(&drum_bins),
                     "track_rank" => Some(&track_rank),
                     "tracks" => Some(&tracks),
                     _ => b.named(n),
@@ -195,8 +237,8 @@ impl Reduction {
             })
             .collect();
         let mut bound = uniforms;
-        bound.extend([stand_in, track_rank, inertia]);
-        Reduction { levels, partials, groups, tracks, tracked, _bound: bound }
+        bound.extend([stand_in, track_rank, table]);
+        Reduction { levels, lanes, wall_lanes, partials, groups, tracks, tracked, drum_bins, _bound: bound }
     }
 }
 
@@ -205,47 +247,59 @@ fn v3(bits: &[u32]) -> DVec3 {
 }
 
 impl GpuSimulation {
-    /// Records the tree reduction and the track gather.
+    /// Records the tree reduction (every lane) and the track gather.
     fn record_reduction(&self, encoder: &mut wgpu::CommandEncoder) {
         let r = &self.reduction;
         encoder.clear_buffer(&r.tracks, 0, None);
+        encoder.clear_buffer(&r.drum_bins, 0, None);
         // One pass per dispatch, as the scan does: each level reads what the one below wrote.
-        let mut run = |entry: &str, group: &wgpu::BindGroup, (x, y): (u32, u32)| {
+        let mut run = |entry: &str, group: &wgpu::BindGroup, (x, y): (u32, u32), z: u32| {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(entry), timestamp_writes: None });
             pass.set_pipeline(self.kernels.pipeline(entry));
             pass.set_bind_group(0, group, &[]);
-            pass.dispatch_workgroups(x, y, 1);
+            pass.dispatch_workgroups(x, y, z);
         };
         for (l, &(_, groups)) in r.levels.iter().enumerate() {
-            run(if l == 0 { "reduce_particles" } else { "reduce_partials" }, &r.groups[l], dispatch(groups, 1));
+            run("reduce_rows", &r.groups[l], dispatch(groups, 1), r.lanes);
         }
         if r.tracked > 0 {
-            run("gather_tracks", &r.groups[0], dispatch(self.slots, WORKGROUP));
+            run("gather_tracks", &r.groups[0], dispatch(self.slots, WORKGROUP), 1);
         }
     }
 
-    /// An output row without the particle arrays: the device's sums and track rows and the
-    /// wall entries, in one read-back whose size does not depend on the number of particles.
-    pub(crate) fn reduced_frame(&self) -> Frame<'static> {
+    /// An output row: the device's sums, track rows and drum histograms, and with `with_state`
+    /// the particle arrays, in one read-back (without the arrays its size does not depend on
+    /// the number of particles).
+    pub(crate) fn reduced_frame(&self, with_state: bool) -> Frame<'static> {
         let r = &self.reduction;
-        let parts = [
-            (r.partials.last().expect("a reduction level"), PARTIAL_BYTES),
+        let drums = self.plan.model.drums.len() as u64;
+        let mut parts = vec![
+            (r.partials.last().expect("a reduction level"), PARTIAL_BYTES * r.lanes as u64),
             (&r.tracks, TRACK_ROW_BYTES * r.tracked as u64),
-            (&self.buffers.wall_power, self.wall_entry_bytes(4)),
-            (&self.buffers.wall_work, self.wall_entry_bytes(8)),
+            (&r.drum_bins, 4 * DRUM_BINS as u64 * drums),
         ];
+        if with_state {
+            parts.extend(self.array_parts());
+        }
         let v = self.read_bytes_after(|e| self.record_reduction(e), &parts);
-        let partial: Partial = bytemuck::pod_read_unaligned(&v[0]);
-        let wall_power = self.group_sums_of(&v[2], crate::walls::wall_power_value);
-        let wall_work = self.group_sums_of(&v[3], crate::walls::wall_work_value);
-        let observables = self.observables_of_partial(&partial, &wall_work);
+        let lanes: Vec<Partial> = bytemuck::pod_collect_to_vec(&v[0]);
+        let groups = self.plan.model.wall_groups.len();
+        let wall_lane = |g: usize, k: usize| if g < r.wall_lanes { lanes[1 + g].sum(k) } else { 0.0 };
+        let wall_power: Vec<f64> = (0..groups).map(|g| wall_lane(g, 0)).collect();
+        let wall_work: Vec<f64> = (0..groups).map(|g| wall_lane(g, 1)).collect();
+        let observables = self.observables_of_partial(&lanes[0], &wall_work);
         self.alive.set(Some(observables.particles));
         let tracks = self.track_rows(&bytemuck::pod_collect_to_vec(&v[1]));
-        Frame { observables, tracks, wall_power, wall_work, drums: Vec::new(), state: None }
+        let drums = crate::drums::profiles(&self.plan, &lanes[1 + r.wall_lanes..], &bytemuck::pod_collect_to_vec(&v[2]));
+        let state = with_state.then(|| {
+            let arrays = crate::readback::DeviceArrays::from_bytes(std::array::from_fn(|k| v[3 + k].as_slice()));
+            std::borrow::Cow::Owned(self.state_from(&arrays))
+        });
+        Frame { observables, tracks, wall_power, wall_work, drums, state }
     }
 
     fn observables_of_partial(&self, p: &Partial, wall_work: &[f64]) -> Observables {
-        let sum = |k: usize| p.sums[k][0] as f64 + p.sums[k][1] as f64;
+        let sum = |k: usize| p.sum(k);
         let origin = crate::upload::centre(&self.plan);
         let o = Observables {
             time: self.time(),

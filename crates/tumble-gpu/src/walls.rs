@@ -1,6 +1,5 @@
-//! Moving world geometry on the host side: the walls' current pose, wall power and
-//! work (summed in f64 in id order from the device's per-particle entries) and the
-//! drum charge profiles (from read-back state).
+//! Moving world geometry on the host side: the walls' current pose, and wall power, work and
+//! drum charge profiles as the output row has them (reduced on the device, reduce.rs).
 
 use crate::GpuSimulation;
 use tumble_scene::Wall;
@@ -22,7 +21,7 @@ impl GpuSimulation {
         if self.moving { element_bytes * self.slots as u64 * self.plan.model.wall_groups.len() as u64 } else { 0 }
     }
 
-    /// Per wall group, the sum over particles (in id order, f64) of `entry(id, group)` read back as `bytes`.
+    /// Per wall group, the sum over particles (in id order, f64) of `entry(id, group)` read back as `bytes` (the host's oracle sums).
     pub(crate) fn group_sums_of<T: bytemuck::Pod>(&self, bytes: &[u8], value: impl Fn(&T) -> f64) -> Vec<f64> {
         let groups = self.plan.model.wall_groups.len();
         let mut out = vec![0.0; groups];
@@ -38,32 +37,21 @@ impl GpuSimulation {
         out
     }
 
-    fn group_sums<T: bytemuck::Pod>(&self, buffer: &wgpu::Buffer, value: impl Fn(&T) -> f64) -> Vec<f64> {
-        let bytes = self.wall_entry_bytes(std::mem::size_of::<T>() as u64);
-        if bytes == 0 {
-            return vec![0.0; self.plan.model.wall_groups.len()];
-        }
-        self.group_sums_of(&self.read_bytes(&[(buffer, bytes)])[0], value)
-    }
-
     /// Power delivered to the particles by each wall group at the last force pass,
     /// Σ F_on_particle · v_wall at the contact point (+ Ω_wall · the rolling and, for polyhedra,
     /// twisting couples); zero for static walls.
     pub fn wall_power(&self) -> Vec<f64> {
-        self.group_sums(&self.buffers.wall_power, wall_power_value)
+        self.frame(false).wall_power
     }
 
     /// Work done on the particles by each wall group since t = 0 (Σ power Δt over committed passes).
     pub fn wall_work(&self) -> Vec<f64> {
-        self.group_sums(&self.buffers.wall_work, wall_work_value)
+        self.frame(false).wall_work
     }
 
-    /// The charge profile of each drum of the plan, from the read-back state.
+    /// The charge profile of each drum of the plan.
     pub fn drum_profiles(&self) -> Vec<DrumProfile> {
-        if self.plan.model.drums.is_empty() {
-            return Vec::new();
-        }
-        tumble_state::drum_profiles(&self.plan, &self.state())
+        self.frame(false).drums
     }
 }
 

@@ -41,7 +41,9 @@ pub use compile::compile;
 pub use error::SceneError;
 pub use load::{parse_scene, read_scene};
 pub use particles::InitialParticles;
-pub use plan::{CompiledScene, Drag, Feature, Fluid, Material, PairParams, PhysicsModel, Plan, PlanReport, RunSettings, Timescales, Tuning, Wall};
+pub use plan::{
+    CompiledScene, Drag, Drum, Feature, Fluid, Material, PairParams, PhysicsModel, Plan, PlanReport, RunSettings, Timescales, Tuning, Wall,
+};
 pub use rng::Rng;
 pub use schema::Scene;
 pub use shapes::{ParticleShape, SPHERE};

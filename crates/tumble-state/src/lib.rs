@@ -24,6 +24,6 @@ pub use backend::{AdapterInfo, Backend, BackendInfo, Frame};
 pub use contact_sum::ContactSum;
 pub use fault::Fault;
 pub use history::{HistoryOverflow, HistorySlots, Spring, WALL_KEY};
-pub use observables::{DrumProfile, Observables, TrackRow, drum_profiles, tracks};
+pub use observables::{DrumFrame, DrumProfile, Observables, TrackRow, drum_profiles, no_drum_profile, quantile_rank, tracks};
 pub use snapshot::{DeviceImage, NeighbourState, SNAPSHOT_VERSION, Snapshot, SnapshotError, WallState};
 pub use state::State;

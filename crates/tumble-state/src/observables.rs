@@ -120,23 +120,71 @@ pub fn tracks(s: &State) -> Vec<TrackRow> {
     rows
 }
 
+/// A drum's directions across its axis: `down` (gravity's part across the axis, unit) and
+/// `along` (the shell's motion at the bottom), with |g across the axis|; `None` when gravity
+/// is along the axis (no profile).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrumFrame {
+    pub down: DVec3,
+    pub along: DVec3,
+    pub g_across: f64,
+}
+
+impl DrumFrame {
+    pub fn of(d: &tumble_scene::Drum, g: DVec3) -> Option<DrumFrame> {
+        let g_plane = g - d.axis * g.dot(d.axis);
+        if g_plane.length() <= 1e-12 * g.length().max(1e-300) {
+            return None;
+        }
+        let down = g_plane.normalize();
+        Some(DrumFrame { down, along: (d.axis * d.omega.signum()).cross(down), g_across: g_plane.length() })
+    }
+
+    /// Angle of `radial` (across the axis) from `down` towards `along`, degrees in (−180, 180].
+    pub fn angle(&self, radial: DVec3) -> f64 {
+        radial.dot(self.along).atan2(radial.dot(self.down)).to_degrees()
+    }
+
+    /// Whether a particle of radius `r` whose centre is `rho` from the axis is in the shell
+    /// layer (its surface within half a radius of a shell of radius `shell`).
+    pub fn in_shell_layer(shell: f64, rho: f64, r: f64) -> bool {
+        shell - rho - r <= 0.5 * r
+    }
+
+    /// The profile from the charge's mass, Σ m·radial and the shell layer's 5th and 95th
+    /// percentile angles (NaN when the layer is empty).
+    pub fn profile(&self, d: &tumble_scene::Drum, charge_mass: f64, moment: DVec3, toe: f64, shoulder: f64) -> DrumProfile {
+        let mut p = DrumProfile { charge_mass, com_angle: f64::NAN, toe, shoulder, ..Default::default() };
+        if charge_mass > 0.0 {
+            let com = moment / charge_mass;
+            p.com_radius = com.length();
+            let theta = com.dot(self.along).atan2(com.dot(self.down));
+            p.com_angle = theta.to_degrees();
+            p.torque_arm_power = charge_mass * self.g_across * p.com_radius * theta.sin() * d.omega.abs();
+        }
+        p
+    }
+}
+
+/// The profile reported for a drum without gravity across its axis.
+pub fn no_drum_profile() -> DrumProfile {
+    DrumProfile { com_angle: f64::NAN, toe: f64::NAN, shoulder: f64::NAN, ..Default::default() }
+}
+
+/// The `q`-quantile of `n` sorted values as the profiles take it: the value of rank round(q (n − 1)).
+pub fn quantile_rank(q: f64, n: usize) -> usize {
+    ((q * (n - 1) as f64).round() as usize).min(n - 1)
+}
+
 /// The charge profile of each drum of `plan` from any backend's state (NaN angles without gravity
 /// across the axis).
 pub fn drum_profiles(plan: &tumble_scene::Plan, s: &State) -> Vec<DrumProfile> {
-    let g = plan.model.gravity;
     plan.model
         .drums
         .iter()
         .map(|d| {
-            let g_plane = g - d.axis * g.dot(d.axis);
-            let mut p = DrumProfile { com_angle: f64::NAN, toe: f64::NAN, shoulder: f64::NAN, ..Default::default() };
-            if g_plane.length() <= 1e-12 * g.length().max(1e-300) {
-                return p;
-            }
-            let down = g_plane.normalize();
-            // Direction of the shell's motion at the bottom.
-            let along = (d.axis * d.omega.signum()).cross(down);
-            let mut com = DVec3::ZERO;
+            let Some(frame) = DrumFrame::of(d, plan.model.gravity) else { return no_drum_profile() };
+            let (mut mass, mut moment) = (0.0, DVec3::ZERO);
             let mut shell = Vec::new();
             for i in 0..s.len() {
                 if s.inv_mass[i] == 0.0 {
@@ -149,26 +197,15 @@ pub fn drum_profiles(plan: &tumble_scene::Plan, s: &State) -> Vec<DrumProfile> {
                 if z < 0.0 || z > d.length || rho > d.radius {
                     continue;
                 }
-                p.charge_mass += s.mass[i];
-                com += radial * s.mass[i];
-                if d.radius - rho - s.radius[i] <= 0.5 * s.radius[i] {
-                    shell.push(radial.dot(along).atan2(radial.dot(down)).to_degrees());
+                mass += s.mass[i];
+                moment += radial * s.mass[i];
+                if DrumFrame::in_shell_layer(d.radius, rho, s.radius[i]) {
+                    shell.push(frame.angle(radial));
                 }
             }
-            if p.charge_mass > 0.0 {
-                com /= p.charge_mass;
-                p.com_radius = com.length();
-                let theta = com.dot(along).atan2(com.dot(down));
-                p.com_angle = theta.to_degrees();
-                p.torque_arm_power = p.charge_mass * g_plane.length() * p.com_radius * theta.sin() * d.omega.abs();
-            }
-            if !shell.is_empty() {
-                shell.sort_by(f64::total_cmp);
-                let pick = |q: f64| shell[((q * (shell.len() - 1) as f64).round() as usize).min(shell.len() - 1)];
-                p.toe = pick(0.05);
-                p.shoulder = pick(0.95);
-            }
-            p
+            shell.sort_by(f64::total_cmp);
+            let pick = |q: f64| if shell.is_empty() { f64::NAN } else { shell[quantile_rank(q, shell.len())] };
+            frame.profile(d, mass, moment, pick(0.05), pick(0.95))
         })
         .collect()
 }
