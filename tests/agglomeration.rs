@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use tumble::agglomerates::{agglomerate_list, agglomerates};
 use tumble::{RunOptions, compile, parse_scene, run_compiled};
 use tumble_geom::PeriodicBox;
+use tumble_testkit::scenes::{replaced, test_scene};
 
 fn out_dir(tag: &str) -> PathBuf {
     std::env::temp_dir().join(format!("tumble-agglo-{}-{tag}", std::process::id()))
@@ -68,36 +69,11 @@ fn an_agglomerate_across_a_periodic_boundary_is_counted_once() {
     assert_eq!(agglomerates(&x, &radii, None).count, 6);
 }
 
-/// Two cohesive spheres approaching head-on at relative speed u, with k_c from a target Sy.
+/// `scenes/test/cohesive_head_on.toml`: two cohesive spheres approaching head-on at relative
+/// speed u, with k_c from a target Sy.
 fn head_on_pair(sy: f64) -> String {
-    format!(
-        r#"
-name = "head-on-sy-{sy}"
-[run]
-duration = 1.0
-output_interval = 0.05
-[domain]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-[[materials]]
-name = "grain"
-density = 2000.0
-[contact]
-normal = {{ model = "linear", stiffness = 1.0e5 }}
-restitution = 0.5
-cohesion = {{ stickiness_number = {sy}, collision_speed = 1.0 }}
-[[particles]]
-material = "grain"
-shape = {{ sphere = {{ diameter = 0.05, effect_diameter = 0.075 }} }}
-positions = [[-0.1, 0.0, 0.0]]
-velocity = [0.5, 0.0, 0.0]
-[[particles]]
-material = "grain"
-shape = {{ sphere = {{ diameter = 0.05, effect_diameter = 0.075 }} }}
-positions = [[0.1, 0.0, 0.0]]
-velocity = [-0.5, 0.0, 0.0]
-"#
-    )
+    let text = replaced(&test_scene("cohesive_head_on"), "name = \"head-on-sy-1.25\"", &format!("name = \"head-on-sy-{sy}\""));
+    replaced(&text, "stickiness_number = 1.25", &format!("stickiness_number = {sy}"))
 }
 
 /// The threshold is sharp: Sy = 1.02 sticks and 0.98 separates too (checked by hand; 5 % margins kept here).
@@ -128,32 +104,8 @@ fn a_cohesive_head_on_pair_sticks_above_sy_1_and_separates_below() {
 
 #[test]
 fn stokes_number_target_and_flow_velocity() {
-    let text = r#"
-name = "tg-targets"
-[run]
-duration = 0.01
-integrator = "implicit-drag-symplectic"
-[domain]
-min = [0.0, 0.0, 0.0]
-max = [2.0943951023931953, 2.0943951023931953, 2.0943951023931953]
-periodic = [true, true, true]
-[fluid]
-viscosity = { stokes_number = 5.0 }
-flow = { taylor_green = { amplitude = 5.0, frequency = 3.0 } }
-[[materials]]
-name = "grain"
-density = 2000.0
-[contact]
-normal = { model = "linear", stiffness = 1.0e5 }
-restitution = 0.5
-cohesion = { stickiness_number = 0.6 }
-[[particles]]
-material = "grain"
-shape = { sphere = { diameter = 0.05, effect_diameter = 0.075 } }
-random = { count = 50, region = { min = [0.0, 0.0, 0.0], max = [2.0943951023931953, 2.0943951023931953, 2.0943951023931953] } }
-velocity = "flow"
-"#;
-    let c = compile(&parse_scene(text).unwrap()).unwrap();
+    let text = test_scene("tg_targets");
+    let c = compile(&parse_scene(&text).unwrap()).unwrap();
     let tg = c.plan.report.targets.taylor_green.unwrap();
     assert!((tg.stokes_number.unwrap() - 5.0).abs() < 1e-12);
     assert!((tg.vortex_size - std::f64::consts::PI / 3.0).abs() < 1e-15);

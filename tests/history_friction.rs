@@ -7,6 +7,7 @@ mod common;
 use glam::DVec3;
 use tumble::verify::*;
 use tumble::{RunError, RunOptions, Simulation, compile, parse_scene, run_compiled};
+use tumble_testkit::scenes::test_scene;
 
 #[test]
 fn oblique_impacts_follow_coulomb_theory_while_sliding() {
@@ -133,36 +134,10 @@ fn history_pair_forces_are_exactly_opposite_and_the_spring_ends_with_the_contact
 #[test]
 fn history_slot_overflow_stops_the_run_with_a_clear_error() {
     // A sphere resting in the corner of a box touches three walls; one slot cannot hold them.
-    let text = r#"
-name = "overflow"
-[run]
-duration = 0.05
-integrator = "verlet"
-[domain]
-min = [-0.1, -0.1, -0.1]
-max = [0.1, 0.1, 0.1]
-[gravity]
-acceleration = [-3.0, -3.0, -9.81]
-[[materials]]
-name = "glass"
-density = 2500.0
-[contact]
-normal = { model = "linear", stiffness = 1.0e4 }
-restitution = 0.5
-tangential = { model = "history", friction = 0.5 }
-history_slots = 1
-[[particles]]
-material = "glass"
-shape = { sphere = { diameter = 0.02 } }
-positions = [[-0.09, -0.09, -0.09]]
-[[walls]]
-name = "box"
-material = "glass"
-box = { min = [-0.1, -0.1, -0.1], max = [0.1, 0.1, 0.1] }
-"#;
+    let text = test_scene("history_overflow");
     let dir = std::env::temp_dir().join(format!("tumble-overflow-{}", std::process::id()));
     let options = RunOptions { out_dir: Some(dir.clone()), ..RunOptions::default() };
-    match run_compiled(compile(&parse_scene(text).unwrap()).unwrap(), &options) {
+    match run_compiled(compile(&parse_scene(&text).unwrap()).unwrap(), &options) {
         Err(RunError::Capacity(msg)) => {
             assert!(msg.contains("history_slots = 1") && msg.contains("at least 3"), "{msg}");
         }

@@ -11,12 +11,6 @@ fn sim(text: &str, threads: usize) -> Simulation {
     Simulation::new(compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}")), threads)
 }
 
-const STEEL: &str = r#"
-[[materials]]
-name = "steel"
-density = 7800.0
-"#;
-
 fn belt(rotation: &str) -> String {
     replaced(&test_scene("belt"), "rotation = \"on\"", &format!("rotation = \"{rotation}\""))
 }
@@ -35,30 +29,7 @@ fn without_rotation_a_sphere_on_a_belt_is_dragged_to_the_belt_speed() {
 
 #[test]
 fn a_wall_moving_into_a_sphere_throws_it_at_e_times_the_relative_speed() {
-    let text = format!(
-        r#"
-name = "piston"
-[run]
-duration = 0.3
-integrator = "verlet"
-[domain]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 2.0]
-{STEEL}
-[contact]
-normal = {{ model = "linear", stiffness = 1.0e5 }}
-restitution = 0.6
-[[particles]]
-material = "steel"
-shape = {{ sphere = {{ diameter = 0.1 }} }}
-positions = [[0.0, 0.0, 0.2]]
-[[walls]]
-name = "piston"
-material = "steel"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
-motion = {{ translate = {{ velocity = [0.0, 0.0, 1.0] }} }}
-"#
-    );
+    let text = test_scene("piston");
     let mut s = sim(&text, 1);
     s.advance(s.plan().run.steps);
     // Approach at 1 m/s relative to the wall; leave at e·1 m/s relative to it: 1.6 m/s.

@@ -5,7 +5,7 @@
 
 use glam::{DQuat, DVec3};
 use tumble::{Simulation, compile, parse_scene};
-use tumble_testkit::scenes::{cube_drop, replaced, spinning};
+use tumble_testkit::scenes::{cube_drop, replaced, spinning, test_scene};
 
 fn sim(text: &str) -> Simulation {
     Simulation::new(compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}")), 1)
@@ -66,8 +66,8 @@ fn case_6_the_tumbling_boxs_energy_error_falls_as_dt_squared() {
     assert!((order - 2.0).abs() < 0.3, "energy error should fall as Δt²: order {order}");
 }
 
-/// Two steel bodies with a linear spring of `stiffness`, e = 1, no friction: (shape, position,
-/// orientation, velocity) each.
+/// `scenes/test/elastic_pair.toml`: two steel bodies with a linear spring of `stiffness`, e = 1,
+/// no friction; its two cubes replaced by (shape, position, orientation, velocity) each.
 fn elastic_pair(stiffness: f64, a: (&str, [f64; 3], DQuat, f64), b: (&str, [f64; 3], DQuat, f64)) -> String {
     let body = |(shape, x, q, v): (&str, [f64; 3], DQuat, f64)| {
         format!(
@@ -75,25 +75,9 @@ fn elastic_pair(stiffness: f64, a: (&str, [f64; 3], DQuat, f64), b: (&str, [f64;
             x[0], x[1], x[2], q.w, q.x, q.y, q.z
         )
     };
-    format!(
-        r#"
-name = "pair"
-[run]
-duration = 1.0
-integrator = "verlet"
-[domain]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-[[materials]]
-name = "steel"
-density = 7800.0
-[contact]
-normal = {{ model = "linear", stiffness = {stiffness:e} }}
-restitution = 1.0
-{}{}"#,
-        body(a),
-        body(b)
-    )
+    let text = replaced(&test_scene("elastic_pair"), "stiffness = 1.0e5", &format!("stiffness = {stiffness:e}"));
+    let bodies = text.find("[[particles]]").unwrap();
+    format!("{}{}{}", &text[..bodies], body(a), body(b))
 }
 
 #[test]
@@ -122,47 +106,10 @@ fn a_tilted_cube_lands_on_its_face_and_then_stays_put() {
     assert!(st.omega[0].length() < 1e-7 && st.vel[0].length() < 1e-7, "still moving: v {}, ω {}", st.vel[0], st.omega[0]);
 }
 
-/// A box of cubes, dodecahedra and spheres (randomly turned) poured onto a floor, with springs.
+/// `scenes/test/mixed_bed.toml`: a box of cubes, dodecahedra and spheres (randomly turned)
+/// poured onto a floor, with springs, for `duration`.
 fn mixed_bed(duration: f64) -> String {
-    format!(
-        r#"
-name = "mixed-bed"
-[run]
-duration = {duration}
-integrator = "verlet"
-[domain]
-min = [-0.05, -0.05, 0.0]
-max = [0.05, 0.05, 0.2]
-[gravity]
-acceleration = [0.0, 0.0, -9.81]
-[[materials]]
-name = "glass"
-density = 2500.0
-[contact]
-normal = {{ model = "linear", stiffness = 2.0e3 }}
-restitution = 0.5
-tangential = {{ model = "history", friction = 0.4 }}
-[[particles]]
-material = "glass"
-shape = {{ cube = {{ edge = 0.008 }} }}
-orientation = "random"
-lattice = {{ min = [-0.045, -0.045, 0.01], max = [0.045, 0.045, 0.04], spacing = 0.015, jitter = 0.05 }}
-velocity = {{ random = {{ mean_speed = 0.2, std = 0.05 }} }}
-[[particles]]
-material = "glass"
-shape = {{ platonic = {{ kind = "dodecahedron", radius = 0.006 }} }}
-orientation = "random"
-lattice = {{ min = [-0.045, -0.045, 0.05], max = [0.045, 0.045, 0.08], spacing = 0.015, jitter = 0.05 }}
-[[particles]]
-material = "glass"
-shape = {{ sphere = {{ diameter = 0.01 }} }}
-lattice = {{ min = [-0.045, -0.045, 0.09], max = [0.045, 0.045, 0.12], spacing = 0.015, jitter = 0.05 }}
-[[walls]]
-name = "box"
-material = "glass"
-box = {{ min = [-0.05, -0.05, 0.0], max = [0.05, 0.05, 0.2] }}
-"#
-    )
+    replaced(&test_scene("mixed_bed"), "duration = 0.2", &format!("duration = {duration}"))
 }
 
 /// Initial mechanical energy and |ΔE| / E0 after `duration` (dissipation counted).

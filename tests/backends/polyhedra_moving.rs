@@ -7,6 +7,7 @@
 use crate::support::{Drum, scene};
 use tumble::Simulation;
 use tumble_gpu::GpuSimulation;
+use tumble_testkit::scenes::test_scene;
 
 pub fn a_drum_turning_a_cube_draws_torque_times_omega() {
     // One cube on a turning shell, pressed against the turning back plate by a tilted gravity:
@@ -14,41 +15,7 @@ pub fn a_drum_turning_a_cube_draws_torque_times_omega() {
     // cube's inertia is isotropic), which the device books contact by contact as F · v_wall(p)
     // + (twist + rolling couple) · Ω. The twisting friction on the back plate's face contact and
     // the rolling resistance against ω − Ω enter here.
-    let text = r#"
-name = "cube-in-drum"
-[run]
-duration = 0.3
-integrator = "verlet"
-dt = { collision_fraction = 20 }
-[domain]
-min = [-0.052, -0.052, -0.002]
-max = [0.052, 0.052, 0.032]
-[gravity]
-acceleration = [0.0, -9.81, -8.0]
-[[materials]]
-name = "steel"
-density = 7800.0
-[contact]
-normal = { model = "linear", stiffness = 1.0e4 }
-restitution = 0.5
-tangential = { model = "history", friction = 0.5 }
-rolling_friction = 0.05
-[[particles]]
-material = "steel"
-shape = { cube = { edge = 0.01 } }
-positions = [[0.0, -0.043, 0.0052]]
-[[walls]]
-name = "shell"
-material = "steel"
-cylinder = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.05, length = 0.03, inside = true }
-motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 30.0 } }
-[[walls]]
-name = "back"
-material = "steel"
-plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
-motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 30.0 } }
-"#;
-    let s = scene(text);
+    let s = scene(&test_scene("cube_in_drum"));
     let steps = s.plan.run.steps;
     let mut cpu = Simulation::new(s.clone(), 1);
     let omega = 30.0 * std::f64::consts::TAU / 60.0;

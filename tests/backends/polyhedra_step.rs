@@ -6,43 +6,14 @@ use crate::support::scene;
 use tumble::Simulation;
 use tumble_gpu::GpuSimulation;
 use tumble_scene::CompiledScene;
+use tumble_testkit::scenes::{replaced, test_scene};
 
-/// A bed of frictional cubes (and, with `spheres`, a layer of spheres above them) settling
-/// into a box under gravity: 112 cubes (and 32 spheres), 6,300 steps to 0.36 s (t_col at a cube corner / 10). On lavapipe
+/// `scenes/test/cube_bed.toml` for `duration`: a bed of frictional cubes (and, with `spheres`, a
+/// layer of spheres above them) settling into a box under gravity: 112 cubes (and 32 spheres), 6,300 steps to 0.36 s (t_col at a cube corner / 10). On lavapipe
 /// this is minutes, so the beds are small; the spheres settle slowest (they roll), so the
 /// mixture is compared while the layers land on each other (to 0.18 s).
 pub(crate) fn bed(spheres: bool, duration: f64) -> CompiledScene {
-    let mut text = format!(
-        r#"
-name = "cube-bed"
-[run]
-duration = {duration}
-integrator = "verlet"
-dt = {{ collision_fraction = 10 }}
-seed = 3
-[domain]
-min = [0.0, 0.0, 0.0]
-max = [0.05, 0.05, 0.12]
-[gravity]
-acceleration = [0.0, 0.0, -9.81]
-[[materials]]
-name = "glass"
-density = 2500.0
-[contact]
-normal = {{ model = "linear", stiffness = 1.0e3 }}
-restitution = 0.3
-tangential = {{ model = "history", friction = 0.4 }}
-[[particles]]
-material = "glass"
-shape = {{ cube = {{ edge = 0.005 }} }}
-orientation = "random"
-lattice = {{ min = [0.005, 0.005, 0.005], max = [0.045, 0.045, 0.065], spacing = 0.0085, jitter = 0.05 }}
-[[walls]]
-name = "box"
-material = "glass"
-box = {{ min = [0.0, 0.0, 0.0], max = [0.05, 0.05, 0.12] }}
-"#
-    );
+    let mut text = replaced(&test_scene("cube_bed"), "duration = 0.36", &format!("duration = {duration}"));
     if spheres {
         text.push_str(
             r#"

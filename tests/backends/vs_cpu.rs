@@ -5,7 +5,7 @@ use crate::support::scene;
 use tumble::Simulation;
 use tumble_gpu::GpuSimulation;
 use tumble_scene::{CompiledScene, compile, parse_scene};
-use tumble_testkit::scenes::{file, shortened};
+use tumble_testkit::scenes::{file, replaced, shortened, test_scene};
 
 fn verify_scene(name: &str) -> String {
     file(&format!("scenes/verify/{name}"))
@@ -133,26 +133,7 @@ pub fn particles_leaving_the_domain_are_removed_as_on_the_cpu() {
 pub fn the_broad_phase_tables_are_a_sorted_counting_sort_with_a_three_level_scan() {
     // 140,000 small spheres spread through a large box: over 1,048,576 cells, so the scan
     // needs three levels of 1,024-value blocks.
-    let text = r#"
-name = "sparse"
-[run]
-duration = 1.0e-4
-dt = 1.0e-4
-[domain]
-min = [0.0, 0.0, 0.0]
-max = [1.0, 1.0, 1.0]
-[[materials]]
-name = "glass"
-density = 2500.0
-[contact]
-normal = { model = "linear", stiffness = 1.0e3 }
-restitution = 0.5
-[[particles]]
-material = "glass"
-shape = { sphere = { diameter = 0.004 } }
-lattice = { min = [0.002, 0.002, 0.002], max = [0.998, 0.998, 0.998], spacing = 0.019, jitter = 0.2 }
-"#;
-    let scene = scene(text);
+    let scene = scene(&test_scene("sparse_lattice"));
     let n = scene.particles.len();
     assert!(n > 130_000, "{n}");
     let mut gpu = GpuSimulation::new(scene).unwrap();
@@ -258,54 +239,20 @@ pub fn history_pair_forces_are_exactly_equal_and_opposite_and_the_spring_ends_wi
     assert!(gpu.springs().is_empty(), "the spring must go with the contact");
 }
 
-/// Two spheres colliding obliquely and a third bouncing off a floor at a slant, without
-/// gravity: every contact ends with its tangential spring loaded, so the energy the springs
-/// hold at separation must be booked as dissipated. `normal` is "linear" (Cundall–Strack
-/// spring) or "hertz" (Mindlin: k_t follows the overlap, so the stored energy is not ½ k_t(δ) |ξ|²
-/// of any later δ).
+/// `scenes/test/springs_released.toml`: two spheres colliding obliquely and a third bouncing off a
+/// floor at a slant, without gravity: every contact ends with its tangential spring loaded, so the
+/// energy the springs hold at separation must be booked as dissipated. `normal` is "linear"
+/// (Cundall–Strack spring) or "hertz" (Mindlin: k_t follows the overlap, so the stored energy is
+/// not ½ k_t(δ) |ξ|² of any later δ).
 fn springs_released(normal: &str) -> String {
-    format!(
-        r#"
-name = "springs-released-{normal}"
-[run]
-duration = 0.03
-integrator = "verlet"
-[domain]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-[[materials]]
-name = "rubber"
-density = 2500.0
-youngs_modulus = 1.0e6
-poisson_ratio = 0.3
-[contact]
-normal = {{ model = "{normal}", stiffness = 1.0e3 }}
-restitution = 0.3
-tangential = {{ model = "history", friction = 0.8 }}
-[[particles]]
-material = "rubber"
-shape = {{ sphere = {{ diameter = 0.02 }} }}
-positions = [[-0.0101, 0.0, 0.0]]
-velocity = [0.5, 0.3, 0.0]
-[[particles]]
-material = "rubber"
-shape = {{ sphere = {{ diameter = 0.02 }} }}
-positions = [[0.0101, 0.0, 0.0]]
-velocity = [-0.5, -0.2, 0.1]
-[[particles]]
-material = "rubber"
-shape = {{ sphere = {{ diameter = 0.02 }} }}
-positions = [[0.5, 0.0, -0.4899]]
-velocity = [0.3, 0.2, -0.5]
-[[walls]]
-name = "floor"
-material = "rubber"
-plane = {{ point = [0.0, 0.0, -0.5], normal = [0.0, 0.0, 1.0] }}
-"#
-    )
+    let text = test_scene("springs_released");
+    if normal == "linear" {
+        return text;
+    }
+    let text = replaced(&text, "name = \"springs-released-linear\"", &format!("name = \"springs-released-{normal}\""));
+    let text = replaced(&text, "model = \"linear\", stiffness = 1.0e3", &format!("model = \"{normal}\""));
     // Hertz: a step well below the plan's 0.2 Δt_R, so that Verlet's own energy residual stays small.
-    .replace(", stiffness = 1.0e3", if normal == "linear" { ", stiffness = 1.0e3" } else { "" })
-    .replace("duration = 0.03", if normal == "linear" { "duration = 0.03" } else { "duration = 0.03\ndt = 1.0e-4" })
+    replaced(&text, "duration = 0.03", "duration = 0.03\ndt = 1.0e-4")
 }
 
 pub fn springs_that_end_with_their_contact_are_booked_as_dissipated_as_on_the_cpu() {

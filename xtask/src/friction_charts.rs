@@ -43,14 +43,7 @@ fn oblique_impact() -> (&'static str, String, String) {
         data.push((m, rows));
     }
     let (w, h) = (1200.0, 560.0);
-    let mut doc = Svg::new(w, h);
-    doc.bold(
-        w / 2.0,
-        28.0,
-        16.0,
-        Anchor::Middle,
-        &format!("Oblique impact on a wall: μ = {MU_IMPACT}, e = {E}, 1 m/s, linear normal law, rotation on"),
-    );
+    let mut doc = Svg::titled(w, h, &format!("Oblique impact on a wall: μ = {MU_IMPACT}, e = {E}, 1 m/s, linear normal law, rotation on"));
     let threshold = (3.5 * MU_IMPACT * (1.0 + E)).atan().to_degrees();
     let panels: [(&str, fn(&tv::Impact) -> f64, fn((f64, f64)) -> f64, (f64, f64, f64)); 2] = [
         ("rebound tangential velocity v_t' / v_t", |r| r.tangential, |t| t.0, (0.4, 1.0, 0.1)),
@@ -105,8 +98,7 @@ fn incline_creep() -> (&'static str, String, String) {
         data.push((m, rows));
     }
     let (w, h) = (1000.0, 600.0);
-    let mut doc = Svg::new(w, h);
-    doc.bold(w / 2.0, 28.0, 16.0, Anchor::Middle, &format!("Creep on an incline below atan μ (μ = {MU_INCLINE}, 26.6°), rotation off, 1 s"));
+    let mut doc = Svg::titled(w, h, &format!("Creep on an incline below atan μ (μ = {MU_INCLINE}, 26.6°), rotation off, 1 s"));
     let x = LinearAxis { lo: 0.0, hi: 27.5, step: 2.5, p0: 100.0, p1: 700.0 };
     let y = LogAxis { lo: -7.0, hi: -2.0, p0: h - 110.0, p1: 60.0 };
     svg::linear_frame(&mut doc, x, YAxis::Log(y), "incline angle (degrees)", "mean speed down the slope over 0.5–1 s (m/s)");

@@ -80,20 +80,15 @@ struct MillRow {
     filling: f64,
     fraction: f64,
     rpm: f64,
-    /// Mean power per wall group: shell, lifters, back, front.
-    power: [f64; 4],
-    torque_arm: f64,
-    com_angle: f64,
-    com_radius: f64,
-    toe: f64,
-    shoulder: f64,
+    /// Drive power and charge profile over the measuring window.
+    means: ChargeMeans,
     seconds: f64,
     particle_steps: f64,
 }
 
 impl MillRow {
     fn total(&self) -> f64 {
-        self.power.iter().sum()
+        self.means.power.iter().sum()
     }
 
     /// Bond's ball-mill power (Rowland's metric form, kW per tonne of balls, no pulp, D < 3.3 m so no
@@ -108,6 +103,64 @@ const D_MILL: f64 = 0.9;
 const D_BALL: f64 = 0.05;
 const SPIN_UP: f64 = 1.5;
 const MEASURE: f64 = 2.5;
+
+/// Means over the measuring window of a drum or mill run: the drive power per wall group (shell,
+/// lifters, back, front) and the first drum's charge profile.
+#[derive(Clone, Debug)]
+struct ChargeMeans {
+    power: [f64; 4],
+    torque_arm: f64,
+    com_angle: f64,
+    com_radius: f64,
+    toe: f64,
+    shoulder: f64,
+}
+
+impl ChargeMeans {
+    /// The columns the studies print, in order: the power of the shell, the lifters and both end
+    /// plates, the torque-arm estimate, toe, shoulder, and the centre of mass's angle and radius.
+    fn columns(&self) -> [f64; 8] {
+        let p = self.power;
+        [p[0], p[1], p[2] + p[3], self.torque_arm, self.toe, self.shoulder, self.com_angle, self.com_radius]
+    }
+}
+
+/// Runs `sim` to its end in samples of 0.05 s, calling `each` after every sample; from `spin_up`
+/// on, averages the charge profile over the samples and the wall groups' work over the time.
+fn charge_means(sim: &mut Simulation, spin_up: f64, mut each: impl FnMut(&Simulation)) -> ChargeMeans {
+    let every = (0.05 / sim.plan().model.dt).round() as u64;
+    let (mut w0, mut t0) = (Vec::new(), 0.0);
+    let mut samples = 0.0;
+    let (mut arm, mut angle, mut radius, mut toe, mut shoulder) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    while sim.steps() < sim.plan().run.steps {
+        sim.advance(every.min(sim.plan().run.steps - sim.steps()));
+        each(sim);
+        if sim.time() < spin_up - 1e-9 {
+            continue;
+        }
+        if w0.is_empty() {
+            (w0, t0) = (sim.cpu().wall_work().to_vec(), sim.time());
+            continue;
+        }
+        let p = sim.cpu().drum_profiles()[0];
+        samples += 1.0;
+        arm += p.torque_arm_power;
+        angle += p.com_angle;
+        radius += p.com_radius;
+        toe += p.toe;
+        shoulder += p.shoulder;
+    }
+    let work = sim.cpu().wall_work();
+    let span = sim.time() - t0;
+    ChargeMeans {
+        power: [0, 1, 2, 3].map(|g| (work[g] - w0[g]) / span),
+        torque_arm: arm / samples,
+        com_angle: angle / samples,
+        com_radius: radius / samples,
+        toe: toe / samples,
+        shoulder: shoulder / samples,
+    }
+}
 
 fn mill_run(fill_label: &'static str, (nx, ny): (usize, usize), fraction: f64) -> MillRow {
     let mut scene = read_scene(&root().join("scenes/ball_mill.toml")).unwrap();
@@ -131,48 +184,10 @@ fn mill_run(fill_label: &'static str, (nx, ny): (usize, usize), fraction: f64) -
     let v_mill = std::f64::consts::PI * 0.25 * D_MILL * D_MILL * 0.15;
     let filling = balls as f64 * std::f64::consts::PI / 6.0 * D_BALL.powi(3) / (0.6 * v_mill);
     let mut sim = Simulation::new(compiled, threads());
-    let dt = sim.plan().model.dt;
-    let every = (0.05 / dt).round() as u64;
     let start = Instant::now();
-    let (mut w0, mut t0) = (Vec::new(), 0.0);
-    let mut samples = 0.0;
-    let (mut arm, mut angle, mut radius, mut toe, mut shoulder) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    while sim.steps() < sim.plan().run.steps {
-        sim.advance(every.min(sim.plan().run.steps - sim.steps()));
-        if sim.time() < SPIN_UP - 1e-9 {
-            continue;
-        }
-        if w0.is_empty() {
-            (w0, t0) = (sim.cpu().wall_work().to_vec(), sim.time());
-            continue;
-        }
-        let p = sim.cpu().drum_profiles()[0];
-        samples += 1.0;
-        arm += p.torque_arm_power;
-        angle += p.com_angle;
-        radius += p.com_radius;
-        toe += p.toe;
-        shoulder += p.shoulder;
-    }
-    let work = sim.cpu().wall_work();
-    let span = sim.time() - t0;
-    let power = [0, 1, 2, 3].map(|g| (work[g] - w0[g]) / span);
+    let means = charge_means(&mut sim, SPIN_UP, |_| {});
     let seconds = start.elapsed().as_secs_f64();
-    MillRow {
-        fill_label,
-        balls,
-        filling,
-        fraction,
-        rpm,
-        power,
-        torque_arm: arm / samples,
-        com_angle: angle / samples,
-        com_radius: radius / samples,
-        toe: toe / samples,
-        shoulder: shoulder / samples,
-        seconds,
-        particle_steps: balls as f64 * sim.steps() as f64,
-    }
+    MillRow { fill_label, balls, filling, fraction, rpm, means, seconds, particle_steps: balls as f64 * sim.steps() as f64 }
 }
 
 pub fn mill(_args: &[String]) -> i32 {
@@ -181,20 +196,13 @@ pub fn mill(_args: &[String]) -> i32 {
     for (label, lattice) in [("20 %", (7, 8)), ("30 %", (9, 10))] {
         for fraction in [0.3, 0.5, 0.7] {
             let r = mill_run(label, lattice, fraction);
+            let [shell, lifters, ends, arm, toe, shoulder, angle, radius] = r.means.columns();
             eprintln!(
-                "fill {label} ({} balls), {:.0} % of critical ({:.2} rpm): {:.1} W (shell {:.1}, lifters {:.1}, ends {:.1}), torque arm {:.1} W, toe {:.1}°, shoulder {:.1}°, COM {:.1}° at {:.3} m; {:.1} s",
+                "fill {label} ({} balls), {:.0} % of critical ({:.2} rpm): {:.1} W (shell {shell:.1}, lifters {lifters:.1}, ends {ends:.1}), torque arm {arm:.1} W, toe {toe:.1}°, shoulder {shoulder:.1}°, COM {angle:.1}° at {radius:.3} m; {:.1} s",
                 r.balls,
                 100.0 * fraction,
                 r.rpm,
                 r.total(),
-                r.power[0],
-                r.power[1],
-                r.power[2] + r.power[3],
-                r.torque_arm,
-                r.toe,
-                r.shoulder,
-                r.com_angle,
-                r.com_radius,
                 r.seconds
             );
             rows.push(r);
@@ -206,24 +214,17 @@ pub fn mill(_args: &[String]) -> i32 {
          fill,balls,filling,fraction_of_critical,rpm,power_total_w,power_shell_w,power_lifters_w,power_ends_w,torque_arm_power_w,bond_power_w,toe_deg,shoulder_deg,com_angle_deg,com_radius_m,wall_seconds,particle_steps\n",
     );
     for r in &rows {
+        let [shell, lifters, ends, arm, toe, shoulder, angle, radius] = r.means.columns();
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{},{:.4},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.4},{:.2},{:.4e}",
+            "{},{},{:.4},{},{:.4},{:.2},{shell:.2},{lifters:.2},{ends:.2},{arm:.2},{:.2},{toe:.2},{shoulder:.2},{angle:.2},{radius:.4},{:.2},{:.4e}",
             r.fill_label.trim_end_matches(" %"),
             r.balls,
             r.filling,
             r.fraction,
             r.rpm,
             r.total(),
-            r.power[0],
-            r.power[1],
-            r.power[2] + r.power[3],
-            r.torque_arm,
             r.bond(),
-            r.toe,
-            r.shoulder,
-            r.com_angle,
-            r.com_radius,
             r.seconds,
             r.particle_steps
         );
@@ -241,10 +242,9 @@ const FILL_STYLES: [Style; 2] =
 
 fn mill_chart(rows: &[MillRow]) -> String {
     let (w, h) = (1200.0, 640.0);
-    let mut doc = Svg::new(w, h);
-    doc.bold(w / 2.0, 28.0, 16.0, Anchor::Middle, "Ball mill 0.9 m x 0.15 m, 8 lifters, 5 cm steel balls: power draw and charge profile");
+    let mut doc = Svg::titled(w, h, "Ball mill 0.9 m x 0.15 m, 8 lifters, 5 cm steel balls: power draw and charge profile");
     let x = |left: f64| LinearAxis { lo: 20.0, hi: 80.0, step: 10.0, p0: left, p1: left + 460.0 };
-    let max_power = rows.iter().map(|r| r.total().max(r.torque_arm).max(r.bond())).fold(0.0, f64::max);
+    let max_power = rows.iter().map(|r| r.total().max(r.means.torque_arm).max(r.bond())).fold(0.0, f64::max);
     let step = if max_power > 800.0 { 200.0 } else { 100.0 };
     let top = (max_power / step).ceil() * step + step;
     let yp = LinearAxis { lo: 0.0, hi: top, step, p0: 470.0, p1: 60.0 };
@@ -261,19 +261,19 @@ fn mill_chart(rows: &[MillRow]) -> String {
         let total = pts(90.0, &|r| r.total(), yp);
         doc.polyline(&total, st.colour, 2.0, None, 1.0);
         total.iter().for_each(|&(a, b)| doc.marker(st.shape, a, b, 9.0, st.colour, false));
-        let arm = pts(90.0, &|r| r.torque_arm, yp);
+        let arm = pts(90.0, &|r| r.means.torque_arm, yp);
         doc.polyline(&arm, st.colour, 1.5, Some("5,3"), 1.0);
         arm.iter().for_each(|&(a, b)| doc.marker(st.shape, a, b, 9.0, st.colour, true));
         let bond = pts(90.0, &|r| r.bond(), yp);
         doc.polyline(&bond, st.colour, 1.0, Some("1,3"), 0.9);
         bond.iter().for_each(|&(a, b)| doc.marker(Shape::Diamond, a, b, 8.0, st.colour, true));
-        let lift = pts(90.0, &|r| r.power[1], yp);
+        let lift = pts(90.0, &|r| r.means.power[1], yp);
         doc.polyline(&lift, st.colour, 1.0, Some("2,3"), 0.8);
         lift.iter().for_each(|&(a, b)| doc.marker(Shape::Cross, a, b, 7.0, st.colour, false));
         for (f, shape) in [
-            (&(|r: &MillRow| r.shoulder) as &dyn Fn(&MillRow) -> f64, Shape::Triangle),
-            (&|r: &MillRow| r.com_angle, st.shape),
-            (&|r: &MillRow| r.toe, Shape::TriangleDown),
+            (&(|r: &MillRow| r.means.shoulder) as &dyn Fn(&MillRow) -> f64, Shape::Triangle),
+            (&|r: &MillRow| r.means.com_angle, st.shape),
+            (&|r: &MillRow| r.means.toe, Shape::TriangleDown),
         ] {
             let p = pts(690.0, f, ya);
             doc.polyline(&p, st.colour, 1.5, None, 1.0);
@@ -477,14 +477,7 @@ fn hopper_run(shape: usize, width: f64, layers: Option<usize>, duration: f64, fr
 
 fn hopper_chart(rows: &[HopperRow], fits: &[Option<(f64, f64)>], duration: f64, from: f64) -> String {
     let (w, h) = (1200.0, 540.0);
-    let mut doc = Svg::new(w, h);
-    doc.bold(
-        w / 2.0,
-        28.0,
-        16.0,
-        Anchor::Middle,
-        "Flat-bottomed hopper: 1 cm glass spheres and dodecahedra of equal volume through a square orifice",
-    );
+    let mut doc = Svg::titled(w, h, "Flat-bottomed hopper: 1 cm glass spheres and dodecahedra of equal volume through a square orifice");
     let top = (rows.iter().map(|r| r.rate).fold(0.0, f64::max) * 10.0).ceil() / 10.0 + 0.1;
     let xa = LinearAxis { lo: 2.0, hi: 7.0, step: 1.0, p0: 90.0, p1: 550.0 };
     let ya = LinearAxis { lo: 0.0, hi: top, step: 0.2, p0: 450.0, p1: 60.0 };
@@ -545,13 +538,8 @@ struct DrumRow {
     label: &'static str,
     particles: usize,
     rpm: f64,
-    /// Mean power per wall group: shell, lifters, back, front.
-    power: [f64; 4],
-    torque_arm: f64,
-    com_angle: f64,
-    com_radius: f64,
-    toe: f64,
-    shoulder: f64,
+    /// Drive power and charge profile over the measuring window.
+    means: ChargeMeans,
     /// Largest overlap / radius over the samples.
     max_overlap: f64,
     /// Unbooked energy change (mechanical + dissipated − wall work − initial) at the end, over the wall work.
@@ -579,35 +567,14 @@ fn drum_run(label: &'static str, duration: f64) -> DrumRow {
     let n = compiled.particles.len();
     let rpm = compiled.plan.model.drums[0].omega * 60.0 / std::f64::consts::TAU;
     let mut sim = Simulation::new(compiled, threads());
-    let every = (0.05 / sim.plan().model.dt).round() as u64;
     let start = Instant::now();
     let initial = sim.observables();
-    let (mut w0, mut t0) = (Vec::new(), 0.0);
-    let mut samples = 0.0;
-    let (mut arm, mut angle, mut radius, mut toe, mut shoulder, mut max_overlap) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0f64);
-    while sim.steps() < sim.plan().run.steps {
-        sim.advance(every.min(sim.plan().run.steps - sim.steps()));
+    let mut max_overlap = 0.0f64;
+    let means = charge_means(&mut sim, DRUM_SPIN_UP, |sim| {
         let o = sim.observables();
         assert!(o.finite, "{label}: non-finite state at t = {}", sim.time());
         max_overlap = max_overlap.max(o.max_overlap_ratio);
-        if sim.time() < DRUM_SPIN_UP - 1e-9 {
-            continue;
-        }
-        if w0.is_empty() {
-            (w0, t0) = (sim.cpu().wall_work().to_vec(), sim.time());
-            continue;
-        }
-        let p = sim.cpu().drum_profiles()[0];
-        samples += 1.0;
-        arm += p.torque_arm_power;
-        angle += p.com_angle;
-        radius += p.com_radius;
-        toe += p.toe;
-        shoulder += p.shoulder;
-    }
-    let work = sim.cpu().wall_work();
-    let span = sim.time() - t0;
-    let power = [0, 1, 2, 3].map(|g| (work[g] - w0[g]) / span);
+    });
     let o = sim.observables();
     let e0 = initial.mechanical_energy() + initial.dissipated_energy - initial.wall_work;
     let energy_residual = (o.mechanical_energy() + o.dissipated_energy - o.wall_work - e0) / o.wall_work;
@@ -615,12 +582,7 @@ fn drum_run(label: &'static str, duration: f64) -> DrumRow {
         label,
         particles: n,
         rpm,
-        power,
-        torque_arm: arm / samples,
-        com_angle: angle / samples,
-        com_radius: radius / samples,
-        toe: toe / samples,
-        shoulder: shoulder / samples,
+        means,
         max_overlap,
         energy_residual,
         seconds: start.elapsed().as_secs_f64(),
@@ -645,21 +607,14 @@ pub fn drum(args: &[String]) -> i32 {
         duration - DRUM_SPIN_UP
     );
     for r in &rows {
+        let [shell, lifters, ends, arm, toe, shoulder, angle, radius] = r.means.columns();
         let _ = writeln!(
             csv,
-            "{},{},{:.2},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2},{:.2},{:.2},{:.4},{:.4},{:.2e},{:.1},{:.4e}",
+            "{},{},{:.2},{:.4},{shell:.4},{lifters:.4},{ends:.4},{arm:.4},{toe:.2},{shoulder:.2},{angle:.2},{radius:.4},{:.4},{:.2e},{:.1},{:.4e}",
             r.label,
             r.particles,
             r.rpm,
-            r.power.iter().sum::<f64>(),
-            r.power[0],
-            r.power[1],
-            r.power[2] + r.power[3],
-            r.torque_arm,
-            r.toe,
-            r.shoulder,
-            r.com_angle,
-            r.com_radius,
+            r.means.power.iter().sum::<f64>(),
             r.max_overlap,
             r.energy_residual,
             r.seconds,

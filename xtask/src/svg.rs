@@ -60,6 +60,13 @@ impl Svg {
         Svg { body, width, height }
     }
 
+    /// A chart of `width` × `height` px with `title` centred at its top (16 px bold).
+    pub fn titled(width: f64, height: f64, title: &str) -> Self {
+        let mut svg = Svg::new(width, height);
+        svg.bold(width / 2.0, 28.0, 16.0, Anchor::Middle, title);
+        svg
+    }
+
     /// Plain text; `size` in px.
     pub fn text(&mut self, x: f64, y: f64, size: f64, anchor: Anchor, fill: &str, s: &str) {
         let _ = writeln!(

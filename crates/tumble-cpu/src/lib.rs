@@ -239,35 +239,11 @@ mod tests {
 
     #[test]
     fn springs_survive_a_re_sort_of_the_particle_arrays() {
-        let scene = tumble_scene::parse_scene(
-            r#"
-name = "pile"
-[run]
-duration = 1.0
-integrator = "verlet"
-[domain]
-min = [-0.05, -0.05, 0.0]
-max = [0.05, 0.05, 0.2]
-[gravity]
-acceleration = [0.0, 0.0, -9.81]
-[[materials]]
-name = "glass"
-density = 2500.0
-[contact]
-normal = { model = "linear", stiffness = 1.0e4 }
-restitution = 0.5
-tangential = { model = "history", friction = 0.5 }
-[[particles]]
-material = "glass"
-shape = { sphere = { diameter = 0.02 } }
-lattice = { min = [-0.04, -0.04, 0.01], max = [0.04, 0.04, 0.1], spacing = 0.021, jitter = 0.0005 }
-[[walls]]
-name = "box"
-material = "glass"
-box = { min = [-0.05, -0.05, 0.0], max = [0.05, 0.05, 0.2] }
-"#,
-        )
-        .unwrap();
+        // The shared test scene, read from the repository (tumble-testkit depends on this crate).
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).ancestors().nth(2).unwrap();
+        let path = root.join("scenes/test/pile.toml");
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let scene = tumble_scene::parse_scene(&text).unwrap();
         let mut sim = CpuSimulation::new(tumble_scene::compile(&scene).unwrap(), 1);
         sim.advance(15000);
         let before = springs(&sim);
