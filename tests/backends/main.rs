@@ -58,8 +58,6 @@ fn main() {
         polyhedra_moving::turning_lifters_sweep_into_cubes_as_on_the_cpu,
         polyhedra_step::polyhedra_runs_give_bit_identical_states,
         polyhedra_step::a_mixture_of_spheres_and_cubes_settles_as_on_the_cpu,
-        restore::a_mill_with_lifters_and_springs_continues_bit_identically,
-        restore::a_drum_of_cubes_continues_bit_identically,
         restore::a_snapshot_that_does_not_fit_is_refused_and_changes_nothing,
         seams::an_output_row_is_one_read_back,
         seams::tracked_polyhedra_carry_the_cpus_orientation,

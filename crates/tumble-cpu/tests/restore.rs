@@ -1,4 +1,4 @@
-//! A run continued from a snapshot is bit-identical to the run that wrote it.
+//! CPU restarts beyond the suite's `restore` behaviour: a different thread count, and refusals.
 
 use std::path::PathBuf;
 use tumble_cpu::CpuSimulation;
@@ -8,40 +8,6 @@ fn scene_file(name: &str) -> tumble_scene::CompiledScene {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).parent().and_then(|p| p.parent()).unwrap().to_path_buf();
     let path = root.join("scenes").join(name);
     tumble_scene::compile(&tumble_scene::read_scene(&path).unwrap()).unwrap()
-}
-
-/// Runs `before` steps, snapshots through bytes, then compares `after` more steps of the
-/// original with the same steps of a fresh simulation restored from the bytes.
-fn continues_bit_identically(name: &str, before: u64, after: u64, threads: usize) {
-    let mut original = CpuSimulation::new(scene_file(name), threads);
-    original.advance(before);
-    let bytes = original.snapshot().to_bytes();
-    let observed_at_snapshot = original.observables();
-    let builds_at_snapshot = original.neighbour_builds();
-    original.advance(after);
-    assert!(original.neighbour_builds() > builds_at_snapshot, "{name}: the list should be rebuilt after the restore too");
-
-    let mut restored = CpuSimulation::new(scene_file(name), threads);
-    restored.restore(&Snapshot::from_bytes(&bytes).unwrap()).unwrap();
-    assert_eq!(restored.steps(), before);
-    assert_eq!(restored.observables(), observed_at_snapshot, "{name}: the restored state reads differently");
-    restored.advance(after);
-    let (a, b) = (original.snapshot(), restored.snapshot());
-    assert!(a.state.len() > 10, "{name}: particles left: {}", a.state.len());
-    assert_eq!(a.to_bytes(), b.to_bytes(), "{name}: the continued run differs from the original");
-    assert_eq!(original.observables(), restored.observables());
-}
-
-#[test]
-fn a_heap_with_tangential_springs_continues_bit_identically() {
-    // Springs, box walls, rotation; 3,000+ particles.
-    continues_bit_identically("heap_history.toml", 1_000, 400, 2);
-}
-
-#[test]
-fn a_drum_of_cubes_with_lifters_continues_bit_identically() {
-    // Polyhedra, a turning shell with lifters and end plates (wall work), springs.
-    continues_bit_identically("drum_cubes.toml", 700, 300, 2);
 }
 
 #[test]

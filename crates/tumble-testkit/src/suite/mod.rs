@@ -10,7 +10,8 @@
 //! - `walls`: a drum's drive power, flow planes and moving-wall series, a sphere on a belt;
 //! - `polyhedra`: a tumbling box (E and L), a cube resting face-down, an elastic
 //!   octahedron–cube impact, a cube struck by a plate and dragged by a belt;
-//! - `determinism`: two runs bit-identical (and on the CPU one and two threads).
+//! - `determinism`: two runs bit-identical (and on the CPU one and two threads);
+//! - `restore`: a run continued from a snapshot bit-identical to the one that wrote it.
 //!
 //! Each stays at CI size: a few thousand steps, on scenes whose GPU shader variants the
 //! backends binary compiles anyway (docs/verification.md lists what each measures).
@@ -19,6 +20,7 @@ mod determinism;
 mod history;
 mod invariants;
 mod polyhedra;
+mod restore;
 mod verification;
 mod walls;
 
@@ -55,6 +57,7 @@ behaviours![
     polyhedra::a_plate_striking_a_cube_face_on_throws_it_at_twice_its_speed,
     polyhedra::a_belt_drags_a_cube_to_its_speed,
     determinism::two_runs_of_a_scene_are_bit_identical,
+    restore::a_run_continued_from_a_snapshot_is_bit_identical,
 ];
 
 /// One trial per behaviour on `backend`, named `backend::module::behaviour`.
