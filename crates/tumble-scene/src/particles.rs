@@ -171,10 +171,7 @@ pub(crate) fn compile_particles(
             }
         }
         if let Some(de) = s.effect_diameter {
-            let d_max = match s.diameter {
-                DiameterSpec::Fixed(d) => d,
-                DiameterSpec::Uniform(r) => r.max,
-            };
+            let d_max = s.diameter.max();
             if !(de >= d_max) {
                 return Err(SceneError::field(f("effect_diameter"), format!("must be at least the body diameter {d_max}, got {de}")));
             }
@@ -328,10 +325,7 @@ fn group_positions(
         if r.no_overlap {
             if cell == 0.0 {
                 cell = match group.shape {
-                    ShapeSection::Sphere(ref s) => match s.diameter {
-                        DiameterSpec::Fixed(d) => d,
-                        DiameterSpec::Uniform(r) => r.max,
-                    },
+                    ShapeSection::Sphere(ref s) => s.diameter.max(),
                     // Polyhedra are placed by their bounding spheres.
                     _ => d,
                 };

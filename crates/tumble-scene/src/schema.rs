@@ -397,6 +397,21 @@ pub enum DiameterSpec {
     Uniform(DiameterRange),
 }
 
+impl DiameterSpec {
+    /// The largest diameter the spec gives.
+    // Not inlined: inlined into a match on the group's shape, LLVM (rustc 1.95) turned this
+    // match into one load whose address comes from the variant word and hoisted it above the
+    // shape check, so for a polyhedron group it read at an address made of a float's bits and
+    // crashed (the miscompile of rust-lang/rust#159035). A call is never speculated.
+    #[inline(never)]
+    pub fn max(&self) -> f64 {
+        match *self {
+            DiameterSpec::Fixed(d) => d,
+            DiameterSpec::Uniform(r) => r.max,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DiameterRange {
