@@ -49,29 +49,34 @@ pub enum Command {
     },
 }
 
+/// Writes `text` to stdout; a reader that has gone (`tumble plan SCENE | head`) is not an error.
+fn print_out(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn main_with(cli: Cli) -> i32 {
     match cli.command {
         Command::Verify => {
             let (table, pass) = crate::verify::report();
-            print!("{table}");
-            println!("{}", if pass { "all verification checks passed" } else { "verification FAILED" });
+            print_out(&format!("{table}{}\n", if pass { "all verification checks passed" } else { "verification FAILED" }));
             if pass { 0 } else { 1 }
         }
         Command::Plan { scene } => match load_scene(&scene, None, None) {
             Ok(c) => {
-                print!("{}", c.plan.describe(c.particles.len()));
                 let n = c.particles.len();
                 let grid = tumble_gpu::Grid::new(&c.plan, n);
-                println!(
-                    "gpu memory   {:.1} MiB ({} bytes per particle, {} per cell, grid {:?})",
+                print_out(&format!(
+                    "{}gpu memory   {:.1} MiB ({} bytes per particle, {} per cell, grid {:?})\n",
+                    c.plan.describe(n),
                     (tumble_gpu::memory_bytes(n as u64, &grid, if c.plan.model.history { c.plan.tuning.history_slots } else { 0 })
                         + n as u64 * tumble_gpu::wall_bytes_per_particle(&c.plan)) as f64
                         / (1 << 20) as f64,
                     tumble_gpu::bytes_per_particle(&c.plan),
                     tumble_gpu::BYTES_PER_CELL,
                     grid.dims
-                );
+                ));
                 0
             }
             Err(e) => {
@@ -119,14 +124,14 @@ pub fn main_with(cli: Cli) -> i32 {
             }
             match run_compiled(compiled, &options) {
                 Ok(s) => {
-                    println!(
-                        "{} steps of {} particles in {:.3} s: {:.3e} particle-steps/s; outputs in {}",
+                    print_out(&format!(
+                        "{} steps of {} particles in {:.3} s: {:.3e} particle-steps/s; outputs in {}\n",
                         s.steps,
                         s.particles,
                         s.wall_seconds,
                         s.particle_steps_per_second,
                         s.out_dir.display()
-                    );
+                    ));
                     0
                 }
                 Err(e @ (RunError::Unstable(_) | RunError::Capacity(_))) => {

@@ -179,3 +179,20 @@ fn tumble_verify_prints_the_table_and_passes() {
     // One row per expectation plus the single-step checks.
     assert!(text.lines().filter(|l| l.ends_with("pass")).count() >= tumble::verify::expectations().len() + 7, "{text}");
 }
+
+#[test]
+fn tumble_plan_into_a_closed_pipe_exits_quietly() {
+    // `tumble plan SCENE | head` once panicked with "failed printing to stdout: Broken pipe".
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tumble"))
+        .args(["plan", "scenes/box_settle.toml"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The reader goes before the plan is compiled, let alone written.
+    drop(child.stdout.take());
+    let result = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success() && !stderr.contains("panicked"), "{:?}: {stderr}", result.status);
+}
