@@ -98,6 +98,14 @@ pub fn main_with(cli: Cli) -> i32 {
                 eprintln!("error: --threads must be at least 1");
                 return 2;
             }
+            // Far more threads than cores only adds scheduling (thousands of them stall the run).
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            if let Some(t) = threads
+                && t > 4 * cores
+            {
+                eprintln!("error: --threads {t}: this machine has {cores} cores; use at most {}", 4 * cores);
+                return 2;
+            }
             let compiled = match load_scene(&scene, duration, dt) {
                 Ok(c) => c,
                 Err(e) => {

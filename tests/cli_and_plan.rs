@@ -196,3 +196,19 @@ fn tumble_plan_into_a_closed_pipe_exits_quietly() {
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert!(result.status.success() && !stderr.contains("panicked"), "{:?}: {stderr}", result.status);
 }
+
+#[test]
+fn tumble_run_refuses_thousands_of_threads_and_writes_nothing() {
+    // --threads 5000 once stalled the run (and panicked where threads ran out).
+    let out = std::env::temp_dir().join(format!("tumble-threads-{}", std::process::id()));
+    let result = Command::new(env!("CARGO_BIN_EXE_tumble"))
+        .args(["run", "scenes/box_settle.toml", "--threads", "5000", "--out"])
+        .arg(&out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--threads 5000") && stderr.contains("use at most") && stderr.lines().count() == 1, "{stderr}");
+    assert!(!out.exists());
+}

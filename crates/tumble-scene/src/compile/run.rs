@@ -72,9 +72,23 @@ pub(super) struct Schedule {
     pub snapshot_every: Option<u64>,
 }
 
+/// The most steps a run may take: far beyond any real run (days at 1e7 particle-steps/s for
+/// one particle), so a Δt of 1e-320 s is refused instead of hanging.
+pub const MAX_STEPS: f64 = 1e10;
+
 pub(super) fn schedule(scene: &Scene, dt: f64) -> Result<Schedule, SceneError> {
     let run = &scene.run;
-    let steps = (run.duration / dt - 1e-9).ceil().max(1.0) as u64;
+    let exact = run.duration / dt;
+    if !(exact <= MAX_STEPS) {
+        return Err(SceneError::field(
+            "run.dt",
+            format!(
+                "dt = {dt:.4e} s over run.duration = {:.4e} s gives {exact:.3e} steps, more than the {MAX_STEPS:.0e} a run may take; use a larger dt or a shorter duration",
+                run.duration
+            ),
+        ));
+    }
+    let steps = (exact - 1e-9).ceil().max(1.0) as u64;
     let output_interval = run.output_interval.unwrap_or(run.duration / 100.0);
     positive("run.output_interval", output_interval)?;
     let output_every = ((output_interval / dt).round() as u64).max(1);

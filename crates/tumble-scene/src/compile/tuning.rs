@@ -17,10 +17,18 @@ const DEFAULT_SKIN: f64 = 0.1;
 /// Default steps between re-sorts into cell order.
 const DEFAULT_RESORT_INTERVAL: u32 = 25;
 
+/// The most spring slots a particle may have: a sphere touches at most 12 of its own size, and
+/// even a large one in a bed of spheres ten times smaller far fewer than this.
+const MAX_HISTORY_SLOTS: u32 = 1024;
+
 /// Contacts with history each particle can hold.
 pub(super) fn history_slots(scene: &Scene) -> Result<usize, SceneError> {
     match scene.contact.history_slots {
         Some(0) => Err(SceneError::field("contact.history_slots", "must be at least 1 (contacts with history per particle)")),
+        Some(k) if k > MAX_HISTORY_SLOTS => Err(SceneError::field(
+            "contact.history_slots",
+            format!("must be at most {MAX_HISTORY_SLOTS} (contacts with history per particle), got {k}"),
+        )),
         Some(k) => Ok(k as usize),
         None => Ok(DEFAULT_HISTORY_SLOTS),
     }
