@@ -8,6 +8,16 @@ use tumble_geom::Polyhedron;
 /// Shape index of a sphere (any other value indexes `Plan::shapes`).
 pub const SPHERE: u16 = u16::MAX;
 
+/// The shortest and longest lengths a polyhedral shape may be given in, m.
+const MIN_LENGTH: f64 = 1e-9;
+const MAX_LENGTH: f64 = 1e3;
+
+/// The most points a hull may be given (each pair test walks every edge pair).
+const MAX_HULL_POINTS: usize = 1000;
+
+/// The most sides of a prism (past that it is a cylinder for any granular purpose).
+const MAX_PRISM_SIDES: u32 = 128;
+
 /// Radius of the sphere with volume `volume`: a polyhedron's R* and overlap-ratio radius.
 pub(crate) fn equivalent_radius(volume: f64) -> f64 {
     (3.0 * volume / (4.0 * std::f64::consts::PI)).cbrt()
@@ -38,13 +48,22 @@ impl ParticleShape {
 /// The polyhedron of group `g`, or `None` for spheres.
 pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<ParticleShape>, SceneError> {
     let field = |f: &str| format!("particles[{g}].shape.{f}");
+    // A length from 1 nm to 1 km: outside that no granular solid is meant, and the hull's
+    // volume and inertia (length⁵) leave the range of f64.
     let positive = |f: &str, v: f64| {
-        if v > 0.0 && v.is_finite() { Ok(v) } else { Err(SceneError::field(field(f), format!("must be a positive length in metres, got {v}"))) }
+        if (MIN_LENGTH..=MAX_LENGTH).contains(&v) {
+            Ok(v)
+        } else {
+            Err(SceneError::field(field(f), format!("must be a length from {MIN_LENGTH:e} to {MAX_LENGTH:e} m, got {v:e}")))
+        }
     };
     let (name, body) = match &group.shape {
         ShapeSection::Sphere(_) => return Ok(None),
         ShapeSection::Polyhedron(p) => {
             let points: Vec<DVec3> = p.vertices.iter().map(|v| DVec3::from_array(*v)).collect();
+            if points.len() > MAX_HULL_POINTS {
+                return Err(SceneError::field(field("polyhedron.vertices"), format!("at most {MAX_HULL_POINTS} points, got {}", points.len())));
+            }
             let body = Polyhedron::from_points(&points).ok_or_else(|| {
                 SceneError::field(
                     field("polyhedron.vertices"),
@@ -85,8 +104,8 @@ pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<Part
             ("platonic", body)
         }
         ShapeSection::Prism(p) => {
-            if p.sides < 3 {
-                return Err(SceneError::field(field("prism.sides"), format!("must be at least 3, got {}", p.sides)));
+            if !(3..=MAX_PRISM_SIDES).contains(&p.sides) {
+                return Err(SceneError::field(field("prism.sides"), format!("must be from 3 to {MAX_PRISM_SIDES}, got {}", p.sides)));
             }
             ("prism", Polyhedron::prism(p.sides as usize, positive("prism.radius", p.radius)?, positive("prism.height", p.height)?))
         }
