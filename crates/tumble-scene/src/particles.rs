@@ -55,6 +55,7 @@ pub fn generate(
     group_shape: &[Option<u16>],
     shapes: &[ParticleShape],
 ) -> Result<InitialParticles, SceneError> {
+    check_counts(scene)?;
     let mut out = InitialParticles::default();
     let mut rng = Rng::new(scene.run.seed);
     for (g, group) in scene.particles.iter().enumerate() {
@@ -254,6 +255,69 @@ fn check_explicit_overlaps(scene: &Scene, p: &InitialParticles, shapes: &[Partic
                 ));
             }
         }
+    }
+    Ok(())
+}
+
+/// The most particles a scene may hold: ids are 32-bit.
+const MAX_PARTICLES: f64 = u32::MAX as f64;
+
+/// Bytes per particle that setting up and running a scene needs at the least (the initial
+/// arrays, the state, a neighbour list), for the check against the memory available.
+const SETUP_BYTES_PER_PARTICLE: f64 = 512.0;
+
+/// How many particles group `group` asks for, before any is made (NaN-free; 0 where the
+/// group's own checks will refuse it).
+fn requested_count(group: &ParticleGroup) -> f64 {
+    if let Some(list) = &group.positions {
+        return list.len() as f64;
+    }
+    if let Some(l) = &group.lattice {
+        if !(l.spacing > 0.0) {
+            return 0.0;
+        }
+        return (0..3).map(|k| ((l.max[k] - l.min[k]) / l.spacing + 1e-9).floor().max(0.0)).product::<f64>().min(f64::MAX);
+    }
+    group.random.as_ref().map_or(0.0, |r| r.count as f64)
+}
+
+/// Memory the system has available, bytes (Linux's MemAvailable; None where unknown).
+fn available_memory() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+/// Refuses scenes whose groups ask for more particles than ids allow or memory holds, before
+/// allocating any.
+fn check_counts(scene: &Scene) -> Result<(), SceneError> {
+    let counts: Vec<f64> = scene.particles.iter().map(requested_count).collect();
+    let total: f64 = counts.iter().sum();
+    let largest = counts.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).map_or(0, |(g, _)| g);
+    let group = &scene.particles.get(largest);
+    let field = match group {
+        Some(g) if g.lattice.is_some() => format!("particles[{largest}].lattice"),
+        Some(g) if g.random.is_some() => format!("particles[{largest}].random.count"),
+        _ => format!("particles[{largest}].positions"),
+    };
+    if total > MAX_PARTICLES {
+        return Err(SceneError::field(
+            field,
+            format!("the groups ask for {total:.3e} particles; a scene holds at most {MAX_PARTICLES:.0} (32-bit ids)"),
+        ));
+    }
+    if let Some(available) = available_memory()
+        && total * SETUP_BYTES_PER_PARTICLE > available
+    {
+        return Err(SceneError::field(
+            field,
+            format!(
+                "the groups ask for {total:.3e} particles, which need at least {:.1} GiB; this machine has {:.1} GiB available",
+                total * SETUP_BYTES_PER_PARTICLE / (1u64 << 30) as f64,
+                available / (1u64 << 30) as f64
+            ),
+        ));
     }
     Ok(())
 }
