@@ -22,6 +22,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     if scene.name.trim().is_empty() {
         return Err(SceneError::field("name", "must not be empty"));
     }
+    check_name(&scene.name)?;
     let table = materials::materials(scene)?;
     let domain = model::domain(scene)?;
     let pair_laws = pairs::pair_laws(scene, &table)?;
@@ -98,6 +99,24 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         targets: Targets { taylor_green, stickiness },
     };
     Ok(CompiledScene { plan: Plan { model, run, tuning, report }, particles })
+}
+
+/// The scene's name becomes one folder, `out/<name>/`: it may not climb out of `out/` or
+/// name a path of several folders.
+fn check_name(name: &str) -> Result<(), SceneError> {
+    const MAX: usize = 100;
+    let bad = name.chars().any(|c| matches!(c, '/' | '\\' | ':') || c.is_control());
+    if bad || name == "." || name == ".." || name.chars().count() > MAX {
+        let shown: String = name.chars().take(40).collect();
+        let more = if name.chars().count() > 40 { "…" } else { "" };
+        return Err(SceneError::field(
+            "name",
+            format!(
+                "becomes the output folder out/<name>/: at most {MAX} characters, none of '/', '\\', ':' or control characters, and not \".\" or \"..\"; got \"{shown}{more}\""
+            ),
+        ));
+    }
+    Ok(())
 }
 
 pub(crate) fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
