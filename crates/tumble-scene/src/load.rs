@@ -5,15 +5,56 @@ use std::path::Path;
 pub fn parse_scene(text: &str) -> Result<Scene, SceneError> {
     toml::from_str::<Scene>(text).map_err(|e| {
         let line_col = e.span().map(|span| line_col(text, span.start));
-        let mut message = e.message().trim().replace('\n', " ");
+        let field = e.span().and_then(|span| field_at(text, span.start));
+        let mut message = shorten_quoted(&e.message().trim().replace('\n', " "));
         // Untagged forms say only that no form matched: name the valid ones.
         for (name, forms) in UNTAGGED_FORMS {
             if message.contains(&format!("untagged enum {name}")) {
                 message += &format!("; {forms}");
             }
         }
-        SceneError { file: None, line_col, field: None, message }
+        SceneError { file: None, line_col, field, message }
     })
+}
+
+/// The dotted name of the key whose value starts at `offset` (`run.duration`,
+/// `particles[1].material`), where the value sits on a `key = value` line of a table.
+fn field_at(text: &str, offset: usize) -> Option<String> {
+    let offset = offset.min(text.len());
+    let line_start = text[..offset].rfind('\n').map_or(0, |p| p + 1);
+    let (key, _) = text[line_start..offset].split_once('=')?;
+    let key = key.trim();
+    if key.is_empty() || !key.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')) {
+        return None;
+    }
+    let before = &text[..line_start];
+    let Some(header) = before.lines().rev().map(str::trim).find(|l| l.starts_with('[')) else { return Some(key.to_string()) };
+    let table = if let Some(name) = header.strip_prefix("[[").and_then(|h| h.split("]]").next()) {
+        let k = before.lines().filter(|l| l.trim().starts_with(&format!("[[{name}]]"))).count();
+        format!("{}[{}]", name.trim(), k - 1)
+    } else {
+        header.trim_start_matches('[').split(']').next()?.trim().to_string()
+    };
+    Some(format!("{table}.{key}"))
+}
+
+/// `message` with every quoted text over 60 characters cut to its first 40 (a scene's value
+/// is echoed back, and it may be any length).
+fn shorten_quoted(message: &str) -> String {
+    let mut out = String::new();
+    for (k, part) in message.split('"').enumerate() {
+        if k > 0 {
+            out.push('"');
+        }
+        // Odd parts are inside quotes.
+        if k % 2 == 1 && part.chars().count() > 60 {
+            out.extend(part.chars().take(40));
+            out.push_str(&format!("… ({} characters)", part.chars().count()));
+        } else {
+            out.push_str(part);
+        }
+    }
+    out
 }
 
 const UNTAGGED_FORMS: [(&str, &str); 3] = [
@@ -38,4 +79,25 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let line = before.matches('\n').count() + 1;
     let col = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
     (line, col)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn error_of(text: &str) -> String {
+        parse_scene(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_type_error_names_the_field_and_cuts_long_values() {
+        let e = error_of("name = \"a\"\n[run]\nduration = \"long\"\n");
+        assert!(e.starts_with("line 3, column 12: run.duration: invalid type: string \"long\", expected f64"), "{e}");
+        let group = "shape = { sphere = { diameter = 0.1 } }\npositions = [[0.0, 0.0, 0.0]]\n";
+        let text = format!("name = \"a\"\n[run]\nduration = 1.0\n[[particles]]\nmaterial = \"m\"\n{group}[[particles]]\nmaterial = 7\n{group}");
+        let e = error_of(&text);
+        assert!(e.contains("particles[1].material: invalid type: integer `7`"), "{e}");
+        let e = error_of(&format!("name = \"a\"\n[run]\nduration = \"{}\"\n", "y".repeat(100_000)));
+        assert!(e.len() < 200 && e.contains("(100000 characters)"), "{e}");
+    }
 }
