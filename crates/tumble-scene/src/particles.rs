@@ -273,7 +273,7 @@ fn requested_count(group: &ParticleGroup) -> f64 {
         return list.len() as f64;
     }
     if let Some(l) = &group.lattice {
-        if !(l.spacing > 0.0) {
+        if l.spacing.is_nan() || l.spacing <= 0.0 {
             return 0.0;
         }
         return (0..3).map(|k| ((l.max[k] - l.min[k]) / l.spacing + 1e-9).floor().max(0.0)).product::<f64>().min(f64::MAX);

@@ -79,7 +79,7 @@ pub const MAX_STEPS: f64 = 1e10;
 pub(super) fn schedule(scene: &Scene, dt: f64) -> Result<Schedule, SceneError> {
     let run = &scene.run;
     let exact = run.duration / dt;
-    if !(exact <= MAX_STEPS) {
+    if exact.is_nan() || exact > MAX_STEPS {
         return Err(SceneError::field(
             "run.dt",
             format!(
