@@ -89,6 +89,29 @@ fn shape_edge(h: ShapeHead, e: u32) -> vec4<u32> {
 }
 
 // The vertex farthest along `dir` (the first of equals).
+// Least v·m over the vertices v of h (body frame).
+fn shape_min_dot(h: ShapeHead, m: vec3<f32>) -> f32 {
+    var low = POLY_BIG;
+    for (var i = 0u; i < h.nv; i++) {
+        low = min(low, dot(shape_vertex(h, i), m));
+    }
+    return low;
+}
+
+// The face of h most anti-parallel to n: the incident face against a reference face of normal n.
+fn incident_face(h: ShapeHead, n: vec3<f32>) -> u32 {
+    var inc = 0u;
+    var low = POLY_BIG;
+    for (var f = 0u; f < h.nf; f++) {
+        let c = dot(shape_face(h, f).xyz, n);
+        if c < low {
+            low = c;
+            inc = f;
+        }
+    }
+    return inc;
+}
+
 fn shape_support(h: ShapeHead, dir: vec3<f32>) -> u32 {
     var best = 0u;
     var best_d = -POLY_BIG;

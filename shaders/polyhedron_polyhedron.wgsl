@@ -23,10 +23,7 @@ fn polyhedron_polyhedron(sa: u32, qa: vec4<f32>, sb: u32, qb: vec4<f32>, d: vec3
     for (var f = 0u; f < hb.nf; f++) {
         let pl = shape_face(hb, f);
         let m = rt * pl.xyz;
-        var low = POLY_BIG;
-        for (var i = 0u; i < ha.nv; i++) {
-            low = min(low, dot(shape_vertex(ha, i), m));
-        }
+        let low = shape_min_dot(ha, m);
         let s = low + dot(t, pl.xyz) - pl.w;
         if s >= 0.0 {
             return no_poly_hit();
@@ -42,10 +39,7 @@ fn polyhedron_polyhedron(sa: u32, qa: vec4<f32>, sb: u32, qb: vec4<f32>, d: vec3
     for (var f = 0u; f < ha.nf; f++) {
         let pl = shape_face(ha, f);
         let n = r * pl.xyz;
-        var low = POLY_BIG;
-        for (var i = 0u; i < hb.nv; i++) {
-            low = min(low, dot(shape_vertex(hb, i), n));
-        }
+        let low = shape_min_dot(hb, n);
         let s = low - (pl.w + dot(n, t));
         if s >= 0.0 {
             return no_poly_hit();
@@ -128,15 +122,7 @@ fn polyhedron_polyhedron(sa: u32, qa: vec4<f32>, sb: u32, qb: vec4<f32>, d: vec3
         let pl = shape_face(hb, face_b);
         let n_ref = load_face(hb, face_b, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), vec3<f32>(0.0), 0u);
         let m = rt * pl.xyz;
-        var inc = 0u;
-        var low = POLY_BIG;
-        for (var f = 0u; f < ha.nf; f++) {
-            let c = dot(shape_face(ha, f).xyz, m);
-            if c < low {
-                low = c;
-                inc = f;
-            }
-        }
+        let inc = incident_face(ha, m);
         let n_inc = load_face(ha, inc, r, t, 1u);
         let deepest = r * shape_vertex(ha, shape_support(ha, -m)) + t;
         normal = pl.xyz;
@@ -147,15 +133,7 @@ fn polyhedron_polyhedron(sa: u32, qa: vec4<f32>, sb: u32, qb: vec4<f32>, d: vec3
         let pl = shape_face(ha, face_a);
         let n = r * pl.xyz;
         let n_ref = load_face(ha, face_a, r, t, 0u);
-        var inc = 0u;
-        var low = POLY_BIG;
-        for (var f = 0u; f < hb.nf; f++) {
-            let c = dot(shape_face(hb, f).xyz, n);
-            if c < low {
-                low = c;
-                inc = f;
-            }
-        }
+        let inc = incident_face(hb, n);
         let n_inc = load_face(hb, inc, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), vec3<f32>(0.0), 1u);
         let deepest = shape_vertex(hb, shape_support(hb, -n));
         normal = -n;

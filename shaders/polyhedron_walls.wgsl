@@ -34,11 +34,7 @@ fn quad_overlap(h: ShapeHead, qc: array<vec3<f32>, 4>, m: vec3<f32>) -> f32 {
     for (var j = 0u; j < 4u; j++) {
         qmax = max(qmax, dot(qc[j], m));
     }
-    var pmin = POLY_BIG;
-    for (var i = 0u; i < h.nv; i++) {
-        pmin = min(pmin, dot(shape_vertex(h, i), m));
-    }
-    return qmax - pmin;
+    return qmax - shape_min_dot(h, m);
 }
 
 // Polyhedron s at x (orientation q) against a quad (corners counter-clockwise
@@ -160,15 +156,7 @@ fn polyhedron_quad(s: u32, q: vec4<f32>, x: vec3<f32>, corners_in: array<vec3<f3
         for (var k = 0u; k < 4u; k++) {
             poly_ref[k] = select(qc[3u - k], qc[k], face_sign > 0.0);
         }
-        var inc = 0u;
-        var lo = POLY_BIG;
-        for (var f = 0u; f < h.nf; f++) {
-            let c = dot(shape_face(h, f).xyz, n);
-            if c < lo {
-                lo = c;
-                inc = f;
-            }
-        }
+        let inc = incident_face(h, n);
         let n_inc = load_face(h, inc, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), vec3<f32>(0.0), 1u);
         point = face_contact_point(4u, n, dot(n, qc[0]), n_inc, best_depth, shape_vertex(h, shape_support(h, -n)));
     } else if best_kind == 1u {
