@@ -398,11 +398,22 @@ pub enum DiameterSpec {
 }
 
 impl DiameterSpec {
-    /// The largest diameter the spec gives.
+    /// ⟨d³⟩ over the diameters the spec gives.
     // Not inlined: inlined into a match on the group's shape, LLVM (rustc 1.95) turned this
     // match into one load whose address comes from the variant word and hoisted it above the
     // shape check, so for a polyhedron group it read at an address made of a float's bits and
     // crashed (the miscompile of rust-lang/rust#159035). A call is never speculated.
+    #[inline(never)]
+    pub fn mean_cube(&self) -> f64 {
+        match *self {
+            DiameterSpec::Fixed(d) => d * d * d,
+            // ⟨d³⟩ of a uniform draw on [a, b].
+            DiameterSpec::Uniform(r) if r.max > r.min => (r.max.powi(4) - r.min.powi(4)) / (4.0 * (r.max - r.min)),
+            DiameterSpec::Uniform(r) => r.min.powi(3),
+        }
+    }
+
+    /// The largest diameter the spec gives (not inlined, as `mean_cube`).
     #[inline(never)]
     pub fn max(&self) -> f64 {
         match *self {
