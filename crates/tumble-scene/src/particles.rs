@@ -2,7 +2,7 @@
 
 use crate::compile::{non_negative, positive};
 use crate::rng::Rng;
-use crate::schema::{DiameterSpec, FlowSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, VelocitySpec};
+use crate::schema::{DiameterSpec, FlowSection, LatticeSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, VelocitySpec};
 use crate::shapes::{ParticleShape, SPHERE};
 use crate::{Scene, SceneError};
 use glam::{DQuat, DVec3};
@@ -80,7 +80,13 @@ pub fn generate(
         if shape.is_none() && group.orientation.is_some() {
             return Err(SceneError::field(field("orientation"), "spheres have no orientation; remove it (it is for polyhedra)"));
         }
-        let centres = group_positions(group, g, &mut rng, &mut diameter)?;
+        // ⟨d³⟩ of the group's (bounding) diameters, for the random fill check.
+        let mean_cube = match (shape, sphere) {
+            (Some((_, s)), _) => (2.0 * s.body.bounding_radius()).powi(3),
+            (None, Some(sphere)) => sphere.diameter.mean_cube(),
+            (None, None) => unreachable!("every non-sphere group has a shape"),
+        };
+        let centres = group_positions(group, g, &mut rng, &mut diameter, mean_cube)?;
         // velocity = "flow": the fluid velocity where each particle starts.
         let flow = match (&group.velocity, scene.fluid.as_ref().map(|f| &f.flow)) {
             (Some(VelocitySpec::Named(NamedVelocity::Flow)), Some(FlowSection::Uniform(u))) => Some(FlowField::Uniform(DVec3::from_array(*u))),
@@ -276,9 +282,14 @@ fn requested_count(group: &ParticleGroup) -> f64 {
         if l.spacing.is_nan() || l.spacing <= 0.0 {
             return 0.0;
         }
-        return (0..3).map(|k| ((l.max[k] - l.min[k]) / l.spacing + 1e-9).floor().max(0.0)).product::<f64>().min(f64::MAX);
+        return lattice_counts(l).iter().product::<f64>().min(f64::MAX);
     }
     group.random.as_ref().map_or(0.0, |r| r.count as f64)
+}
+
+/// Lattice sites along each axis of `l` (whole spacings in max − min; `l.spacing` > 0).
+fn lattice_counts(l: &LatticeSection) -> [f64; 3] {
+    std::array::from_fn(|k| ((l.max[k] - l.min[k]) / l.spacing + 1e-9).floor().max(0.0))
 }
 
 /// Memory the system has available, bytes (Linux's MemAvailable; None where unknown).
@@ -295,8 +306,7 @@ fn check_counts(scene: &Scene) -> Result<(), SceneError> {
     let counts: Vec<f64> = scene.particles.iter().map(requested_count).collect();
     let total: f64 = counts.iter().sum();
     let largest = counts.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).map_or(0, |(g, _)| g);
-    let group = &scene.particles.get(largest);
-    let field = match group {
+    let field = match scene.particles.get(largest) {
         Some(g) if g.lattice.is_some() => format!("particles[{largest}].lattice"),
         Some(g) if g.random.is_some() => format!("particles[{largest}].random.count"),
         _ => format!("particles[{largest}].positions"),
@@ -326,13 +336,9 @@ fn check_counts(scene: &Scene) -> Result<(), SceneError> {
 /// for more than this never finishes (it would retry 1000 × count times first).
 const RANDOM_FILL_LIMIT: f64 = 0.45;
 
-/// Refuses a `random` group whose bounding spheres would fill more of the region than random
-/// placement can reach; `first` is the first drawn diameter (every polyhedron's).
-fn check_random_fill(group: &ParticleGroup, g: usize, count: usize, first: f64, size: DVec3) -> Result<(), SceneError> {
-    let mean_cube = match &group.shape {
-        ShapeSection::Sphere(s) => s.diameter.mean_cube(),
-        _ => first.powi(3),
-    };
+/// Refuses a `random` group of `count` whose (bounding) spheres, of mean cubed diameter
+/// `mean_cube`, would fill more of the region of `size` than random placement can reach.
+fn check_random_fill(g: usize, count: usize, mean_cube: f64, size: DVec3) -> Result<(), SceneError> {
     let fill = count as f64 * std::f64::consts::PI / 6.0 * mean_cube / (size.x * size.y * size.z).abs().max(f64::MIN_POSITIVE);
     if fill > RANDOM_FILL_LIMIT {
         return Err(SceneError::field(
@@ -351,6 +357,7 @@ fn group_positions(
     g: usize,
     rng: &mut Rng,
     diameter: &mut impl FnMut(&mut Rng) -> f64,
+    mean_cube: f64,
 ) -> Result<Vec<(DVec3, f64)>, SceneError> {
     let field = |f: &str| format!("particles[{g}].{f}");
     let given = [group.positions.is_some(), group.lattice.is_some(), group.random.is_some()];
@@ -364,15 +371,14 @@ fn group_positions(
         return Ok(list.iter().map(|p| (DVec3::from_array(*p), diameter(rng))).collect());
     }
     if let Some(l) = &group.lattice {
-        let (min, max) = (DVec3::from_array(l.min), DVec3::from_array(l.max));
+        let min = DVec3::from_array(l.min);
         if l.spacing <= 0.0 {
             return Err(SceneError::field(field("lattice.spacing"), format!("must be positive, got {}", l.spacing)));
         }
         if !(0.0..0.5).contains(&l.jitter) {
             return Err(SceneError::field(field("lattice.jitter"), format!("must be in [0, 0.5) of the spacing, got {}", l.jitter)));
         }
-        let count = |k: usize| (((max[k] - min[k]) / l.spacing + 1e-9).floor().max(0.0)) as usize;
-        let (nx, ny, nz) = (count(0), count(1), count(2));
+        let [nx, ny, nz] = lattice_counts(l).map(|c| c as usize);
         if nx * ny * nz == 0 {
             return Err(SceneError::field(field("lattice"), "the region holds no lattice site; make max − min at least one spacing on every axis"));
         }
@@ -390,6 +396,9 @@ fn group_positions(
     }
     let r = group.random.as_ref().unwrap();
     let (min, max) = (DVec3::from_array(r.region.min), DVec3::from_array(r.region.max));
+    if r.no_overlap {
+        check_random_fill(g, r.count, mean_cube, max - min)?;
+    }
     let mut out: Vec<(DVec3, f64)> = Vec::with_capacity(r.count);
     // Rejection sampling against a hash grid of already placed spheres.
     let mut cells: HashMap<(i64, i64, i64), Vec<usize>> = HashMap::new();
@@ -404,9 +413,6 @@ fn group_positions(
             ));
         }
         let d = diameter(rng);
-        if attempts == 1 && r.no_overlap {
-            check_random_fill(group, g, r.count, d, max - min)?;
-        }
         let half = DVec3::splat(0.5 * d);
         let x = DVec3::new(
             rng.range(min.x + half.x, max.x - half.x),
