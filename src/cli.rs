@@ -39,6 +39,9 @@ pub enum Command {
         /// No progress lines.
         #[arg(long)]
         quiet: bool,
+        /// Replace an earlier tumble run's outputs in the output folder.
+        #[arg(long)]
+        overwrite: bool,
     },
     /// Run the analytic verification cases and print the table; exit status 1 on any failure.
     Verify,
@@ -84,7 +87,7 @@ pub fn main_with(cli: Cli) -> i32 {
                 2
             }
         },
-        Command::Run { scene, out, backend, threads, duration, dt, quiet } => {
+        Command::Run { scene, out, backend, threads, duration, dt, quiet, overwrite } => {
             let backend = match backend.as_deref() {
                 None => None,
                 Some("cpu") => Some(BackendName::Cpu),
@@ -125,6 +128,7 @@ pub fn main_with(cli: Cli) -> i32 {
                 terminal: std::io::stderr().is_terminal(),
                 interrupt: Some(interrupt),
                 backend,
+                overwrite,
                 ..Default::default()
             };
             if let Some(t) = threads {
@@ -132,6 +136,9 @@ pub fn main_with(cli: Cli) -> i32 {
             }
             match run_compiled(compiled, &options) {
                 Ok(s) => {
+                    for w in &s.warnings {
+                        eprintln!("warning: {w}");
+                    }
                     print_out(&format!(
                         "{} steps of {} particles in {:.3} s: {:.3e} particle-steps/s; outputs in {}\n",
                         s.steps,
@@ -142,7 +149,7 @@ pub fn main_with(cli: Cli) -> i32 {
                     ));
                     0
                 }
-                Err(e @ (RunError::Unstable(_) | RunError::Capacity(_))) => {
+                Err(e @ (RunError::Unstable(_) | RunError::Capacity(_) | RunError::Lost(_))) => {
                     eprintln!("error: {e}");
                     3
                 }

@@ -16,6 +16,7 @@ pub mod agglomerates;
 pub mod cli;
 mod flow;
 mod monitor;
+mod outdir;
 mod output;
 mod progress;
 mod run;

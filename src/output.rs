@@ -25,7 +25,7 @@ impl ObservablesCsv {
     /// then per flow plane `flow_<p>,mass_<p>`.
     pub fn create(dir: &Path, plan: &Plan) -> std::io::Result<Self> {
         let mut w = BufWriter::new(File::create(dir.join("observables.csv"))?);
-        write!(w, "t,kinetic_energy,rotational_energy,potential_energy,elastic_energy,dissipated_energy,contacts,max_overlap_ratio")?;
+        write!(w, "t,kinetic_energy,rotational_energy,potential_energy,elastic_energy,dissipated_energy,contacts,max_overlap_ratio,removed")?;
         if plan.model.fluid.is_some() {
             write!(w, ",fluid_work")?;
         }
@@ -47,10 +47,11 @@ impl ObservablesCsv {
         Ok(ObservablesCsv(w))
     }
 
-    pub fn row(&mut self, o: &Observables, fluid: bool, extra: &ExtraColumns) -> std::io::Result<()> {
+    /// One row; `removed` counts the particles that have left the domain since t = 0.
+    pub fn row(&mut self, o: &Observables, fluid: bool, removed: usize, extra: &ExtraColumns) -> std::io::Result<()> {
         write!(
             self.0,
-            "{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{removed}",
             o.time, o.kinetic_energy, o.rotational_energy, o.potential_energy, o.elastic_energy, o.dissipated_energy, o.contacts, o.max_overlap_ratio
         )?;
         if fluid {
@@ -63,7 +64,8 @@ impl ObservablesCsv {
             write!(self.0, ",{}", o.wall_work)?;
         }
         for d in &extra.drums {
-            write!(self.0, ",{},{},{},{},{},{}", d.charge_mass, d.com_angle, d.com_radius, d.toe, d.shoulder, d.torque_arm_power)?;
+            let c = |x: f64| Cell(x);
+            write!(self.0, ",{},{},{},{},{},{}", c(d.charge_mass), c(d.com_angle), c(d.com_radius), c(d.toe), c(d.shoulder), c(d.torque_arm_power))?;
         }
         for (rate, mass) in &extra.flow {
             write!(self.0, ",{rate},{mass}")?;
@@ -71,6 +73,16 @@ impl ObservablesCsv {
         writeln!(self.0)?;
         // Flushed every row so an interrupted or stopped run leaves complete rows.
         self.0.flush()
+    }
+}
+
+/// A drum column's value, or an empty cell where it is undefined (NaN: no charge in the drum,
+/// or too few particles in its shell layer for a toe and shoulder).
+struct Cell(f64);
+
+impl std::fmt::Display for Cell {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.is_finite() { write!(f, "{}", self.0) } else { Ok(()) }
     }
 }
 

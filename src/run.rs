@@ -34,6 +34,9 @@ pub struct RunOptions {
     pub interrupt: Option<Arc<AtomicBool>>,
     /// Backend; `None` means the scene's `run.backend`.
     pub backend: Option<BackendName>,
+    /// Replace the outputs of an earlier tumble run in a non-empty output folder (one holding
+    /// tumble's marker file); any other non-empty folder is refused.
+    pub overwrite: bool,
 }
 
 impl Default for RunOptions {
@@ -47,6 +50,7 @@ impl Default for RunOptions {
             terminal: false,
             interrupt: None,
             backend: None,
+            overwrite: false,
         }
     }
 }
@@ -62,6 +66,10 @@ pub struct RunSummary {
     pub final_observables: crate::Observables,
     /// Agglomerate statistics at the end, when the plan writes agglomerates.csv.
     pub final_agglomerates: Option<crate::agglomerates::AgglomerateStats>,
+    /// Particles that left the domain through its non-periodic sides.
+    pub removed: usize,
+    /// What the user should know about a run that finished (also in summary.json).
+    pub warnings: Vec<String>,
 }
 
 #[derive(Debug)]
@@ -79,6 +87,10 @@ pub enum RunError {
     },
     /// The backend could not be set up (no GPU adapter, scene too large for it).
     Backend(String),
+    /// The output folder holds files tumble may not replace; nothing was written.
+    OutputFolder(String),
+    /// More particles left the domain than `run.max_lost_fraction` allows; outputs so far were written.
+    Lost(String),
 }
 
 impl fmt::Display for RunError {
@@ -90,6 +102,8 @@ impl fmt::Display for RunError {
             RunError::Capacity(e) => write!(f, "{e}"),
             RunError::Interrupted { step, out_dir } => write!(f, "interrupted at step {step}; outputs so far are in {}", out_dir.display()),
             RunError::Backend(e) => write!(f, "{e}"),
+            RunError::OutputFolder(e) => write!(f, "{e}"),
+            RunError::Lost(e) => write!(f, "{e}"),
         }
     }
 }
@@ -125,7 +139,9 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let backend = options.backend.unwrap_or(compiled.plan.run.backend);
     // The backend is set up before any file is written: a missing adapter changes nothing.
     let mut sim = Simulation::on(backend, compiled, options.threads).map_err(|e| RunError::Backend(format!("backend {}: {e}", backend.name())))?;
-    io(&out_dir, std::fs::create_dir_all(&out_dir))?;
+    crate::outdir::prepare(&out_dir, options.overwrite).map_err(RunError::OutputFolder)?;
+    io(&out_dir, crate::outdir::write_atomic(&out_dir.join("summary.json"), &running_json(&sim, &plan_text)))?;
+    let initial_particles = sim.particles();
     let fluid = sim.plan().model.fluid.is_some();
     let mut obs_csv = io(&out_dir, ObservablesCsv::create(&out_dir, sim.plan()))?;
     let mut tracks_csv = io(&out_dir, TracksCsv::create(&out_dir, sim.plan()))?;
@@ -145,7 +161,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         let frame = sim.frame(true);
         let state = frame.state.as_deref().expect("asked for the state");
         let monitor_range = potential_range(sim.plan(), state);
-        io(&out_dir, obs_csv.row(&frame.observables, fluid, &extra.row(sim.plan(), sim.time(), &frame)))?;
+        io(&out_dir, obs_csv.row(&frame.observables, fluid, sim.removed(), &extra.row(sim.plan(), sim.time(), &frame)))?;
         io(&out_dir, tracks_csv.rows(0.0, &frame.tracks))?;
         if let Some(w) = agglo_csv.as_mut() {
             let a = agglomerates_of(sim.plan(), state);
@@ -196,7 +212,11 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
                     stopped = Some(Stop::Unstable(e));
                     break;
                 }
-                io(&out_dir, obs_csv.row(&o, fluid, &extra.row(sim.plan(), sim.time(), &frame)))?;
+                io(&out_dir, obs_csv.row(&o, fluid, sim.removed(), &extra.row(sim.plan(), sim.time(), &frame)))?;
+                if let Some(text) = too_many_lost(sim.plan(), sim.removed(), initial_particles, o.time) {
+                    stopped = Some(Stop::Lost(text));
+                    break;
+                }
                 io(&out_dir, tracks_csv.rows(o.time, &frame.tracks))?;
                 if let (Some(w), Some(state)) = (agglo_csv.as_mut(), frame.state.as_deref()) {
                     let a = agglomerates_of(sim.plan(), state);
@@ -226,18 +246,28 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         particle_steps_per_second: particle_steps as f64 / wall_seconds.max(1e-12),
         final_observables,
         final_agglomerates: last_agglomerates,
+        removed: sim.removed(),
+        warnings: lost_warning(sim.removed(), initial_particles).into_iter().collect(),
     };
     let stop_text = match &stopped {
         Some(Stop::Unstable(e)) => Some(e.to_string()),
         Some(Stop::Capacity(e)) => Some(e.clone()),
+        Some(Stop::Lost(e)) => Some(e.clone()),
         Some(Stop::Interrupted) => Some(format!("interrupted by the user at step {} (t = {:.6e} s)", sim.steps(), sim.time())),
         None => None,
     };
-    let json = summary_json(&sim, &summary, &plan_text, stop_text);
-    io(&out_dir, std::fs::write(out_dir.join("summary.json"), json))?;
+    let status = match &stopped {
+        None => "completed",
+        Some(Stop::Interrupted) => "interrupted",
+        Some(_) => "stopped",
+    };
+    let json = summary_json(&sim, &summary, &plan_text, status, stop_text);
+    // Replaced in one rename: a reader sees the "running" summary or the final one, never half of either.
+    io(&out_dir, crate::outdir::write_atomic(&out_dir.join("summary.json"), &json))?;
     match stopped {
         Some(Stop::Unstable(e)) => Err(RunError::Unstable(e)),
         Some(Stop::Capacity(e)) => Err(RunError::Capacity(e)),
+        Some(Stop::Lost(e)) => Err(RunError::Lost(e)),
         Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir }),
         None => Ok(summary),
     }
@@ -295,7 +325,42 @@ const MAX_CHUNK: u64 = 200;
 enum Stop {
     Unstable(Instability),
     Capacity(String),
+    Lost(String),
     Interrupted,
+}
+
+/// The stop message when more particles have left the domain than the scene allows.
+fn too_many_lost(plan: &Plan, removed: usize, initial: usize, t: f64) -> Option<String> {
+    let allowed = plan.run.max_lost_fraction * initial as f64;
+    (removed as f64 > allowed).then(|| {
+        format!(
+            "{removed} of {initial} particles ({:.1} %) left the domain through its non-periodic sides by t = {t:.6e} s, more than run.max_lost_fraction = {} allows; check that walls enclose the particles, that lengths are in metres and Δt (or raise run.max_lost_fraction for an open outlet)",
+            100.0 * removed as f64 / initial.max(1) as f64,
+            plan.run.max_lost_fraction
+        )
+    })
+}
+
+/// The warning of a finished run that lost particles.
+fn lost_warning(removed: usize, initial: usize) -> Option<String> {
+    (removed > 0).then(|| {
+        format!("{removed} of {initial} particles ({:.2} %) left the domain through its non-periodic sides and were removed", 100.0 * removed as f64 / initial.max(1) as f64)
+    })
+}
+
+/// summary.json while the run goes on: what runs, and that it has not finished.
+fn running_json(sim: &Simulation, plan_text: &str) -> String {
+    let plan = sim.plan();
+    let value = serde_json::json!({
+        "scene": plan.run.name,
+        "status": "running",
+        "backend": sim.backend_name(),
+        "particles": sim.particles(),
+        "steps": plan.run.steps,
+        "dt": plan.model.dt,
+        "plan": { "text": plan_text },
+    });
+    serde_json::to_string_pretty(&value).unwrap() + "\n"
 }
 
 /// Σ m |g| × the domain's extent along g: the potential energy gravity can release.
@@ -312,13 +377,14 @@ fn finite_or_null(x: f64) -> serde_json::Value {
     if x.is_finite() { serde_json::json!(x) } else { serde_json::Value::Null }
 }
 
-fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Option<String>) -> String {
+fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, status: &str, stopped: Option<String>) -> String {
     let plan = sim.plan();
     let o = &s.final_observables;
     let features: serde_json::Map<String, serde_json::Value> =
         plan.report.features.iter().map(|f| (f.name.to_string(), serde_json::json!({ "active": f.active, "reason": f.reason }))).collect();
     let value = serde_json::json!({
         "scene": plan.run.name,
+        "status": status,
         "backend": sim.backend_name(),
         "device": sim.device_name(),
         "precision": sim.precision(),
@@ -329,6 +395,8 @@ fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, stopped: Opti
         "wall_seconds": s.wall_seconds,
         "particle_steps_per_second": finite_or_null(s.particle_steps_per_second),
         "removed_particles": sim.removed(),
+        "max_lost_fraction": plan.run.max_lost_fraction,
+        "warnings": s.warnings,
         "neighbour_list_builds": sim.neighbour_builds(),
         "adapter": sim.adapter().map(|a| serde_json::json!({ "name": a.name, "backend": a.backend, "driver": a.driver, "device_type": a.device_type })),
         "memory_bytes": sim.memory_bytes(),

@@ -35,7 +35,7 @@ fn progress_is_a_bar_on_a_terminal_and_lines_in_a_pipe() {
         println!("skipping the terminal half: util-linux `script` is not installed");
         return;
     }
-    let cmd = format!("{bin} run scenes/verify/09_energy_balance.toml --duration 0.02 --out {}", out.display());
+    let cmd = format!("{bin} run scenes/verify/09_energy_balance.toml --duration 0.02 --overwrite --out {}", out.display());
     let tty = Command::new("script").args(["-qec", &cmd, "/dev/null"]).current_dir(root()).stdin(Stdio::null()).output().unwrap();
     let screen = String::from_utf8_lossy(&tty.stdout);
     assert!(tty.status.success(), "{screen}");

@@ -245,7 +245,7 @@ fn run_point(base: &tumble::Scene, o: &Options, stk: f64, sy: f64, window: (f64,
     p.cohesion_stiffness = compiled.plan.report.targets.stickiness.map_or(f64::NAN, |s| s.stiffness);
     p.dt = compiled.plan.model.dt;
     let dir = o.runs.join(format!("stk{stk}_sy{sy}"));
-    let summary = match run_compiled(compiled, &RunOptions { out_dir: Some(dir.clone()), threads: 1, ..Default::default() }) {
+    let summary = match run_compiled(compiled, &RunOptions { out_dir: Some(dir.clone()), threads: 1, overwrite: true, ..Default::default() }) {
         Ok(s) => s,
         Err(e) => {
             p.error = Some(e.to_string());

@@ -18,6 +18,22 @@ impl CellGrid {
     ///
     /// Periodic axes are tiled exactly, so cell widths are L/n ≥ `min_cell`.
     pub fn new(domain: &PeriodicBox, min_cell: f64) -> Self {
+        let (dims, cell) = Self::layout(domain, min_cell);
+        CellGrid {
+            origin: domain.min,
+            inv_cell: DVec3::ONE / cell,
+            cell,
+            dims,
+            periodic: domain.periodic,
+            cell_of: Vec::new(),
+            cell_start: vec![0; dims.iter().product::<usize>() + 1],
+            order: Vec::new(),
+        }
+    }
+
+    /// Cells per axis and cell widths of the grid [`CellGrid::new`] builds: the one rule the
+    /// memory estimate of a plan shares with the grid.
+    pub fn layout(domain: &PeriodicBox, min_cell: f64) -> ([usize; 3], DVec3) {
         assert!(min_cell > 0.0, "cell size must be positive");
         let extent = domain.extent();
         let mut dims = [1usize; 3];
@@ -32,16 +48,7 @@ impl CellGrid {
             dims[k] = dims[k].div_ceil(2);
             cell[k] = extent[k] / dims[k] as f64;
         }
-        CellGrid {
-            origin: domain.min,
-            inv_cell: DVec3::ONE / cell,
-            cell,
-            dims,
-            periodic: domain.periodic,
-            cell_of: Vec::new(),
-            cell_start: vec![0; dims.iter().product::<usize>() + 1],
-            order: Vec::new(),
-        }
+        (dims, cell)
     }
 
     pub fn dims(&self) -> [usize; 3] {

@@ -33,6 +33,7 @@ mod plan;
 mod rng;
 pub mod schema;
 mod shapes;
+mod start;
 pub mod targets;
 mod timescales;
 mod walls;

@@ -147,8 +147,8 @@ pub fn generate(
     Ok(out)
 }
 
-/// The particle groups' shapes, their generated particles, validated and placed inside the
-/// domain without overlaps among explicit positions.
+/// The particle groups' shapes and their generated particles, validated and inside the
+/// domain (overlaps are checked with the walls, in `start`).
 pub(crate) fn compile_particles(
     scene: &Scene,
     material_index: &HashMap<String, u16>,
@@ -208,61 +208,7 @@ pub(crate) fn compile_particles(
             ));
         }
     }
-    check_explicit_overlaps(scene, &particles, &shapes, domain)?;
-
     Ok((particles, shapes))
-}
-
-/// Body contacts closer than this fraction of the smaller diameter count as overlapping.
-const OVERLAP_TOLERANCE: f64 = 1e-9;
-
-fn check_explicit_overlaps(scene: &Scene, p: &InitialParticles, shapes: &[ParticleShape], domain: &PeriodicBox) -> Result<(), SceneError> {
-    use tumble_geom::{Pose, polyhedron_polyhedron, sphere_polyhedron};
-    // Depth of the body overlap of i and j (bounding spheres are only a first test for polyhedra).
-    let body_overlap = |i: usize, j: usize, d: DVec3, sphere_overlap: f64| -> f64 {
-        let pose = |k: usize, x: DVec3| (&shapes[p.shape[k] as usize].body, Pose::new(x, p.orientation[k]));
-        let (xi, xj) = (p.position[i], p.position[i] - d);
-        let contact = match (p.shape[i] != SPHERE, p.shape[j] != SPHERE) {
-            (false, false) => return sphere_overlap,
-            (true, true) => {
-                let ((a, pa), (b, pb)) = (pose(i, xi), pose(j, xj));
-                polyhedron_polyhedron(a, &pa, b, &pb)
-            }
-            (true, false) => {
-                let (a, pa) = pose(i, xi);
-                sphere_polyhedron(xj, p.radius[j], a, &pa)
-            }
-            (false, true) => {
-                let (b, pb) = pose(j, xj);
-                sphere_polyhedron(xi, p.radius[i], b, &pb)
-            }
-        };
-        contact.map_or(-1.0, |c| c.depth)
-    };
-    let explicit: Vec<usize> = (0..p.len()).filter(|&i| scene.particles[p.group[i] as usize].positions.is_some()).collect();
-    if explicit.len() > 20_000 {
-        return Ok(()); // too many to check pairwise; lattice and random groups are safe by construction
-    }
-    for (a, &i) in explicit.iter().enumerate() {
-        for &j in &explicit[a + 1..] {
-            let dv = domain.minimum_image(p.position[i] - p.position[j]);
-            let mut overlap = p.radius[i] + p.radius[j] - dv.length();
-            if overlap > 0.0 {
-                overlap = body_overlap(i, j, dv, overlap);
-            }
-            if overlap > OVERLAP_TOLERANCE * 2.0 * p.radius[i].min(p.radius[j]) {
-                return Err(SceneError::field(
-                    format!("particles[{}].positions", p.group[j]),
-                    format!(
-                        "particle at {:?} overlaps the particle at {:?} by {overlap:.3e} m; explicit particles must not overlap",
-                        p.position[j].to_array(),
-                        p.position[i].to_array()
-                    ),
-                ));
-            }
-        }
-    }
-    Ok(())
 }
 
 /// The most particles a scene may hold: ids are 32-bit.

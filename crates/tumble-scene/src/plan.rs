@@ -235,6 +235,8 @@ pub struct RunSettings {
     pub monitor: MonitorSection,
     /// Write agglomerates.csv at every output interval.
     pub agglomerates: bool,
+    /// Largest share of the particles that may leave the domain before the run stops.
+    pub max_lost_fraction: f64,
 }
 
 /// How the backends organise the work: neighbour search, memory layout (not physics: the
@@ -265,15 +267,16 @@ pub struct PlanReport {
 }
 
 impl Plan {
-    /// Memory estimate for `n` particles on the CPU backend, in bytes.
+    /// Memory estimate for `n` particles on the CPU backend, in bytes: an upper bound, with
+    /// the cell grid as large as the domain (it spans the particles' bounding box).
     pub fn memory_bytes(&self, n: usize) -> usize {
         let [cx, cy, cz] = self.grid_dims();
         n * self.tuning.bytes_per_particle + (cx * cy * cz + 1) * 4
     }
 
+    /// The CPU grid when the particles fill the domain (it spans the particles' bounding box).
     fn grid_dims(&self) -> [usize; 3] {
-        let e = self.model.domain.extent();
-        [0, 1, 2].map(|k| ((e[k] / (self.tuning.cell_size + self.tuning.skin)).floor() as usize).clamp(1, 1 << 21))
+        tumble_broad::CellGrid::layout(&self.model.domain, (self.tuning.cell_size + self.tuning.skin).max(f64::MIN_POSITIVE)).0
     }
 
     /// Steps per shortest collision, when there is one.
@@ -315,7 +318,7 @@ impl Plan {
         let _ = writeln!(s, "cell size    {:.6e} m + skin {:.3e} m, grid {:?}", tuning.cell_size, tuning.skin, self.grid_dims());
         let _ = writeln!(
             s,
-            "memory       {:.1} MiB ({} bytes per particle)",
+            "memory       {:.1} MiB on the cpu at most ({} bytes per particle; the grid spans the particles, here the whole domain)",
             self.memory_bytes(particles) as f64 / (1 << 20) as f64,
             tuning.bytes_per_particle
         );

@@ -64,12 +64,46 @@ pub struct RunSection {
     pub skin: Option<f64>,
     #[serde(default)]
     pub monitor: MonitorSection,
+    /// Checks of the starting state before step 1.
+    #[serde(default)]
+    pub start: StartSection,
+    /// Largest share of the particles that may leave the domain through its non-periodic
+    /// sides before the run stops with an error (0.01; 1 allows any loss, as a hopper discharging).
+    #[serde(default = "default_lost_fraction")]
+    pub max_lost_fraction: f64,
     /// Write agglomerates.csv at every output interval (default: when cohesion is on).
     pub agglomerates: Option<bool>,
 }
 
 fn default_seed() -> u64 {
     1
+}
+
+fn default_lost_fraction() -> f64 {
+    0.01
+}
+
+/// Starting-state checks: particles may start in contact only this deep.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StartSection {
+    /// Deepest overlap accepted between two particles or a particle and a wall, as a
+    /// fraction of the smaller diameter.
+    #[serde(default = "default_start_overlap")]
+    pub max_overlap: f64,
+    /// Skip the overlap checks (a deliberately compressed packing).
+    #[serde(default)]
+    pub allow_overlap: bool,
+}
+
+fn default_start_overlap() -> f64 {
+    0.01
+}
+
+impl Default for StartSection {
+    fn default() -> Self {
+        StartSection { max_overlap: default_start_overlap(), allow_overlap: false }
+    }
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]

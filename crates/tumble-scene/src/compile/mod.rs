@@ -28,6 +28,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let pair_laws = pairs::pair_laws(scene, &table)?;
     let (particles, shapes) = compile_particles(scene, &table.index, &domain)?;
     let (walls, wall_groups, drums) = crate::walls::compile_walls(scene, &|field: String, name: &str| table.lookup(scene, field, name), &domain)?;
+    non_negative("run.start.max_overlap", scene.run.start.max_overlap)?;
+    crate::start::check_starting_state(scene, &particles, &shapes, &walls, &wall_groups, &domain)?;
     let flow_planes = model::flow_planes(scene)?;
     let means = MovableMeans::new(&particles, &table.materials);
     let (fluid, taylor_green) = fluid::fluid(scene, &means)?;
@@ -89,6 +91,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         backend: scene.run.backend,
         monitor,
         agglomerates: scene.run.agglomerates.unwrap_or(mechanics.cohesion),
+        max_lost_fraction: lost_fraction(scene)?,
     };
     let tuning = Tuning { cell_size, skin, resort_interval, history_slots, bytes_per_particle: tuning::bytes_per_particle(&model, history_slots) };
     let report = PlanReport {
@@ -117,6 +120,11 @@ fn check_name(name: &str) -> Result<(), SceneError> {
         ));
     }
     Ok(())
+}
+
+fn lost_fraction(scene: &Scene) -> Result<f64, SceneError> {
+    let f = scene.run.max_lost_fraction;
+    if (0.0..=1.0).contains(&f) { Ok(f) } else { Err(SceneError::field("run.max_lost_fraction", format!("must be a fraction from 0 to 1, got {f}"))) }
 }
 
 pub(crate) fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
