@@ -239,7 +239,7 @@ fn lattice_counts(l: &LatticeSection) -> [f64; 3] {
 }
 
 /// Memory the system has available, bytes (Linux's MemAvailable; None where unknown).
-fn available_memory() -> Option<f64> {
+pub(crate) fn available_memory() -> Option<f64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
@@ -350,12 +350,20 @@ fn group_positions(
     let mut cells: HashMap<(i64, i64, i64), Vec<usize>> = HashMap::new();
     let mut cell = 0.0f64;
     let mut attempts = 0usize;
+    // Attempts since the last sphere was placed: a jammed region places none, however long it is tried.
+    let mut since_placed = 0usize;
+    let stall = 10_000 + 10 * r.count;
     while out.len() < r.count {
         attempts += 1;
-        if attempts > 1000 * r.count + 10_000 {
+        since_placed += 1;
+        if attempts > 1000 * r.count + 10_000 || since_placed > stall {
             return Err(SceneError::field(
                 field("random.count"),
-                format!("placed only {} of {} non-overlapping spheres in the region; enlarge random.region or lower the count", out.len(), r.count),
+                format!(
+                    "placed only {} of {} non-overlapping spheres in the region ({since_placed} tries in a row found no room); enlarge random.region or lower the count",
+                    out.len(),
+                    r.count
+                ),
             ));
         }
         let d = diameter(rng);
@@ -396,6 +404,7 @@ fn group_positions(
             }
             cells.entry((cx, cy, cz)).or_default().push(out.len());
         }
+        since_placed = 0;
         out.push((x, d));
     }
     Ok(out)

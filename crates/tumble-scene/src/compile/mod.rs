@@ -101,7 +101,26 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         wall_step_limit,
         targets: Targets { taylor_green, stickiness },
     };
-    Ok(CompiledScene { plan: Plan { model, run, tuning, report }, particles })
+    let plan = Plan { model, run, tuning, report };
+    check_memory(&plan, particles.len())?;
+    Ok(CompiledScene { plan, particles })
+}
+
+/// The run's memory (the plan's estimate) must fit the memory this machine has free.
+fn check_memory(plan: &Plan, particles: usize) -> Result<(), SceneError> {
+    let need = plan.memory_bytes(particles) as f64;
+    match crate::particles::available_memory() {
+        Some(free) if need > free => Err(SceneError::field(
+            "particles",
+            format!(
+                "the run needs about {:.1} GiB ({particles} particles at {} bytes each and the cell grid); this machine has {:.1} GiB available",
+                need / (1u64 << 30) as f64,
+                plan.tuning.bytes_per_particle,
+                free / (1u64 << 30) as f64
+            ),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// The scene's name becomes one folder, `out/<name>/`: it may not climb out of `out/` or
