@@ -18,6 +18,7 @@ mod flow;
 mod monitor;
 mod output;
 mod progress;
+pub mod render;
 mod run;
 mod simulation;
 pub mod verify;
