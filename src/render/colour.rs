@@ -62,6 +62,13 @@ pub fn label(v: f64) -> String {
     }
 }
 
+/// Pixels the colour bar and its labels take at the right edge of a `width` × `height` image.
+pub fn bar_strip(width: usize, height: usize) -> usize {
+    let scale = (height / 240).max(1);
+    // Bar and margins, and a label of up to seven glyphs.
+    (14 * scale + 2 * scale + 7 * 4 * scale + 4 * scale).min(width / 3)
+}
+
 /// An RGBA image, rows top to bottom.
 pub struct Image<'a> {
     pub rgba: &'a mut [u8],

@@ -75,7 +75,13 @@ pub fn render_run(dir: &Path, options: &RenderOptions) -> Result<RenderReport, S
     if !lo.is_finite() {
         return Err(format!("{}: the snapshots hold no particles and no walls", dir.display()));
     }
-    let camera = Camera::framing(options.view, options.up_axis, lo, hi, options.width as f64 / options.height as f64);
+    // The colour bar keeps a strip at the right edge: the scene is framed in what is left.
+    let strip = if options.legend { colour::bar_strip(options.width as usize, options.height as usize) as f64 } else { 0.0 };
+    let drawn = (options.width as f64 - strip).max(1.0);
+    let mut camera = Camera::framing(options.view, options.up_axis, lo, hi, drawn / options.height as f64);
+    let widened = camera.half_width * options.width as f64 / drawn;
+    camera.centre += camera.right * (widened - camera.half_width);
+    camera.half_width = widened;
     let renderer = Renderer::new(options.width, options.height)?;
     let out = dir.join("render");
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;

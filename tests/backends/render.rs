@@ -191,3 +191,16 @@ pub fn pictures_are_identical_run_to_run() {
     assert!(bytes(&b.frames[0]) == frame && bytes(b.animation.as_ref().unwrap()) == animation, "a second render wrote other bytes");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+pub fn a_folder_without_snapshots_or_with_an_unknown_field_is_refused_in_one_line() {
+    let empty = std::env::temp_dir().join(format!("tumble-render-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&empty).unwrap();
+    let e = render_run(&empty, &RenderOptions::default()).unwrap_err();
+    assert!(e.contains("no particles.pvd") && e.contains("run.snapshot_interval") && !e.contains('\n'), "{e}");
+    let dir = run_folder("field", &[(DVec3::ZERO, 0.1, DVec3::X)]);
+    let e = render_run(&dir, &RenderOptions { field: "temperature".into(), ..Default::default() }).unwrap_err();
+    assert!(e.contains("particles_000000.vtp") && e.contains("--color temperature") && e.contains("valid: speed, radius, velocity, id"), "{e}");
+    assert!(!dir.join("render").exists(), "nothing is written for bad input");
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&empty);
+}
