@@ -16,6 +16,7 @@ pub use frames::write_png;
 pub use gpu::{Line, Picture, Renderer, Sphere, Triangle};
 pub use series::{Series, Snapshot};
 
+use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -62,32 +63,43 @@ pub fn render_run(dir: &Path, options: &RenderOptions) -> Result<RenderReport, S
         return Err("--every must be at least 1".into());
     }
     let series = Series::open(dir)?;
-    let snapshots: Vec<Snapshot> = (0..series.len()).step_by(options.every).map(|k| series.load(k)).collect::<Result<_, _>>()?;
-    for s in &snapshots {
+    let drawn: Vec<usize> = (0..series.len()).step_by(options.every).collect();
+    // First pass, one snapshot in memory at a time: the field's range and the framed box.
+    let (mut field, mut lo, mut hi) = ((f64::INFINITY, f64::NEG_INFINITY), DVec3::INFINITY, DVec3::NEG_INFINITY);
+    let mut wall_boxes = Vec::new();
+    for &k in &drawn {
+        let s = series.load(k)?;
         s.check_field(&options.field)?;
+        let (a, b) = s.field_range(&options.field);
+        field = (field.0.min(a), field.1.max(b));
+        let (a, b) = s.particle_bounds();
+        (lo, hi) = (lo.min(a), hi.max(b));
+        if k == 0 || series.walls_move() {
+            wall_boxes.extend(s.wall_boxes());
+        }
     }
-    let range = match options.range {
-        Some(r) => r,
-        None => snapshots.iter().map(|s| s.field_range(&options.field)).fold((f64::INFINITY, f64::NEG_INFINITY), |a, b| (a.0.min(b.0), a.1.max(b.1))),
-    };
-    let range = if range.0.is_finite() { range } else { (0.0, 1.0) };
-    let ((lo, hi), scale) = series::bounds(&snapshots);
+    let range = options.range.unwrap_or(if field.0.is_finite() { field } else { (0.0, 1.0) });
+    let scale = if lo.is_finite() { (hi - lo).length() } else { f64::INFINITY };
+    for &(a, b) in wall_boxes.iter().filter(|&&w| series::bounded(w, scale)) {
+        (lo, hi) = (lo.min(a), hi.max(b));
+    }
     if !lo.is_finite() {
         return Err(format!("{}: the snapshots hold no particles and no walls", dir.display()));
     }
     // The colour bar keeps a strip at the right edge: the scene is framed in what is left.
     let strip = if options.legend { colour::bar_strip(options.width as usize, options.height as usize) as f64 } else { 0.0 };
-    let drawn = (options.width as f64 - strip).max(1.0);
-    let mut camera = Camera::framing(options.view, options.up_axis, lo, hi, drawn / options.height as f64);
-    let widened = camera.half_width * options.width as f64 / drawn;
+    let drawn_width = (options.width as f64 - strip).max(1.0);
+    let mut camera = Camera::framing(options.view, options.up_axis, lo, hi, drawn_width / options.height as f64);
+    let widened = camera.half_width * options.width as f64 / drawn_width;
     camera.centre += camera.right * (widened - camera.half_width);
     camera.half_width = widened;
     let renderer = Renderer::new(options.width, options.height)?;
     let out = dir.join("render");
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let mut writer = frames::FrameWriter::new(&out, options.width, options.height, if options.fps > 0 { snapshots.len() } else { 0 }, options.fps)?;
+    let mut writer = frames::FrameWriter::new(&out, options.width, options.height, if options.fps > 0 { drawn.len() } else { 0 }, options.fps)?;
     let mut draw_seconds = 0.0;
-    for s in &snapshots {
+    for &k in &drawn {
+        let s = series.load(k)?;
         let picture = s.picture(&options.field, range, scale);
         let t = Instant::now();
         let mut rgba = renderer.draw(&picture, &camera);
@@ -102,7 +114,7 @@ pub fn render_run(dir: &Path, options: &RenderOptions) -> Result<RenderReport, S
         frames,
         animation,
         range,
-        draw_seconds_per_frame: draw_seconds / snapshots.len().max(1) as f64,
+        draw_seconds_per_frame: draw_seconds / drawn.len().max(1) as f64,
         total_seconds: start.elapsed().as_secs_f64(),
     })
 }

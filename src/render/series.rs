@@ -60,6 +60,11 @@ impl Series {
         Ok(Series { dir: dir.to_path_buf(), particles, bodies, moving_walls, static_walls })
     }
 
+    /// Whether the walls have a snapshot of their own at each time (`walls.pvd`).
+    pub fn walls_move(&self) -> bool {
+        self.moving_walls.is_some()
+    }
+
     pub fn len(&self) -> usize {
         self.particles.len()
     }
@@ -124,19 +129,20 @@ impl Snapshot {
         (lo, hi)
     }
 
-    /// The wall polygons drawn: all but those far larger than `scale` (the squares vtk.rs
-    /// writes for unbounded planes, which would fill any frame).
-    fn walls(&self, scale: f64) -> Vec<Vec<DVec3>> {
+    /// Every wall polygon's corners.
+    fn wall_polygons(&self) -> Vec<Vec<DVec3>> {
         let Some(walls) = &self.walls else { return Vec::new() };
-        walls
-            .polys
-            .iter()
-            .map(|p| p.iter().map(|&i| DVec3::from_array(walls.points[i])).collect::<Vec<_>>())
-            .filter(|p: &Vec<DVec3>| {
-                let (lo, hi) = p.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &q| (lo.min(q), hi.max(q)));
-                (hi - lo).length() <= 2.5 * scale
-            })
-            .collect()
+        walls.polys.iter().map(|p| p.iter().map(|&i| DVec3::from_array(walls.points[i])).collect()).collect()
+    }
+
+    /// The box of each wall polygon.
+    pub fn wall_boxes(&self) -> Vec<(DVec3, DVec3)> {
+        self.wall_polygons().iter().map(|p| bounding_box(p)).collect()
+    }
+
+    /// The wall polygons drawn: all but those far larger than `scale` ([`bounded`]).
+    fn walls(&self, scale: f64) -> Vec<Vec<DVec3>> {
+        self.wall_polygons().into_iter().filter(|p| bounded(bounding_box(p), scale)).collect()
     }
 
     /// The picture: spheres and bodies coloured by `field` over `range`, the bounded walls
@@ -180,18 +186,13 @@ fn fan(poly: Vec<DVec3>, colour: [f32; 3], alpha: f32, picture: &mut Picture) {
     }
 }
 
-/// The box the camera frames: every snapshot's particles, and the walls drawn with them.
-pub fn bounds(snapshots: &[Snapshot]) -> ((DVec3, DVec3), f64) {
-    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for s in snapshots {
-        let (a, b) = s.particle_bounds();
-        (lo, hi) = (lo.min(a), hi.max(b));
-    }
-    let scale = if lo.is_finite() { (hi - lo).length() } else { f64::INFINITY };
-    for s in snapshots {
-        for p in s.walls(scale).iter().flatten() {
-            (lo, hi) = (lo.min(*p), hi.max(*p));
-        }
-    }
-    ((lo, hi), scale)
+fn bounding_box(points: &[DVec3]) -> (DVec3, DVec3) {
+    points.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &q| (lo.min(q), hi.max(q)))
+}
+
+/// Whether a wall polygon with box `(lo, hi)` is drawn and framed: not far larger than the
+/// particles' region of size `scale` (vtk.rs writes each unbounded plane as a square twice the
+/// domain's diagonal, which would fill any frame).
+pub fn bounded((lo, hi): (DVec3, DVec3), scale: f64) -> bool {
+    (hi - lo).length() <= 2.5 * scale
 }
