@@ -113,18 +113,20 @@ pub fn main_with(cli: Cli) -> i32 {
                 2
             }
         },
-        Command::Render { dir, view, up, color, range, size, every, fps, no_legend } => match crate::render::options_from_args(&view, &up, color, range.as_deref(), &size, every, fps, !no_legend)
-            .and_then(|options| crate::render::render_run(&dir, &options))
-        {
-            Ok(r) => {
-                print_out(&r.describe(&dir.join("render")));
-                0
+        Command::Render { dir, view, up, color, range, size, every, fps, no_legend } => {
+            match crate::render::options_from_args(&view, &up, color, range.as_deref(), &size, every, fps, !no_legend)
+                .and_then(|options| crate::render::render_run(&dir, &options))
+            {
+                Ok(r) => {
+                    print_out(&r.describe(&dir.join("render")));
+                    0
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    2
+                }
             }
-            Err(e) => {
-                eprintln!("error: {e}");
-                2
-            }
-        },
+        }
         Command::Run { scene, out, backend, threads, duration, dt, quiet } => {
             let backend = match backend.as_deref() {
                 None => None,

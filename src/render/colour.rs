@@ -2,17 +2,8 @@
 //! and by colour-blind readers) and the colour bar drawn into a finished image.
 
 /// Viridis at t = 0, 1/8, …, 1 (matplotlib's values, 8-bit sRGB); between them linear in sRGB.
-const VIRIDIS: [[u8; 3]; 9] = [
-    [68, 1, 84],
-    [71, 45, 123],
-    [59, 82, 139],
-    [44, 114, 142],
-    [33, 145, 140],
-    [40, 174, 128],
-    [94, 201, 98],
-    [173, 220, 48],
-    [253, 231, 37],
-];
+const VIRIDIS: [[u8; 3]; 9] =
+    [[68, 1, 84], [71, 45, 123], [59, 82, 139], [44, 114, 142], [33, 145, 140], [40, 174, 128], [94, 201, 98], [173, 220, 48], [253, 231, 37]];
 
 /// The colour of `t` ∈ [0, 1] (clamped; NaN is the low end), components in [0, 1] (sRGB-encoded).
 pub fn viridis(t: f64) -> [f32; 3] {

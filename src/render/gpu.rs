@@ -78,7 +78,8 @@ impl Renderer {
         if width == 0 || height == 0 || width > most || height > most {
             return Err(format!("--size {width}x{height}: each side must be 1 to {most} pixels on {}", gpu.adapter.name));
         }
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("render"), source: wgpu::ShaderSource::Wgsl(SHADER.into()) });
+        let module =
+            device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("render"), source: wgpu::ShaderSource::Wgsl(SHADER.into()) });
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -90,7 +91,11 @@ impl Renderer {
             label: Some("render"),
             entries: &[entry(0, wgpu::BufferBindingType::Uniform), entry(1, read), entry(2, read)],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("render"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("render"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
         let pipeline = |vertex: &str, fragment: &str, topology, depth_write: bool, blend: Option<wgpu::BlendState>| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(fragment),
@@ -183,11 +188,10 @@ impl Renderer {
         // A binding may not be empty.
         spheres.resize(spheres.len().max(2), [0.0; 4]);
         corners.resize(corners.len().max(3), [0.0; 4]);
-        let view: [[f32; 4]; 2] = [
-            [(1.0 / camera.half_width) as f32, (1.0 / camera.half_height) as f32, camera.depth as f32, 0.0],
-            [LIGHT[0], LIGHT[1], LIGHT[2], 0.0],
-        ];
-        let buffer = |label, contents: &[u8], usage| self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let view: [[f32; 4]; 2] =
+            [[(1.0 / camera.half_width) as f32, (1.0 / camera.half_height) as f32, camera.depth as f32, 0.0], [LIGHT[0], LIGHT[1], LIGHT[2], 0.0]];
+        let buffer =
+            |label, contents: &[u8], usage| self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let view = buffer("render view", bytemuck::cast_slice(&view), wgpu::BufferUsages::UNIFORM);
         let sphere_buffer = buffer("render spheres", bytemuck::cast_slice(&spheres), wgpu::BufferUsages::STORAGE);
         let corner_buffer = buffer("render corners", bytemuck::cast_slice(&corners), wgpu::BufferUsages::STORAGE);
@@ -211,7 +215,10 @@ impl Renderer {
                     view: &colour_view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: b[0], g: b[1], b: b[2], a: b[3] }), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color { r: b[0], g: b[1], b: b[2], a: b[3] }),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &depth_view,

@@ -137,7 +137,16 @@ impl RenderReport {
 
 /// The options of `tumble render`'s arguments; errors name the argument and what is valid.
 #[allow(clippy::too_many_arguments)]
-pub fn options_from_args(view: &str, up: &str, field: String, range: Option<&str>, size: &str, every: usize, fps: u16, legend: bool) -> Result<RenderOptions, String> {
+pub fn options_from_args(
+    view: &str,
+    up: &str,
+    field: String,
+    range: Option<&str>,
+    size: &str,
+    every: usize,
+    fps: u16,
+    legend: bool,
+) -> Result<RenderOptions, String> {
     let (width, height) = size
         .split_once('x')
         .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)))

@@ -109,7 +109,11 @@ impl Snapshot {
 
     /// The smallest and largest value of the field (infinite bounds when there are no particles).
     pub fn field_range(&self, name: &str) -> (f64, f64) {
-        self.field(name).unwrap_or_default().iter().filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)))
+        self.field(name)
+            .unwrap_or_default()
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)))
     }
 
     fn radii(&self) -> Vec<f64> {

@@ -107,7 +107,8 @@ fn tags(xml: &str) -> Result<Vec<(Option<usize>, Tag)>, String> {
         while let Some(eq) = rest.find('=') {
             let key = rest[..eq].trim().to_string();
             let after = rest[eq + 1..].trim_start();
-            let quote = after.chars().next().filter(|c| *c == '"' || *c == '\'').ok_or_else(|| format!("<{}>: attribute {key} is not quoted", tag.name))?;
+            let quote =
+                after.chars().next().filter(|c| *c == '"' || *c == '\'').ok_or_else(|| format!("<{}>: attribute {key} is not quoted", tag.name))?;
             let close = after[1..].find(quote).ok_or_else(|| format!("<{}>: attribute {key} is not closed", tag.name))?;
             tag.attributes.insert(key, after[1..1 + close].to_string());
             rest = &after[close + 2..];
@@ -151,7 +152,11 @@ impl Appended<'_> {
         if !self.zlib {
             let n = self.header(offset)?;
             let start = offset + h;
-            return self.bytes.get(start..start + n).map(<[u8]>::to_vec).ok_or_else(|| format!("the appended data ends inside an array of {n} bytes at offset {offset}"));
+            return self
+                .bytes
+                .get(start..start + n)
+                .map(<[u8]>::to_vec)
+                .ok_or_else(|| format!("the appended data ends inside an array of {n} bytes at offset {offset}"));
         }
         let blocks = self.header(offset)?;
         let block_size = self.header(offset + h)?;
@@ -160,7 +165,10 @@ impl Appended<'_> {
         let mut out = Vec::with_capacity(blocks.saturating_mul(block_size).min(1 << 30));
         for b in 0..blocks {
             let compressed = self.header(offset + (3 + b) * h)?;
-            let data = self.bytes.get(at..at + compressed).ok_or_else(|| format!("the appended data ends inside compressed block {b} at offset {offset}"))?;
+            let data = self
+                .bytes
+                .get(at..at + compressed)
+                .ok_or_else(|| format!("the appended data ends inside compressed block {b} at offset {offset}"))?;
             let expected = if b + 1 == blocks && last_size != 0 { last_size } else { block_size };
             let before = out.len();
             flate2::read::ZlibDecoder::new(data).read_to_end(&mut out).map_err(|e| format!("compressed block {b} at offset {offset}: {e}"))?;
@@ -254,7 +262,13 @@ pub fn parse(bytes: &[u8]) -> Result<PolyData, String> {
     };
     let piece = tags.iter().position(|(_, t)| t.name == "Piece").ok_or("no <Piece> element")?;
     let count = |key: &str| -> Result<usize, String> {
-        tags[piece].1.attribute(key).unwrap_or("0").trim().parse().map_err(|_| format!("<Piece {key}=\"{}\"> is not a count", tags[piece].1.attribute(key).unwrap_or("")))
+        tags[piece]
+            .1
+            .attribute(key)
+            .unwrap_or("0")
+            .trim()
+            .parse()
+            .map_err(|_| format!("<Piece {key}=\"{}\"> is not a count", tags[piece].1.attribute(key).unwrap_or("")))
     };
     let (n_points, n_polys) = (count("NumberOfPoints")?, count("NumberOfPolys")?);
     // The section (Points, PointData, CellData, Polys, …) each array of the piece sits in.
@@ -334,7 +348,10 @@ fn read_array(tag: &Tag, xml: &str, appended: Option<&Appended>, little_endian: 
             .collect::<Result<Vec<_>, _>>()?,
         "appended" => {
             let appended = appended.ok_or_else(|| format!("DataArray \"{name}\" is appended but the file has no <AppendedData>"))?;
-            let offset = tag.attribute("offset").and_then(|o| o.trim().parse().ok()).ok_or_else(|| format!("DataArray \"{name}\" is appended without an offset"))?;
+            let offset = tag
+                .attribute("offset")
+                .and_then(|o| o.trim().parse().ok())
+                .ok_or_else(|| format!("DataArray \"{name}\" is appended without an offset"))?;
             let raw = appended.array(offset).map_err(|e| format!("DataArray \"{name}\": {e}"))?;
             if raw.len() % type_size(ty).unwrap() != 0 {
                 return Err(format!("DataArray \"{name}\": {} bytes is not a whole number of {ty} values", raw.len()));
@@ -358,7 +375,11 @@ pub fn read_pvd(path: &Path) -> Result<Vec<(f64, String)>, String> {
         .filter(|(_, t)| t.name == "DataSet")
         .map(|(_, t)| {
             let file = t.attribute("file").ok_or_else(|| format!("{}: a <DataSet> without a file", path.display()))?;
-            let time = t.attribute("timestep").unwrap_or("0").parse().map_err(|_| format!("{}: timestep \"{}\" is not a number", path.display(), t.attribute("timestep").unwrap_or("")))?;
+            let time = t
+                .attribute("timestep")
+                .unwrap_or("0")
+                .parse()
+                .map_err(|_| format!("{}: timestep \"{}\" is not a number", path.display(), t.attribute("timestep").unwrap_or("")))?;
             Ok((time, file.to_string()))
         })
         .collect()

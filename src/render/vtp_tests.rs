@@ -28,7 +28,13 @@ fn specs(little_endian: bool) -> Vec<Spec> {
     let le = little_endian;
     let f64s = |v: &[f64]| v.iter().flat_map(|x| order(x.to_le_bytes(), le)).collect::<Vec<u8>>();
     vec![
-        Spec { section: "PointData", name: "radius", ty: "Float32", components: 1, bytes: RADII.iter().flat_map(|x| order(x.to_le_bytes(), le)).collect() },
+        Spec {
+            section: "PointData",
+            name: "radius",
+            ty: "Float32",
+            components: 1,
+            bytes: RADII.iter().flat_map(|x| order(x.to_le_bytes(), le)).collect(),
+        },
         Spec { section: "PointData", name: "velocity", ty: "Float64", components: 3, bytes: f64s(&VELOCITY) },
         Spec { section: "PointData", name: "id", ty: "Int64", components: 1, bytes: IDS.iter().flat_map(|x| order(x.to_le_bytes(), le)).collect() },
         Spec { section: "CellData", name: "wall", ty: "Int32", components: 1, bytes: WALL.iter().flat_map(|x| order(x.to_le_bytes(), le)).collect() },
@@ -64,7 +70,13 @@ fn ascii_file() -> Vec<u8> {
         values.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(" ")
     };
     let body = body(&specs(true), |s| {
-        format!("        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n          {}\n        </DataArray>\n", s.ty, s.name, s.components, text(s))
+        format!(
+            "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n          {}\n        </DataArray>\n",
+            s.ty,
+            s.name,
+            s.components,
+            text(s)
+        )
     });
     (head("header_type=\"UInt64\"", true) + &body + "</VTKFile>\n").into_bytes()
 }

@@ -72,6 +72,6 @@ fn main() {
         render::nearer_surfaces_hide_farther_ones_by_their_per_pixel_depth,
         render::pictures_are_identical_run_to_run,
     ];
-    let cpu_only = tumble_testkit::gpu_tests![cpu: render::a_folder_without_snapshots_or_with_an_unknown_field_is_refused_in_one_line];
+    let cpu_only = vec![tumble_testkit::harness::cpu_trial("render::bad_input_is_refused_in_one_line", render::bad_input_is_refused_in_one_line)];
     tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only, cpu_only].into_iter().flatten().collect());
 }

@@ -52,7 +52,13 @@ pub fn a_sphere_covers_pi_r_squared_where_the_camera_puts_it() {
         let fraction = n as f64 / (w * h) as f64;
         let error = fraction / expected - 1.0;
         let (px, py) = camera.pixel(centre, w, h);
-        println!("r = {radius} ({:.0} px): covered fraction {fraction:.5}, π r²/area {expected:.5}, error {:+.3} %; centroid off by ({:+.3}, {:+.3}) px", radius * 100.0, 100.0 * error, cx - px, cy - py);
+        println!(
+            "r = {radius} ({:.0} px): covered fraction {fraction:.5}, π r²/area {expected:.5}, error {:+.3} %; centroid off by ({:+.3}, {:+.3}) px",
+            radius * 100.0,
+            100.0 * error,
+            cx - px,
+            cy - py
+        );
         assert!(error.abs() < if radius < 0.2 { 0.03 } else { 0.01 }, "r = {radius}: covered {fraction}, expected {expected}");
         assert!((cx - px).abs() < 0.1 && (cy - py).abs() < 0.1, "the disc's centroid ({cx}, {cy}) is not at the sphere's pixel ({px}, {py})");
     }
@@ -95,7 +101,16 @@ pub fn a_rendered_snapshot_shows_its_sphere_in_the_colour_of_its_speed() {
     // Speed 5 in the range [0, 8]: viridis(0.625).
     let (centre, radius) = (DVec3::new(0.01, 0.02, 0.03), 0.004);
     let dir = run_folder("colour", &[(centre, radius, DVec3::new(3.0, 0.0, 4.0))]);
-    let options = RenderOptions { view: View::Front, up_axis: 1, range: Some((0.0, 8.0)), legend: false, fps: 0, width: 320, height: 240, ..Default::default() };
+    let options = RenderOptions {
+        view: View::Front,
+        up_axis: 1,
+        range: Some((0.0, 8.0)),
+        legend: false,
+        fps: 0,
+        width: 320,
+        height: 240,
+        ..Default::default()
+    };
     let report = render_run(&dir, &options).unwrap();
     assert_eq!(report.frames, vec![dir.join("render").join("frame_000000.png")]);
     let (w, h, rgba) = read_png(&report.frames[0]);
@@ -133,7 +148,11 @@ pub fn nearer_surfaces_hide_farther_ones_by_their_per_pixel_depth() {
     let big = Sphere { centre: DVec3::ZERO, radius: 1.0, colour: far };
     let small = Sphere { centre: DVec3::new(0.8, 0.0, 0.6), radius: 0.3, colour: near };
     // An opaque triangle behind both fills the frame's corners.
-    let backdrop = Triangle { corners: [DVec3::new(-9.0, -9.0, -1.5), DVec3::new(9.0, -9.0, -1.5), DVec3::new(0.0, 9.0, -1.5)], colour: viridis(0.5), alpha: 1.0 };
+    let backdrop = Triangle {
+        corners: [DVec3::new(-9.0, -9.0, -1.5), DVec3::new(9.0, -9.0, -1.5), DVec3::new(0.0, 9.0, -1.5)],
+        colour: viridis(0.5),
+        alpha: 1.0,
+    };
     let mut images = Vec::new();
     for spheres in [vec![big, small], vec![small, big]] {
         let picture = Picture { spheres, triangles: vec![backdrop], ..Default::default() };
@@ -150,7 +169,8 @@ pub fn nearer_surfaces_hide_farther_ones_by_their_per_pixel_depth() {
     }
     assert!(images[0] == images[1], "the image depends on the drawing order");
     // Half-transparent in front: the sphere shows through, blended.
-    let veil = Triangle { corners: [DVec3::new(-9.0, -9.0, 1.5), DVec3::new(9.0, -9.0, 1.5), DVec3::new(0.0, 9.0, 1.5)], colour: [1.0; 3], alpha: 0.5 };
+    let veil =
+        Triangle { corners: [DVec3::new(-9.0, -9.0, 1.5), DVec3::new(9.0, -9.0, 1.5), DVec3::new(0.0, 9.0, 1.5)], colour: [1.0; 3], alpha: 0.5 };
     let rgba = renderer.draw(&Picture { spheres: vec![big], triangles: vec![veil], ..Default::default() }, &camera);
     let shade = AMBIENT + DIFFUSE * LIGHT[2];
     let blended = far.map(|c| 0.5 * c * shade + 0.5 * shade);
@@ -168,7 +188,11 @@ pub fn pictures_are_identical_run_to_run() {
     let spheres: Vec<Sphere> = (0..3000)
         .map(|_| Sphere { centre: DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5), radius: 0.01 + 0.02 * next(), colour: viridis(next()) })
         .collect();
-    let wall = Triangle { corners: [DVec3::new(-0.6, -0.6, -0.2), DVec3::new(0.6, -0.6, 0.3), DVec3::new(0.0, 0.6, 0.0)], colour: [0.6, 0.7, 0.8], alpha: 0.3 };
+    let wall = Triangle {
+        corners: [DVec3::new(-0.6, -0.6, -0.2), DVec3::new(0.6, -0.6, 0.3), DVec3::new(0.0, 0.6, 0.0)],
+        colour: [0.6, 0.7, 0.8],
+        alpha: 0.3,
+    };
     let picture = Picture { spheres, triangles: vec![wall], ..Default::default() };
     let renderer = Renderer::new(640, 480).unwrap();
     let camera = Camera::framing(View::Iso, 2, DVec3::splat(-0.55), DVec3::splat(0.55), 640.0 / 480.0);
@@ -181,7 +205,8 @@ pub fn pictures_are_identical_run_to_run() {
     println!("3,000 spheres at 640×480: {:.1} ms per frame (draw and read back)", 1e3 * start.elapsed().as_secs_f64() / repeats as f64);
     assert!(covered(&first, 640).0 > 640 * 480 / 10, "the spheres are drawn");
     // Through the files too: two renders of one run write the same bytes.
-    let particles: Vec<(DVec3, f64, DVec3)> = picture.spheres.iter().take(500).enumerate().map(|(i, s)| (s.centre, s.radius, DVec3::new(i as f64, 0.0, 0.0))).collect();
+    let particles: Vec<(DVec3, f64, DVec3)> =
+        picture.spheres.iter().take(500).enumerate().map(|(i, s)| (s.centre, s.radius, DVec3::new(i as f64, 0.0, 0.0))).collect();
     let dir = run_folder("determinism", &particles);
     let options = RenderOptions { view: View::Iso, fps: 4, ..Default::default() };
     let a = render_run(&dir, &options).unwrap();
@@ -192,7 +217,8 @@ pub fn pictures_are_identical_run_to_run() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-pub fn a_folder_without_snapshots_or_with_an_unknown_field_is_refused_in_one_line() {
+/// A folder without snapshots, or an unknown field: one line, and nothing written.
+pub fn bad_input_is_refused_in_one_line() {
     let empty = std::env::temp_dir().join(format!("tumble-render-empty-{}", std::process::id()));
     std::fs::create_dir_all(&empty).unwrap();
     let e = render_run(&empty, &RenderOptions::default()).unwrap_err();
