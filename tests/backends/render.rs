@@ -1,7 +1,8 @@
 //! Pictures on the GPU (`tumble render`): a sphere covers π r² of the frame under the known
 //! orthographic projection and lands where the camera puts it, it shows its field's colour-map
-//! colour, nearer surfaces hide farther ones by their true per-pixel depth, and the images are
-//! identical run to run.
+//! colour, nearer surfaces hide farther ones by their true per-pixel depth, a polyhedral body
+//! covers exactly the pixels of its projected faces in its particle's colour, and the images
+//! are identical run to run.
 
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -229,4 +230,69 @@ pub fn bad_input_is_refused_in_one_line() {
     assert!(!dir.join("render").exists(), "nothing is written for bad input");
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&empty);
+}
+
+/// A cube of edge `a` at `centre` (axis-aligned) as bodies_000000.vtp, its particle shape 0.
+fn add_cube_body(dir: &Path, centre: DVec3, a: f64, id: i64) {
+    let corners: Vec<DVec3> =
+        (0..8).map(|k| centre + 0.5 * a * DVec3::new([-1.0, 1.0][k & 1], [-1.0, 1.0][(k >> 1) & 1], [-1.0, 1.0][(k >> 2) & 1])).collect();
+    let faces = [[0, 1, 3, 2], [4, 5, 7, 6], [0, 1, 5, 4], [2, 3, 7, 6], [0, 2, 6, 4], [1, 3, 7, 5]];
+    let points: Vec<String> = corners.iter().map(|p| format!("{} {} {}", p.x, p.y, p.z)).collect();
+    let connectivity: Vec<String> = faces.iter().flatten().map(|i| i.to_string()).collect();
+    let vtp = format!(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PolyData>\n<Piece NumberOfPoints=\"8\" NumberOfPolys=\"6\">\n<CellData Scalars=\"id\">\n<DataArray type=\"Int64\" Name=\"id\" NumberOfComponents=\"1\" format=\"ascii\">{}</DataArray>\n</CellData>\n<Points>\n<DataArray type=\"Float64\" Name=\"position\" NumberOfComponents=\"3\" format=\"ascii\">{}</DataArray>\n</Points>\n<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" NumberOfComponents=\"1\" format=\"ascii\">{}</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" NumberOfComponents=\"1\" format=\"ascii\">4 8 12 16 20 24</DataArray>\n</Polys>\n</Piece>\n</PolyData>\n</VTKFile>\n",
+        vec![id.to_string(); 6].join(" "),
+        points.join(" "),
+        connectivity.join(" ")
+    );
+    std::fs::write(dir.join("snapshots").join("bodies_000000.vtp"), vtp).unwrap();
+    let pvd = std::fs::read_to_string(dir.join("particles.pvd")).unwrap().replace("particles_", "bodies_");
+    std::fs::write(dir.join("bodies.pvd"), pvd).unwrap();
+    // The particle becomes polyhedron 0: drawn as its faces, not as a sphere.
+    let particles = dir.join("snapshots").join("particles_000000.vtp");
+    let text = std::fs::read_to_string(&particles)
+        .unwrap()
+        .replace("</PointData>", "<DataArray type=\"Int32\" Name=\"shape\" NumberOfComponents=\"1\" format=\"ascii\">0</DataArray>\n</PointData>");
+    std::fs::write(particles, text).unwrap();
+}
+
+pub fn a_polyhedral_body_is_drawn_as_its_faces_in_its_particles_colour() {
+    // A cube of edge 2 cm face-on from the front (z up, looking along +y) covers a² of the frame.
+    let (centre, a) = (DVec3::new(0.1, 0.2, 0.3), 0.02);
+    let circumradius = 0.5 * a * 3f64.sqrt();
+    let dir = run_folder("cube", &[(centre, circumradius, DVec3::new(0.0, 0.0, -2.0))]);
+    add_cube_body(&dir, centre, a, 0);
+    let options = RenderOptions {
+        view: View::Front,
+        up_axis: 2,
+        range: Some((0.0, 4.0)),
+        legend: false,
+        fps: 0,
+        width: 320,
+        height: 240,
+        ..Default::default()
+    };
+    let report = render_run(&dir, &options).unwrap();
+    let (w, h, rgba) = read_png(&report.frames[0]);
+    let camera = Camera::framing(View::Front, 2, centre - circumradius, centre + circumradius, 4.0 / 3.0);
+    let expected = a * a / (4.0 * camera.half_width * camera.half_height);
+    let fraction = covered(&rgba, w).0 as f64 / (w * h) as f64;
+    println!("cube face-on: covered fraction {fraction:.5}, a²/area {expected:.5}, error {:+.3} %", 100.0 * (fraction / expected - 1.0));
+    assert!(
+        (fraction / expected - 1.0).abs() < 0.02,
+        "a sphere of the circumradius would cover {:.3}",
+        std::f64::consts::PI * circumradius.powi(2) / (a * a)
+    );
+    // Exactly: the pixels whose centres fall inside the projected square.
+    let (x0, y0) = camera.pixel(centre + DVec3::new(-0.5 * a, 0.0, 0.5 * a), w, h);
+    let (x1, y1) = camera.pixel(centre + DVec3::new(0.5 * a, 0.0, -0.5 * a), w, h);
+    let centres = |lo: f64, hi: f64| ((hi - 0.5).ceil() - (lo - 0.5).ceil()) as usize;
+    let (nx, ny) = (centres(x0, x1), centres(y0, y1));
+    let n = covered(&rgba, w).0;
+    println!("cube face-on: {n} pixels covered, {nx} × {ny} = {} pixel centres inside the square", nx * ny);
+    assert!(n.abs_diff(nx * ny) <= nx + ny, "{n} pixels against {}", nx * ny);
+    // Speed 2 in [0, 4]; the face looks at the viewer: n · light = light.z.
+    let seen = pixel(&rgba, w, camera.pixel(centre, w, h));
+    assert!(close(seen, to_u8(viridis(0.5), AMBIENT + DIFFUSE * LIGHT[2]), 2), "{seen:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
