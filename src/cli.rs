@@ -50,6 +50,35 @@ pub enum Command {
         /// The scene file (TOML).
         scene: PathBuf,
     },
+    /// Draw a run's snapshots into DIR/render/: frame_NNNNNN.png and animation.png (on the GPU).
+    Render {
+        /// The run's output folder (with particles.pvd).
+        dir: PathBuf,
+        /// front, back, side, top or iso.
+        #[arg(long, default_value = "front")]
+        view: String,
+        /// The world axis drawn vertical: x, y or z.
+        #[arg(long, default_value = "z")]
+        up: String,
+        /// The particle array that colours them: speed, or any point array (vectors by magnitude).
+        #[arg(long, default_value = "speed")]
+        color: String,
+        /// The colour range as LO,HI [default: the field's range over the frames drawn].
+        #[arg(long)]
+        range: Option<String>,
+        /// Image size, WxH.
+        #[arg(long, default_value = "640x480")]
+        size: String,
+        /// Draw every K-th snapshot.
+        #[arg(long, default_value_t = 1)]
+        every: usize,
+        /// Animation frames per second; 0 writes no animation.
+        #[arg(long, default_value_t = 10)]
+        fps: u16,
+        /// No colour bar.
+        #[arg(long)]
+        no_legend: bool,
+    },
 }
 
 /// Writes `text` to stdout; a reader that has gone (`tumble plan SCENE | head`) is not an error.
@@ -87,6 +116,20 @@ pub fn main_with(cli: Cli) -> i32 {
                 2
             }
         },
+        Command::Render { dir, view, up, color, range, size, every, fps, no_legend } => {
+            match crate::render::options_from_args(&view, &up, color, range.as_deref(), &size, every, fps, !no_legend)
+                .and_then(|options| crate::render::render_run(&dir, &options))
+            {
+                Ok(r) => {
+                    print_out(&r.describe(&dir.join("render")));
+                    0
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    2
+                }
+            }
+        }
         Command::Run { scene, out, backend, threads, duration, dt, quiet, overwrite } => {
             let backend = match backend.as_deref() {
                 None => None,

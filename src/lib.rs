@@ -19,6 +19,7 @@ mod monitor;
 mod outdir;
 mod output;
 mod progress;
+pub mod render;
 mod run;
 mod simulation;
 pub mod verify;

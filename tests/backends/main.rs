@@ -14,6 +14,8 @@ mod polyhedra_moving;
 mod polyhedra_step;
 /// The GPU's small output rows: device-reduced observables and gathered tracks.
 mod reduced_rows;
+/// Pictures of snapshots (`tumble render`): coverage, colour, depth, determinism.
+mod render;
 /// GPU runs continued from snapshots of the device's memory.
 mod restore;
 /// The backend seam on the GPU: one read-back per output row, tracked orientations.
@@ -65,6 +67,12 @@ fn main() {
         reduced_rows::an_output_row_reads_back_the_same_few_bytes_whatever_the_particle_count,
         reduced_rows::device_reduced_rows_are_bit_identical_run_to_run,
         reduced_rows::drums_and_wall_groups_reduced_on_the_device_match_the_host_sums,
+        render::a_sphere_covers_pi_r_squared_where_the_camera_puts_it,
+        render::a_rendered_snapshot_shows_its_sphere_in_the_colour_of_its_speed,
+        render::nearer_surfaces_hide_farther_ones_by_their_per_pixel_depth,
+        render::pictures_are_identical_run_to_run,
+        render::a_polyhedral_body_is_drawn_as_its_faces_in_its_particles_colour,
     ];
-    tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only].into_iter().flatten().collect());
+    let cpu_only = vec![tumble_testkit::harness::cpu_trial("render::bad_input_is_refused_in_one_line", render::bad_input_is_refused_in_one_line)];
+    tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only, cpu_only].into_iter().flatten().collect());
 }
