@@ -293,6 +293,12 @@ impl Plan {
         if let Some(t) = ts.collision_time {
             let _ = writeln!(s, "t_col        {:.6e} s ({:.1} steps per collision)", t, t / model.dt);
         }
+        let i = &ts.impact;
+        let _ = writeln!(
+            s,
+            "impact       {:.4} m/s (estimate: initial {:.4} m/s, drop {:.4} m under gravity, walls {:.4} m/s; Hertz t_col is taken at it)",
+            i.speed, i.initial, i.drop_height, i.wall
+        );
         if let Some(t) = ts.rayleigh_time {
             let _ = writeln!(s, "rayleigh     {t:.6e} s");
         }
