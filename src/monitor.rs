@@ -3,7 +3,6 @@
 
 use crate::Observables;
 use std::fmt;
-use tumble_contact::NormalLaw;
 use tumble_scene::Plan;
 
 /// Why a run was stopped.
@@ -55,10 +54,7 @@ pub struct Monitor {
 impl Monitor {
     /// A monitor for a plan, given the observables at t = 0 and the scene's potential-energy range.
     pub fn new(plan: &Plan, initial: &Observables, potential_range: f64) -> Self {
-        let cohesion_over_stiffness = plan.model.pairs.iter().find_map(|p| match p.normal {
-            NormalLaw::Linear { stiffness, .. } if p.cohesion > 0.0 && p.cohesion >= stiffness => Some((p.cohesion, stiffness)),
-            _ => None,
-        });
+        let cohesion_over_stiffness = plan.model.pairs.iter().find_map(|p| p.cohesion_over_stiffness());
         Monitor {
             enabled: plan.run.monitor.enabled,
             max_overlap_ratio: plan.run.monitor.max_overlap_ratio,
@@ -79,7 +75,8 @@ impl Monitor {
 
     /// Checks one row of observables (step 0 is the starting state); non-finite values are always fatal.
     pub fn check(&self, step: u64, o: &Observables) -> Result<(), Instability> {
-        let stop = |cause: String, remedy: String, suggested_dt: f64| Err(Instability { step, time: o.time, cause, remedy, dt: self.dt, suggested_dt });
+        let stop =
+            |cause: String, remedy: String, suggested_dt: f64| Err(Instability { step, time: o.time, cause, remedy, dt: self.dt, suggested_dt });
         if step == 0 {
             if !o.finite {
                 return stop(
@@ -117,7 +114,11 @@ impl Monitor {
             // Moving walls are a source whose work is booked: only unbooked gains count.
             let gain = o.mechanical_energy() + o.dissipated_energy - o.wall_work - self.initial_energy;
             if gain > self.energy_growth * scale {
-                let of = if self.polyhedra { "the largest kinetic and elastic energy plus the dissipated energy" } else { "the largest kinetic and elastic energy" };
+                let of = if self.polyhedra {
+                    "the largest kinetic and elastic energy plus the dissipated energy"
+                } else {
+                    "the largest kinetic and elastic energy"
+                };
                 return self.diagnose(
                     step,
                     o,
@@ -131,7 +132,8 @@ impl Monitor {
 
     /// Names the cause of a failure seen after t = 0: the starting state, the model, or the step.
     fn diagnose(&self, step: u64, o: &Observables, what: String, blown_up: bool) -> Result<(), Instability> {
-        let stop = |cause: String, remedy: String, suggested_dt: f64| Err(Instability { step, time: o.time, cause, remedy, dt: self.dt, suggested_dt });
+        let stop =
+            |cause: String, remedy: String, suggested_dt: f64| Err(Instability { step, time: o.time, cause, remedy, dt: self.dt, suggested_dt });
         if self.initial_overlap > SUSPECT_INITIAL_OVERLAP {
             return stop(
                 format!(
@@ -158,13 +160,25 @@ impl Monitor {
             );
         }
         let remedy = if blown_up {
-            format!("dt = {:.4e} s is at or below the plan's default{}, so the step is not the cause: check the contact parameters and moving walls", self.dt, steps(self.dt))
+            format!(
+                "dt = {:.4e} s is at or below the plan's default{}, so the step is not the cause: check the contact parameters and moving walls",
+                self.dt,
+                steps(self.dt)
+            )
         } else if what.starts_with("overlap") {
-            format!("dt will not fix it at dt = {:.4e} s{}: the contacts are too soft for these impacts; stiffen them (k_n or E) or slow the impacts", self.dt, steps(self.dt))
+            format!(
+                "dt will not fix it at dt = {:.4e} s{}: the contacts are too soft for these impacts; stiffen them (k_n or E) or slow the impacts",
+                self.dt,
+                steps(self.dt)
+            )
         } else if self.polyhedra {
             "dt will not fix it: polyhedron contacts do not conserve energy exactly (docs/drum.md); raise run.monitor.energy_growth if the gain stays bounded".into()
         } else {
-            format!("dt = {:.4e} s is at or below the plan's default{}, so the step is not the cause: raise run.monitor.energy_growth if the gain is expected", self.dt, steps(self.dt))
+            format!(
+                "dt = {:.4e} s is at or below the plan's default{}, so the step is not the cause: raise run.monitor.energy_growth if the gain is expected",
+                self.dt,
+                steps(self.dt)
+            )
         };
         stop(what, remedy, self.dt)
     }

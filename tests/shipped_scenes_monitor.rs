@@ -129,7 +129,7 @@ fn following_the_monitors_advice_makes_an_unstable_run_pass() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// A monitor for the sliding sphere, whose t = 0 row is `initial`.
+/// A monitor for `scene`, whose t = 0 row is `initial`.
 fn monitor_of(scene: &Scene, initial: &Observables) -> (Monitor, f64) {
     let plan = compile(scene).unwrap().plan;
     (Monitor::new(&plan, initial, 1.0), plan.model.dt)
@@ -192,4 +192,24 @@ fn the_plan_prints_its_impact_speed_estimate() {
     assert!((i.drop_height - plan.model.domain.extent().y).abs() < 1e-12, "{i:?}");
     assert!(i.wall > 0.0 && (i.speed - ((2.0 * 9.81 * i.drop_height).sqrt() + i.wall)).abs() < 1e-9, "{i:?}");
     assert!(plan.describe(1).contains("impact       "));
+}
+
+#[test]
+fn cohesion_stiffer_than_the_normal_spring_is_named_by_the_plan_and_the_monitor() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/conformance/cohesive_cluster.toml");
+    let text = std::fs::read_to_string(&path).unwrap().replace("cohesion = { stiffness = 50.0 }", "cohesion = { stiffness = 1.0e7 }");
+    let scene = parse_scene(&text).unwrap();
+    let plan = compile(&scene).unwrap().plan;
+    assert!(
+        plan.report.warnings.iter().any(|w| w.contains("k_c = 1e7 N/m is at least the normal stiffness k_n = 1e3 N/m")),
+        "{:?}",
+        plan.report.warnings
+    );
+    let start = row(0.0, 1.0, 0.0);
+    let (monitor, _) = monitor_of(&scene, &start);
+    let e = monitor.check(100, &row(0.01, 1.0, 0.9)).unwrap_err().to_string();
+    assert!(e.contains("cohesion k_c = 1e7 N/m at least the normal stiffness k_n = 1e3 N/m") && e.contains("dt will not fix it"), "{e}");
+    // The shipped cluster (k_c = 50 N/m) draws no such warning.
+    let shipped = compile(&read_scene(&path).unwrap()).unwrap().plan;
+    assert!(!shipped.report.warnings.iter().any(|w| w.contains("cohesion stiffness")), "{:?}", shipped.report.warnings);
 }

@@ -128,7 +128,7 @@ pub(super) fn warnings(model: &PhysicsModel, timescales: &Timescales, particles:
                 t * TANGENTIAL_STEP_SHARE
             ));
     }
-    if let Some((k_c, k_n)) = cohesion_above_stiffness(pairs) {
+    if let Some((k_c, k_n)) = pairs.iter().find_map(PairParams::cohesion_over_stiffness) {
         warnings.push(format!(
             "cohesion stiffness k_c = {k_c:e} N/m is at least the normal stiffness k_n = {k_n:e} N/m: the net force on a bonded contact grows more attractive with overlap, so particles sink into each other whatever the dt; use k_c < k_n"
         ));
@@ -141,14 +141,6 @@ pub(super) fn warnings(model: &PhysicsModel, timescales: &Timescales, particles:
         );
     }
     warnings
-}
-
-/// The first pair whose linear cohesion is at least as stiff as its normal spring: (k_c, k_n).
-pub(crate) fn cohesion_above_stiffness(pairs: &[PairParams]) -> Option<(f64, f64)> {
-    pairs.iter().find_map(|p| match p.normal {
-        NormalLaw::Linear { stiffness, .. } if p.cohesion > 0.0 && p.cohesion >= stiffness => Some((p.cohesion, stiffness)),
-        _ => None,
-    })
 }
 
 /// Gravity pressing particles that start at rest onto walls, with history-free friction.
