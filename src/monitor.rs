@@ -1,4 +1,5 @@
-//! The instability monitor: stops a run that blows up, naming the cause and a Δt that works.
+//! The instability monitor: stops a run that blows up, naming the cause and, when the step is the
+//! cause, a Δt that works (docs/cli.md, "The instability monitor").
 
 use crate::Observables;
 use std::fmt;
@@ -10,87 +11,185 @@ pub struct Instability {
     pub step: u64,
     pub time: f64,
     pub cause: String,
+    /// What to change: a Δt, or why Δt will not help and what will.
+    pub remedy: String,
     pub dt: f64,
-    /// The Δt the plan would choose for this scene.
+    /// The Δt to rerun at: the plan's default when the step is the cause, else the step that ran.
     pub suggested_dt: f64,
 }
 
 impl fmt::Display for Instability {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "simulation unstable at step {} (t = {:.6e} s): {}; dt = {:.4e} s is too large, use dt <= {:.4e} s",
-            self.step, self.time, self.cause, self.dt, self.suggested_dt
-        )
+        write!(f, "simulation unstable at step {} (t = {:.6e} s): {}; {}", self.step, self.time, self.cause, self.remedy)
     }
 }
 
-/// Watches observables between output intervals.
+/// Overlap at t = 0 above which a later blow-up is put down to the starting state: at the plan's
+/// default Δt contacts between moving particles stay within a few per cent of the radius.
+pub const SUSPECT_INITIAL_OVERLAP: f64 = 0.1;
+
+/// Watches observables at t = 0 and between output intervals.
 pub struct Monitor {
     enabled: bool,
     max_overlap_ratio: f64,
     energy_growth: f64,
     has_source: bool,
+    /// Polyhedron contacts are not exactly conservative (docs/drum.md): their error grows with
+    /// the energy the contacts exchange, so the dissipated energy joins the scale.
+    polyhedra: bool,
     initial_energy: f64,
+    initial_overlap: f64,
+    initial_elastic: f64,
     /// Smallest energy scale: a small share of the scene's total energy range.
     energy_floor: f64,
     /// Largest kinetic + rotational + |elastic| energy seen so far.
     peak_energy: std::cell::Cell<f64>,
     dt: f64,
-    suggested_dt: f64,
+    default_dt: f64,
+    collision_time: Option<f64>,
+    /// (k_c, k_n) of a pair whose cohesion is at least as stiff as its normal spring.
+    cohesion_over_stiffness: Option<(f64, f64)>,
 }
 
 impl Monitor {
     /// A monitor for a plan, given the observables at t = 0 and the scene's potential-energy range.
     pub fn new(plan: &Plan, initial: &Observables, potential_range: f64) -> Self {
-        // The plan's own choice, and never more than half the step that failed.
-        let suggested_dt = plan
-            .report
-            .timescales
-            .stability_limit
-            .map_or(plan.report.timescales.default_dt, |l| l.min(plan.report.timescales.default_dt))
-            .min(0.5 * plan.model.dt);
+        let cohesion_over_stiffness = plan.model.pairs.iter().find_map(|p| p.cohesion_over_stiffness());
         Monitor {
             enabled: plan.run.monitor.enabled,
             max_overlap_ratio: plan.run.monitor.max_overlap_ratio,
             energy_growth: plan.run.monitor.energy_growth,
             has_source: plan.model.fluid.is_some(),
+            polyhedra: plan.model.polyhedra,
             initial_energy: initial.mechanical_energy() + initial.dissipated_energy - initial.wall_work,
+            initial_overlap: if initial.max_overlap_ratio.is_finite() { initial.max_overlap_ratio } else { 0.0 },
+            initial_elastic: initial.elastic_energy,
             energy_floor: (1e-3 * (initial.mechanical_energy().abs() + potential_range)).max(f64::MIN_POSITIVE),
             peak_energy: std::cell::Cell::new(moving_energy(initial)),
             dt: plan.model.dt,
-            suggested_dt,
+            default_dt: plan.report.timescales.default_dt,
+            collision_time: plan.report.timescales.collision_time,
+            cohesion_over_stiffness,
         }
     }
 
-    /// Checks one row of observables; non-finite values are always fatal.
+    /// Checks one row of observables (step 0 is the starting state); non-finite values are always fatal.
     pub fn check(&self, step: u64, o: &Observables) -> Result<(), Instability> {
-        let fail = |cause: String| Err(Instability { step, time: o.time, cause, dt: self.dt, suggested_dt: self.suggested_dt });
+        let stop =
+            |cause: String, remedy: String, suggested_dt: f64| Err(Instability { step, time: o.time, cause, remedy, dt: self.dt, suggested_dt });
+        if step == 0 {
+            if !o.finite {
+                return stop(
+                    "the starting state is not finite (a position, velocity or energy is NaN or infinite at t = 0)".into(),
+                    "dt will not fix it: check the scene's positions, velocities, sizes and densities".into(),
+                    self.dt,
+                );
+            }
+            if self.enabled && o.max_overlap_ratio > self.max_overlap_ratio {
+                return stop(
+                    format!(
+                        "particles start overlapping by up to δ/r = {:.3} at t = 0 (bound {}), {:.3e} J stored in their contacts",
+                        o.max_overlap_ratio, self.max_overlap_ratio, o.elastic_energy
+                    ),
+                    "dt will not fix it: start them apart (lattice spacing at least the largest diameter, fewer random particles, walls clear of the bed) or raise run.monitor.max_overlap_ratio if the overlap is meant".into(),
+                    self.dt,
+                );
+            }
+            return Ok(());
+        }
         if !o.finite {
-            return fail("a position, velocity or energy became non-finite (NaN or infinity)".into());
+            return self.diagnose(step, o, "a position, velocity or energy became non-finite (NaN or infinity)".into(), true);
         }
         if !self.enabled {
             return Ok(());
         }
         if o.max_overlap_ratio > self.max_overlap_ratio {
-            return fail(format!("overlap δ/r = {:.3} exceeds the bound {}", o.max_overlap_ratio, self.max_overlap_ratio));
+            return self.diagnose(step, o, format!("overlap δ/r = {:.3} exceeds the bound {}", o.max_overlap_ratio, self.max_overlap_ratio), false);
         }
         if !self.has_source {
             // Energy in motion sets the scale: a resting bed must not gain a share of it.
             self.peak_energy.set(self.peak_energy.get().max(moving_energy(o)));
-            let scale = self.peak_energy.get().max(self.energy_floor);
+            let exchanged = if self.polyhedra { o.dissipated_energy.max(0.0) } else { 0.0 };
+            let scale = self.peak_energy.get().max(self.energy_floor) + exchanged;
             // Moving walls are a source whose work is booked: only unbooked gains count.
             let gain = o.mechanical_energy() + o.dissipated_energy - o.wall_work - self.initial_energy;
             if gain > self.energy_growth * scale {
-                return fail(format!(
-                    "energy grew by {:.3e} J without a source ({:.0} % of the largest kinetic and elastic energy, {:.3e} J)",
-                    gain,
-                    100.0 * gain / scale,
-                    scale
-                ));
+                let of = if self.polyhedra {
+                    "the largest kinetic and elastic energy plus the dissipated energy"
+                } else {
+                    "the largest kinetic and elastic energy"
+                };
+                return self.diagnose(
+                    step,
+                    o,
+                    format!("energy grew by {gain:.3e} J without a source ({:.0} % of {of}, {scale:.3e} J)", 100.0 * gain / scale),
+                    false,
+                );
             }
         }
         Ok(())
+    }
+
+    /// Names the cause of a failure seen after t = 0: the starting state, the model, or the step.
+    fn diagnose(&self, step: u64, o: &Observables, what: String, blown_up: bool) -> Result<(), Instability> {
+        let stop =
+            |cause: String, remedy: String, suggested_dt: f64| Err(Instability { step, time: o.time, cause, remedy, dt: self.dt, suggested_dt });
+        if self.initial_overlap > SUSPECT_INITIAL_OVERLAP {
+            return stop(
+                format!(
+                    "{what}, after a start with overlaps up to δ/r = {:.3} ({:.3e} J stored in contacts at t = 0)",
+                    self.initial_overlap, self.initial_elastic
+                ),
+                "dt will not fix it: start the particles apart (lattice spacing at least the largest diameter, walls clear of the bed)".into(),
+                self.dt,
+            );
+        }
+        if let Some((k_c, k_n)) = self.cohesion_over_stiffness {
+            return stop(
+                format!("{what}, with cohesion k_c = {k_c:e} N/m at least the normal stiffness k_n = {k_n:e} N/m"),
+                "dt will not fix it: bonded particles sink into each other; use k_c < k_n".into(),
+                self.dt,
+            );
+        }
+        let steps = |dt: f64| self.collision_time.map_or(String::new(), |t| format!(", {:.1} steps per collision", t / dt));
+        if self.dt > self.default_dt * (1.0 + 1e-9) {
+            return stop(
+                format!("{what} at dt = {:.4e} s{}", self.dt, steps(self.dt)),
+                format!("dt = {:.4e} s is too large, use dt <= {:.4e} s (the plan's default{})", self.dt, self.default_dt, steps(self.default_dt)),
+                self.default_dt,
+            );
+        }
+        let remedy = if blown_up {
+            format!(
+                "dt = {:.4e} s is at or below the plan's default{}, so the step is not the cause: check the contact parameters and moving walls",
+                self.dt,
+                steps(self.dt)
+            )
+        } else if what.starts_with("overlap") {
+            format!(
+                "dt will not fix it at dt = {:.4e} s{}: the contacts are too soft for these impacts; stiffen them (k_n or E) or slow the impacts",
+                self.dt,
+                steps(self.dt)
+            )
+        } else if self.polyhedra {
+            "dt will not fix it: polyhedron contacts do not conserve energy exactly (docs/drum.md); raise run.monitor.energy_growth if the gain stays bounded".into()
+        } else {
+            format!(
+                "dt = {:.4e} s is at or below the plan's default{}, so the step is not the cause: raise run.monitor.energy_growth if the gain is expected",
+                self.dt,
+                steps(self.dt)
+            )
+        };
+        stop(what, remedy, self.dt)
+    }
+
+    /// A capacity fault, with the starting state named when it is the likely cause.
+    pub fn explain_fault(&self, fault: String) -> String {
+        if self.initial_overlap > SUSPECT_INITIAL_OVERLAP {
+            format!("{fault} (the particles start overlapping by up to δ/r = {:.3}: start them apart rather than adding slots)", self.initial_overlap)
+        } else {
+            fault
+        }
     }
 }
 

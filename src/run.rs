@@ -179,9 +179,10 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
     let mut progress = options.progress.then(|| Progress::new(options.terminal, total, sim.plan().run.duration));
     let start = Instant::now();
     let mut particle_steps = 0u128;
-    let mut stopped = None;
+    // The starting state is checked before step 1.
+    let mut stopped = monitor.check(0, &initial.0).err().map(Stop::Unstable);
     let next = |step: u64, every: u64| (step / every + 1) * every;
-    while sim.steps() < total {
+    while stopped.is_none() && sim.steps() < total {
         // Advance to the next output or snapshot, in chunks short enough to answer Ctrl-C promptly.
         let mut target = next(sim.steps(), every).min(total);
         if let Some(k) = snapshot_every {
@@ -192,7 +193,7 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         sim.advance(chunk);
         particle_steps += n * chunk as u128;
         if let Some(fault) = sim.fault() {
-            stopped = Some(Stop::Capacity(fault.to_string()));
+            stopped = Some(Stop::Capacity(monitor.explain_fault(fault.to_string())));
             break;
         }
         // Every part of a distributed run stops at the same step.

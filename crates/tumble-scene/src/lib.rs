@@ -48,3 +48,4 @@ pub use plan::{
 pub use rng::Rng;
 pub use schema::Scene;
 pub use shapes::{ParticleShape, SPHERE};
+pub use timescales::{ACCURATE_STEPS_PER_COLLISION, ImpactSpeed, STEPS_PER_COLLISION};

@@ -24,6 +24,17 @@ pub struct PairParams {
     pub rolling: f64,
 }
 
+impl PairParams {
+    /// (k_c, k_n) when linear cohesion is at least as stiff as the normal spring: the net force on
+    /// a bonded contact then grows more attractive with overlap, at any Δt.
+    pub fn cohesion_over_stiffness(&self) -> Option<(f64, f64)> {
+        match self.normal {
+            NormalLaw::Linear { stiffness, .. } if self.cohesion > 0.0 && self.cohesion >= stiffness => Some((self.cohesion, stiffness)),
+            _ => None,
+        }
+    }
+}
+
 /// Drag law of the fluid.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Drag {
@@ -296,6 +307,12 @@ impl Plan {
         if let Some(t) = ts.collision_time {
             let _ = writeln!(s, "t_col        {:.6e} s ({:.1} steps per collision)", t, t / model.dt);
         }
+        let i = &ts.impact;
+        let _ = writeln!(
+            s,
+            "impact       {:.4} m/s (estimate: initial {:.4} m/s, drop {:.4} m under gravity, walls {:.4} m/s; Hertz contact times and quadratic drag are taken at it)",
+            i.speed, i.initial, i.drop_height, i.wall
+        );
         if let Some(t) = ts.rayleigh_time {
             let _ = writeln!(s, "rayleigh     {t:.6e} s");
         }

@@ -24,6 +24,30 @@ pub struct Timescales {
     pub tangential_time: Option<f64>,
     /// The Δt the plan would choose by itself.
     pub default_dt: f64,
+    /// The impact speed the contact times are taken at.
+    pub impact: ImpactSpeed,
+}
+
+/// Steps per shortest collision the default Δt aims at (linear t_col, Hertz t_H at the impact speed).
+pub const STEPS_PER_COLLISION: f64 = 50.0;
+/// Fewer steps per collision than this and the plan warns that results are inaccurate.
+pub const ACCURATE_STEPS_PER_COLLISION: f64 = 10.0;
+/// The default Δt is at most this share of the viscous tangential relaxation time; above it the plan warns.
+pub const TANGENTIAL_STEP_SHARE: f64 = 1.0 / 6.0;
+
+/// An estimate of the fastest impact (docs/physics.md, "Time step"): the fastest initial particle
+/// after the deepest fall under gravity the domain allows, hit by the fastest wall point.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImpactSpeed {
+    /// √(v_0² + 2 g h) + v_wall, at least 0.1 m/s.
+    pub speed: f64,
+    /// Fastest initial speed of a movable particle.
+    pub initial: f64,
+    /// The drop h: a movable particle's height above the domain's lowest side along g (the
+    /// whole extent along g when a wall moves, since walls lift particles).
+    pub drop_height: f64,
+    /// Fastest point of a moving wall.
+    pub wall: f64,
 }
 
 /// The scene's time scales; `shapes` is the plan's shape table (a polyhedron's contact mass is
@@ -66,14 +90,16 @@ pub(crate) fn timescales(
     for w in walls {
         obstacle[w.material as usize] = true;
     }
-    let mut ts = Timescales::default();
+    let mut ts = Timescales { impact: ImpactSpeed::default(), ..Timescales::default() };
     let mut limit = f64::INFINITY;
     let mut t_col = f64::INFINITY;
     let mut t_col_linear = f64::INFINITY;
+    let mut t_hertz = f64::INFINITY;
     let mut rayleigh = f64::INFINITY;
     let mut tangential = f64::INFINITY;
     let mut spring_period = f64::INFINITY;
-    let speed = characteristic_speed(p, gravity, domain);
+    let impact = impact_speed(p, gravity, domain, walls);
+    let speed = impact.speed;
     for a in 0..n_mat {
         if !lightest[a].is_finite() {
             continue;
@@ -123,7 +149,8 @@ pub(crate) fn timescales(
                         let (e, nu) = (materials[a].youngs_modulus.unwrap(), materials[a].poisson_ratio.unwrap());
                         rayleigh = rayleigh.min(rayleigh_time(r, materials[a].density, e, nu));
                         let r_star = if lightest[b].is_finite() && m_star < lightest[a] { r * smallest[b] / (r + smallest[b]) } else { r };
-                        t_col = t_col.min(tumble_contact::hertz_contact_time(m_star, r_star, e_star, speed));
+                        t_hertz = t_hertz.min(tumble_contact::hertz_contact_time(m_star, r_star, e_star, speed));
+                        t_col = t_col.min(t_hertz);
                     }
                 }
             }
@@ -133,18 +160,21 @@ pub(crate) fn timescales(
     if t_col.is_finite() {
         ts.collision_time = Some(t_col);
     }
-    // Linear contacts: t_col / 50; Hertz: 0.2 Δt_R (docs/physics.md, "Time step").
+    // Linear contacts: t_col / 50; Hertz: 0.2 Δt_R and t_H / 50 at the impact speed (docs/physics.md, "Time step").
     if t_col_linear.is_finite() {
-        default_dt = t_col_linear / 50.0;
+        default_dt = t_col_linear / STEPS_PER_COLLISION;
+    }
+    if t_hertz.is_finite() {
+        default_dt = default_dt.min(t_hertz / STEPS_PER_COLLISION);
     }
     if spring_period.is_finite() {
-        default_dt = default_dt.min(spring_period / 50.0);
+        default_dt = default_dt.min(spring_period / STEPS_PER_COLLISION);
     }
     if tangential.is_finite() {
         ts.tangential_time = Some(tangential);
         limit = limit.min(2.0 * tangential);
         // A particle in a packing has several contacts whose viscous rates add up.
-        default_dt = default_dt.min(tangential / 3.0);
+        default_dt = default_dt.min(tangential * TANGENTIAL_STEP_SHARE);
     }
     if rayleigh.is_finite() {
         ts.rayleigh_time = Some(rayleigh);
@@ -173,12 +203,29 @@ pub(crate) fn timescales(
     }
     let default_dt = if default_dt.is_finite() { default_dt } else { 1e-3 };
     ts.default_dt = wall_step_limit.map_or(default_dt, |w| default_dt.min(w));
+    ts.impact = impact;
     ts
 }
 
-/// A speed scale for Hertz contact times: the fastest initial particle or free fall across the domain.
-fn characteristic_speed(p: &InitialParticles, gravity: DVec3, domain: &PeriodicBox) -> f64 {
-    let initial = p.velocity.iter().map(|v| v.length()).fold(0.0, f64::max);
-    let fall = (2.0 * gravity.length() * domain.extent().max_element()).sqrt();
-    initial.max(fall).max(0.1)
+/// The impact speed estimate: energy conservation bounds a lone particle's speed by
+/// √(v_0² + 2 g h); a moving wall can meet it head on at its own speed.
+fn impact_speed(p: &InitialParticles, gravity: DVec3, domain: &PeriodicBox, walls: &[Wall]) -> ImpactSpeed {
+    let movable = || (0..p.len()).filter(|&i| !p.fixed[i]);
+    let initial = movable().map(|i| p.velocity[i].length()).fold(0.0, f64::max);
+    let wall = walls.iter().map(|w| w.surface_speed).fold(0.0, f64::max);
+    let g = gravity.length();
+    let drop_height = if g > 0.0 {
+        let down = gravity / g;
+        // Height of x above the domain's lowest corner along g.
+        let lowest = DVec3::from_array([0, 1, 2].map(|k| if down[k] > 0.0 { domain.max[k] } else { domain.min[k] }));
+        if wall > 0.0 {
+            (domain.extent() * down.abs()).element_sum()
+        } else {
+            movable().map(|i| (lowest - p.position[i]).dot(down).max(0.0)).fold(0.0, f64::max)
+        }
+    } else {
+        0.0
+    };
+    let speed = ((initial * initial + 2.0 * g * drop_height).sqrt() + wall).max(0.1);
+    ImpactSpeed { speed, initial, drop_height, wall }
 }

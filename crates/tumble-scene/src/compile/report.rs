@@ -5,7 +5,7 @@ use super::model::Mechanics;
 use crate::particles::InitialParticles;
 use crate::plan::{Feature, Fluid, PairParams, PhysicsModel, RunSettings, Tuning, Wall};
 use crate::schema::Scene;
-use crate::timescales::Timescales;
+use crate::timescales::{ACCURATE_STEPS_PER_COLLISION, STEPS_PER_COLLISION, TANGENTIAL_STEP_SHARE, Timescales};
 use glam::DVec3;
 use std::fmt::Write as _;
 use tumble_contact::{NormalLaw, SpringLaw, TangentialLaw, ViscousParameter};
@@ -116,17 +116,22 @@ pub(super) fn warnings(model: &PhysicsModel, timescales: &Timescales, particles:
     let (dt, pairs, gravity, walls, fluid) = (model.dt, &model.pairs, model.gravity, &model.walls, &model.fluid);
     let mut warnings = Vec::new();
     if let Some(t) = timescales.collision_time
-        && t / dt < 10.0
+        && t / dt < ACCURATE_STEPS_PER_COLLISION
     {
-        warnings.push(format!("only {:.1} steps per collision; results will be inaccurate (50 is the default)", t / dt));
+        warnings.push(format!("only {:.1} steps per collision; results will be inaccurate ({STEPS_PER_COLLISION} is the default)", t / dt));
     }
     if let Some(t) = timescales.tangential_time
-        && dt > t / 6.0
+        && dt > t * TANGENTIAL_STEP_SHARE * (1.0 + 1e-12)
     {
         warnings.push(format!(
                 "dt is more than 1/6 of the viscous tangential relaxation time {t:.3e} s: dense packings may chatter (energy booked as dissipated while at rest); use dt <= {:.3e} or a smaller c_t",
-                t / 6.0
+                t * TANGENTIAL_STEP_SHARE
             ));
+    }
+    if let Some((k_c, k_n)) = pairs.iter().find_map(PairParams::cohesion_over_stiffness) {
+        warnings.push(format!(
+            "cohesion stiffness k_c = {k_c:e} N/m is at least the normal stiffness k_n = {k_n:e} N/m: the net force on a bonded contact grows more attractive with overlap, so particles sink into each other whatever the dt; use k_c < k_n"
+        ));
     }
     if looks_quasi_static(particles, pairs, gravity, walls, fluid.as_ref()) {
         warnings.push(
