@@ -47,14 +47,11 @@ pub struct Monitor {
     dt: f64,
     default_dt: f64,
     collision_time: Option<f64>,
-    /// (k_c, k_n) of a pair whose cohesion is at least as stiff as its normal spring.
-    cohesion_over_stiffness: Option<(f64, f64)>,
 }
 
 impl Monitor {
     /// A monitor for a plan, given the observables at t = 0 and the scene's potential-energy range.
     pub fn new(plan: &Plan, initial: &Observables, potential_range: f64) -> Self {
-        let cohesion_over_stiffness = plan.model.pairs.iter().find_map(|p| p.cohesion_over_stiffness());
         Monitor {
             enabled: plan.run.monitor.enabled,
             max_overlap_ratio: plan.run.monitor.max_overlap_ratio,
@@ -69,7 +66,6 @@ impl Monitor {
             dt: plan.model.dt,
             default_dt: plan.report.timescales.default_dt,
             collision_time: plan.report.timescales.collision_time,
-            cohesion_over_stiffness,
         }
     }
 
@@ -141,13 +137,6 @@ impl Monitor {
                     self.initial_overlap, self.initial_elastic
                 ),
                 "dt will not fix it: start the particles apart (lattice spacing at least the largest diameter, walls clear of the bed)".into(),
-                self.dt,
-            );
-        }
-        if let Some((k_c, k_n)) = self.cohesion_over_stiffness {
-            return stop(
-                format!("{what}, with cohesion k_c = {k_c:e} N/m at least the normal stiffness k_n = {k_n:e} N/m"),
-                "dt will not fix it: bonded particles sink into each other; use k_c < k_n".into(),
                 self.dt,
             );
         }

@@ -123,7 +123,7 @@ fn following_the_monitors_advice_makes_an_unstable_run_pass() {
     assert!(advice < 0.5 * limit);
     scene.run.dt = Some(DtSpec::Seconds(advice));
     scene.run.allow_unstable_dt = false;
-    let summary = run_compiled(compile(&scene).unwrap(), &RunOptions { out_dir: Some(out.clone()), threads: 1, ..Default::default() })
+    let summary = run_compiled(compile(&scene).unwrap(), &RunOptions { out_dir: Some(out.clone()), threads: 1, overwrite: true, ..Default::default() })
         .unwrap_or_else(|e| panic!("following \"{message}\" still fails: {e}"));
     assert!(summary.final_observables.finite);
     let _ = std::fs::remove_dir_all(&out);
@@ -195,21 +195,11 @@ fn the_plan_prints_its_impact_speed_estimate() {
 }
 
 #[test]
-fn cohesion_stiffer_than_the_normal_spring_is_named_by_the_plan_and_the_monitor() {
+fn cohesion_stiffer_than_the_normal_spring_is_refused_by_the_plan() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/conformance/cohesive_cluster.toml");
     let text = std::fs::read_to_string(&path).unwrap().replace("cohesion = { stiffness = 50.0 }", "cohesion = { stiffness = 1.0e7 }");
-    let scene = parse_scene(&text).unwrap();
-    let plan = compile(&scene).unwrap().plan;
-    assert!(
-        plan.report.warnings.iter().any(|w| w.contains("k_c = 1e7 N/m is at least the normal stiffness k_n = 1e3 N/m")),
-        "{:?}",
-        plan.report.warnings
-    );
-    let start = row(0.0, 1.0, 0.0);
-    let (monitor, _) = monitor_of(&scene, &start);
-    let e = monitor.check(100, &row(0.01, 1.0, 0.9)).unwrap_err().to_string();
-    assert!(e.contains("cohesion k_c = 1e7 N/m at least the normal stiffness k_n = 1e3 N/m") && e.contains("dt will not fix it"), "{e}");
-    // The shipped cluster (k_c = 50 N/m) draws no such warning.
-    let shipped = compile(&read_scene(&path).unwrap()).unwrap().plan;
-    assert!(!shipped.report.warnings.iter().any(|w| w.contains("cohesion stiffness")), "{:?}", shipped.report.warnings);
+    let e = compile(&parse_scene(&text).unwrap()).unwrap_err().to_string();
+    assert!(e.contains("k_c = 1.0000e7 N/m is not below the normal stiffness k_n = 1.0000e3 N/m") && e.contains("whatever the dt"), "{e}");
+    // The shipped cluster (k_c = 50 N/m) compiles.
+    assert!(compile(&read_scene(&path).unwrap()).is_ok());
 }

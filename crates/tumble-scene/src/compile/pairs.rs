@@ -124,18 +124,16 @@ pub(super) fn pair_table(
                 cohesion_for_stickiness_number(sy, e, effect_length, u, means.reduced_mass)
             }
         };
-        // In contact the pull k_c (δ + L_e) outgrows a linear push k_n δ when k_c ≥ k_n: the pair collapses.
-        if let tumble_contact::NormalLaw::Linear { stiffness, .. } = law.normal
-            && cohesion >= stiffness
-        {
+        let pair = PairParams { normal: law.normal, tangential: law.tangential, cohesion, no_attraction: law.no_attraction, rolling: law.rolling };
+        if let Some((k_c, k_n)) = pair.cohesion_over_stiffness() {
             return Err(SceneError::field(
                 format!("{root}.cohesion"),
                 format!(
-                    "k_c = {cohesion:.4e} N/m is not below the normal stiffness k_n = {stiffness:.4e} N/m: the attraction k_c (δ + L_e) would outgrow the repulsion k_n δ and pull the particles through each other; use k_c < k_n (they then rest at δ = k_c L_e / (k_n − k_c))"
+                    "k_c = {k_c:.4e} N/m is not below the normal stiffness k_n = {k_n:.4e} N/m: the attraction k_c (δ + L_e) would outgrow the repulsion k_n δ and pull the particles through each other whatever the dt; use k_c < k_n (they then rest at δ = k_c L_e / (k_n − k_c))"
                 ),
             ));
         }
-        pairs.push(PairParams { normal: law.normal, tangential: law.tangential, cohesion, no_attraction: law.no_attraction, rolling: law.rolling });
+        pairs.push(pair);
     }
     let stickiness = first_material.and_then(|m| {
         let k = m as usize * (n_materials + 1);

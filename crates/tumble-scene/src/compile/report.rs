@@ -128,11 +128,6 @@ pub(super) fn warnings(model: &PhysicsModel, timescales: &Timescales, particles:
                 t * TANGENTIAL_STEP_SHARE
             ));
     }
-    if let Some((k_c, k_n)) = pairs.iter().find_map(PairParams::cohesion_over_stiffness) {
-        warnings.push(format!(
-            "cohesion stiffness k_c = {k_c:e} N/m is at least the normal stiffness k_n = {k_n:e} N/m: the net force on a bonded contact grows more attractive with overlap, so particles sink into each other whatever the dt; use k_c < k_n"
-        ));
-    }
     if looks_quasi_static(particles, pairs, gravity, walls, fluid.as_ref()) {
         warnings.push(
             "this scene looks quasi-static (gravity, walls, particles starting at rest, no fluid) but its friction is history-free: \
