@@ -33,6 +33,11 @@ const MAX_STEPPED_PARTICLES: usize = 500;
 const MAX_STEPPED_POLYHEDRA: usize = 100;
 const STEPS: u64 = 3;
 
+/// Scenes that validly ask for more particles than this are not compiled: a debug build places
+/// a million in a few seconds, and such a scene is big rather than malformed. Those that ask for
+/// more than memory holds or ids allow are compiled, to see them refused.
+const MAX_COMPILED_PARTICLES: f64 = 1e6;
+
 fn env_u64(name: &str) -> Option<u64> {
     let v = std::env::var(name).ok()?;
     let v = v.trim();
@@ -117,6 +122,27 @@ fn gpu_plan_estimate(c: &CompiledScene) -> u64 {
         + tumble_gpu::bytes_per_particle(&c.plan)
 }
 
+/// How many particles a scene's groups ask for (the compiler's own count, before it places any).
+fn requested_particles(scene: &tumble::Scene) -> f64 {
+    let group = |g: &tumble_scene::schema::ParticleGroup| {
+        if let Some(list) = &g.positions {
+            list.len() as f64
+        } else if let Some(l) = &g.lattice {
+            (0..3).map(|k| ((l.max[k] - l.min[k]) / l.spacing + 1e-9).floor().max(0.0)).product::<f64>()
+        } else {
+            g.random.as_ref().map_or(0.0, |r| r.count as f64)
+        }
+    };
+    scene.particles.iter().map(group).filter(|n| n.is_finite()).sum()
+}
+
+/// Linux's MemAvailable in bytes (0 where unknown, so every scene is compiled).
+fn available_memory() -> f64 {
+    let info = std::fs::read_to_string("/proc/meminfo").unwrap_or_default();
+    let kib = info.lines().find(|l| l.starts_with("MemAvailable:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok());
+    kib.map_or(0.0, |k| k * 1024.0)
+}
+
 fn run_case(bytes: &[u8], scratch: &Path) -> Verdict {
     let text = match std::str::from_utf8(bytes) {
         Ok(t) => t,
@@ -133,6 +159,11 @@ fn run_case(bytes: &[u8], scratch: &Path) -> Verdict {
         Ok(s) => s,
         Err(e) => return check_refusal(&e, text).map(|_| parse_class(text, &e)),
     };
+    let asked = requested_particles(&scene);
+    if asked > MAX_COMPILED_PARTICLES && asked <= u32::MAX as f64 && asked * 512.0 <= available_memory() {
+        // A big scene the compiler would place particle by particle: slow, not malformed.
+        return Ok("not compiled: asks for over a million particles".into());
+    }
     let compiled = match tumble::compile(&scene) {
         Ok(c) => c,
         Err(e) => return check_refusal(&e, text).map(|_| compile_class(&e)),
@@ -301,4 +332,18 @@ fn malformed_and_extreme_scenes_are_refused_on_one_line_or_run() {
         }
     }
     assert!(findings.is_empty(), "{} of {done} cases failed (see FINDING above)", findings.len());
+}
+
+/// Regression (fuzz seed 2): spheres of 2e-308 m in a 1 m box ask for 2^63 search cells, and
+/// the plan's memory estimate overflowed multiplying them.
+#[test]
+fn the_memory_estimate_of_vanishing_spheres_in_a_large_box_is_finite() {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/test/sparse_lattice.toml")).unwrap();
+    let text = text.replace("diameter = 0.004", "diameter = 2.2250738585072014e-308");
+    let compiled = tumble::compile(&tumble::parse_scene(&text).unwrap()).unwrap();
+    let n = compiled.particles.len();
+    assert_eq!(n, 52 * 52 * 52);
+    let cells_bytes = compiled.plan.memory_bytes(n) - n * compiled.plan.tuning.bytes_per_particle;
+    assert_eq!(cells_bytes, ((1 << 26) + 1) * 4, "the CPU grid's 2^26 cells of 4 bytes");
+    assert!(gpu_plan_estimate(&compiled) > 0);
 }

@@ -170,7 +170,8 @@ pub(crate) fn compile_particles(
             (shapes.len() - 1) as u16
         }));
     }
-    let particles = generate(scene, material_index, &group_shape, &shapes)?;
+    // Sizes and speeds are checked before any particle is placed: a NaN or negative diameter
+    // passes the random-fill check and would place every particle of the group.
     for (g, group) in scene.particles.iter().enumerate() {
         let ShapeSection::Sphere(s) = &group.shape else { continue };
         let f = |x: &str| format!("particles[{g}].shape.sphere.{x}");
@@ -201,6 +202,7 @@ pub(crate) fn compile_particles(
             non_negative(&format!("particles[{g}].velocity.random.std"), r.random.std)?;
         }
     }
+    let particles = generate(scene, material_index, &group_shape, &shapes)?;
     if particles.is_empty() {
         return Err(SceneError::field("particles", "the scene has no particles; add a [[particles]] group"));
     }

@@ -268,7 +268,9 @@ impl Plan {
     /// Memory estimate for `n` particles on the CPU backend, in bytes.
     pub fn memory_bytes(&self, n: usize) -> usize {
         let [cx, cy, cz] = self.grid_dims();
-        n * self.tuning.bytes_per_particle + (cx * cy * cz + 1) * 4
+        // The CPU's cell grid holds at most 2^26 cells (tumble-broad's CellGrid coarsens past that).
+        let cells = cx.saturating_mul(cy).saturating_mul(cz).min(1 << 26);
+        n * self.tuning.bytes_per_particle + (cells + 1) * 4
     }
 
     fn grid_dims(&self) -> [usize; 3] {
