@@ -12,8 +12,7 @@ fn corpus() -> Vec<(PathBuf, String)> {
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .map(|p| {
-            // Lossy: one scene of the corpus is not UTF-8 on purpose.
-            let text = String::from_utf8_lossy(&std::fs::read(&p).unwrap()).into_owned();
+            let text = std::fs::read_to_string(&p).unwrap();
             let expect = text
                 .lines()
                 .next()

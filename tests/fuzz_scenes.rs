@@ -105,8 +105,8 @@ fn parse_class(text: &str, e: &SceneError) -> String {
 /// The class of a compile refusal: a limit (counts, memory, steps, capacities) or a value.
 fn compile_class(e: &SceneError) -> String {
     let m = &e.message;
-    let limit = ["at most", "GiB", "32-bit", "steps, more than", "jams", "placed only"].iter().any(|k| m.contains(k));
     let section = e.field.as_deref().unwrap_or("?").split(['.', '[']).next().unwrap_or("?").to_string();
+    let limit = section != "name" && ["at most", "GiB", "32-bit", "steps, more than", "jams", "placed only"].iter().any(|k| m.contains(k));
     format!("refused: {} ({section})", if limit { "limit" } else { "value" })
 }
 

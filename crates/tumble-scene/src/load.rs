@@ -85,6 +85,17 @@ mod tests {
     }
 
     #[test]
+    fn a_file_that_is_not_utf8_is_refused_at_its_line_and_column() {
+        // Found by the scene fuzzer: the refusal named the file only.
+        let path = std::env::temp_dir().join(format!("tumble-not-utf8-{}.toml", std::process::id()));
+        std::fs::write(&path, b"name = \"a\"\n[run]\nintegrator = \"ver\xfflet\"\n").unwrap();
+        let e = read_scene(&path).unwrap_err();
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(e.line_col, Some((3, 18)));
+        assert!(e.to_string().ends_with(":3:18: byte 0xff is not UTF-8 text; a scene file is UTF-8"), "{e}");
+    }
+
+    #[test]
     fn a_type_error_names_the_field_and_cuts_long_values() {
         let e = error_of("name = \"a\"\n[run]\nduration = \"long\"\n");
         assert!(e.starts_with("line 3, column 12: run.duration: invalid type: string \"long\", expected f64"), "{e}");
