@@ -34,9 +34,10 @@ const MAX_STEPPED_POLYHEDRA: usize = 100;
 const STEPS: u64 = 3;
 
 /// Scenes that validly ask for more particles than this are not compiled: a debug build places
-/// a million in a few seconds, and such a scene is big rather than malformed. Those that ask for
-/// more than memory holds or ids allow are compiled, to see them refused.
-const MAX_COMPILED_PARTICLES: f64 = 1e6;
+/// a million in seconds (minutes where they fill a quarter of their region), and such a scene is
+/// big rather than malformed. Those that ask for more than memory holds or ids allow are
+/// compiled, to see them refused.
+const MAX_COMPILED_PARTICLES: f64 = 2e5;
 
 fn env_u64(name: &str) -> Option<u64> {
     let v = std::env::var(name).ok()?;
@@ -162,7 +163,7 @@ fn run_case(bytes: &[u8], scratch: &Path) -> Verdict {
     let asked = requested_particles(&scene);
     if asked > MAX_COMPILED_PARTICLES && asked <= u32::MAX as f64 && asked * 512.0 <= available_memory() {
         // A big scene the compiler would place particle by particle: slow, not malformed.
-        return Ok("not compiled: asks for over a million particles".into());
+        return Ok("not compiled: asks for over 200,000 particles".into());
     }
     let compiled = match tumble::compile(&scene) {
         Ok(c) => c,
