@@ -103,6 +103,11 @@ impl Polyhedron {
 
     /// A rectangular box with the given half extents (body axes along the box axes).
     pub fn cuboid(half: DVec3) -> Polyhedron {
+        Polyhedron::try_cuboid(half).expect("a box with positive half extents")
+    }
+
+    /// A box, or `None` where its sides are too unequal for a hull (flatter than about 1:1000).
+    pub fn try_cuboid(half: DVec3) -> Option<Polyhedron> {
         let mut pts = Vec::with_capacity(8);
         for &x in &[-half.x, half.x] {
             for &y in &[-half.y, half.y] {
@@ -111,7 +116,7 @@ impl Polyhedron {
                 }
             }
         }
-        Polyhedron::from_points(&pts).expect("a box with positive half extents")
+        Polyhedron::from_points(&pts)
     }
 
     /// A regular tetrahedron of edge length `edge`.
@@ -167,6 +172,11 @@ impl Polyhedron {
 
     /// A right prism on a regular `n`-gon (`n ≥ 3`) of circumradius `radius`, axis along z, total `height`.
     pub fn prism(n: usize, radius: f64, height: f64) -> Polyhedron {
+        Polyhedron::try_prism(n, radius, height).expect("a prism with positive radius and height")
+    }
+
+    /// A prism, or `None` where it is too flat or too thin for a hull.
+    pub fn try_prism(n: usize, radius: f64, height: f64) -> Option<Polyhedron> {
         assert!(n >= 3, "a prism needs at least a triangle");
         let mut pts = Vec::with_capacity(2 * n);
         for k in 0..n {
@@ -175,7 +185,7 @@ impl Polyhedron {
                 pts.push(DVec3::new(radius * th.cos(), radius * th.sin(), z));
             }
         }
-        Polyhedron::from_points(&pts).expect("a prism with positive radius and height")
+        Polyhedron::from_points(&pts)
     }
 
     /// The same shape scaled by `factor > 0` about its centre of mass (one particle type per size).

@@ -6,7 +6,7 @@ pub fn parse_scene(text: &str) -> Result<Scene, SceneError> {
     toml::from_str::<Scene>(text).map_err(|e| {
         let line_col = e.span().map(|span| line_col(text, span.start));
         let field = e.span().and_then(|span| field_at(text, span.start));
-        let mut message = shorten_quoted(&e.message().trim().replace('\n', " "));
+        let mut message = e.message().trim().replace('\n', " ");
         // Untagged forms say only that no form matched: name the valid ones.
         for (name, forms) in UNTAGGED_FORMS {
             if message.contains(&format!("untagged enum {name}")) {
@@ -35,26 +35,11 @@ fn field_at(text: &str, offset: usize) -> Option<String> {
     } else {
         header.trim_start_matches('[').split(']').next()?.trim().to_string()
     };
-    Some(format!("{table}.{key}"))
-}
-
-/// `message` with every quoted text over 60 characters cut to its first 40 (a scene's value
-/// is echoed back, and it may be any length).
-fn shorten_quoted(message: &str) -> String {
-    let mut out = String::new();
-    for (k, part) in message.split('"').enumerate() {
-        if k > 0 {
-            out.push('"');
-        }
-        // Odd parts are inside quotes.
-        if k % 2 == 1 && part.chars().count() > 60 {
-            out.extend(part.chars().take(40));
-            out.push_str(&format!("… ({} characters)", part.chars().count()));
-        } else {
-            out.push_str(part);
-        }
+    // A header that is itself broken names no table; the line and column still say where.
+    if table.is_empty() || !table.chars().all(|c| c.is_ascii_alphanumeric() || "_-.[]".contains(c)) {
+        return None;
     }
-    out
+    Some(format!("{table}.{key}"))
 }
 
 const UNTAGGED_FORMS: [(&str, &str); 3] = [
@@ -65,13 +50,23 @@ const UNTAGGED_FORMS: [(&str, &str); 3] = [
 
 /// Reads and parses a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    let bytes = std::fs::read(path).map_err(|e| SceneError {
         file: Some(path.to_path_buf()),
         line_col: None,
         field: None,
         message: format!("cannot read the scene file: {e}"),
     })?;
-    parse_scene(&text).map_err(|e| e.in_file(path))
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        // Where the text stops being UTF-8, counted in the valid text before it.
+        let valid = std::str::from_utf8(&bytes[..e.valid_up_to()]).unwrap_or_default();
+        SceneError {
+            file: Some(path.to_path_buf()),
+            line_col: Some(line_col(valid, valid.len())),
+            field: None,
+            message: format!("byte {:#04x} is not UTF-8 text; a scene file is UTF-8", bytes[e.valid_up_to()]),
+        }
+    })?;
+    parse_scene(text).map_err(|e| e.in_file(path))
 }
 
 fn line_col(text: &str, offset: usize) -> (usize, usize) {
@@ -87,6 +82,17 @@ mod tests {
 
     fn error_of(text: &str) -> String {
         parse_scene(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_file_that_is_not_utf8_is_refused_at_its_line_and_column() {
+        // Found by the scene fuzzer: the refusal named the file only.
+        let path = std::env::temp_dir().join(format!("tumble-not-utf8-{}.toml", std::process::id()));
+        std::fs::write(&path, b"name = \"a\"\n[run]\nintegrator = \"ver\xfflet\"\n").unwrap();
+        let e = read_scene(&path).unwrap_err();
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(e.line_col, Some((3, 18)));
+        assert!(e.to_string().ends_with(":3:18: byte 0xff is not UTF-8 text; a scene file is UTF-8"), "{e}");
     }
 
     #[test]

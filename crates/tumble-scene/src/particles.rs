@@ -2,7 +2,9 @@
 
 use crate::compile::{non_negative, positive};
 use crate::rng::Rng;
-use crate::schema::{DiameterSpec, FlowSection, LatticeSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, VelocitySpec};
+use crate::schema::{
+    DiameterSpec, DomainSection, FlowSection, LatticeSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, V3, VelocitySpec,
+};
 use crate::shapes::{ParticleShape, SPHERE};
 use crate::{Scene, SceneError};
 use glam::{DQuat, DVec3};
@@ -86,6 +88,12 @@ pub fn generate(
             (None, Some(sphere)) => sphere.diameter.mean_cube(),
             (None, None) => unreachable!("every non-sphere group has a shape"),
         };
+        if let Some(r) = &group.random {
+            check_region(field("random.region"), r.region.min, r.region.max, &scene.domain)?;
+        }
+        if let Some(l) = &group.lattice {
+            check_region(field("lattice"), l.min, l.max, &scene.domain)?;
+        }
         let centres = group_positions(group, g, &mut rng, &mut diameter, mean_cube)?;
         // velocity = "flow": the fluid velocity where each particle starts.
         let flow = match (&group.velocity, scene.fluid.as_ref().map(|f| &f.flow)) {
@@ -162,7 +170,8 @@ pub(crate) fn compile_particles(
             (shapes.len() - 1) as u16
         }));
     }
-    let particles = generate(scene, material_index, &group_shape, &shapes)?;
+    // Sizes and speeds are checked before any particle is placed: a NaN or negative diameter
+    // passes the random-fill check and would place every particle of the group.
     for (g, group) in scene.particles.iter().enumerate() {
         let ShapeSection::Sphere(s) = &group.shape else { continue };
         let f = |x: &str| format!("particles[{g}].shape.sphere.{x}");
@@ -193,6 +202,7 @@ pub(crate) fn compile_particles(
             non_negative(&format!("particles[{g}].velocity.random.std"), r.random.std)?;
         }
     }
+    let particles = generate(scene, material_index, &group_shape, &shapes)?;
     if particles.is_empty() {
         return Err(SceneError::field("particles", "the scene has no particles; add a [[particles]] group"));
     }
@@ -276,6 +286,22 @@ fn check_counts(scene: &Scene) -> Result<(), SceneError> {
         ));
     }
     Ok(())
+}
+
+/// Refuses a `random` region or a lattice that is not a box inside the domain before any
+/// particle is placed in it (one far outside would place every particle before the domain check).
+fn check_region(field: String, min: V3, max: V3, domain: &DomainSection) -> Result<(), SceneError> {
+    let inside = (0..3).all(|k| {
+        let slack = 1e-9 * (domain.max[k] - domain.min[k]).abs();
+        min[k] < max[k] && min[k] >= domain.min[k] - slack && max[k] <= domain.max[k] + slack
+    });
+    if inside {
+        return Ok(());
+    }
+    Err(SceneError::field(
+        field,
+        format!("[{min:?} .. {max:?}] must be a box (min < max on every axis) inside the domain [{:?} .. {:?}]", domain.min, domain.max),
+    ))
 }
 
 /// Random sequential placement of equal spheres jams near a 38 % volume fraction; asking
@@ -387,7 +413,7 @@ fn group_positions(
             'scan: for dz in -1..=1 {
                 for dy in -1..=1 {
                     for dx in -1..=1 {
-                        if let Some(list) = cells.get(&(cx + dx, cy + dy, cz + dz)) {
+                        if let Some(list) = cells.get(&(cx.saturating_add(dx), cy.saturating_add(dy), cz.saturating_add(dz))) {
                             for &k in list {
                                 let (y, e) = out[k];
                                 if (x - y).length() < 0.5 * (d + e) {

@@ -282,6 +282,7 @@ impl Plan {
     /// the cell grid as large as the domain (it spans the particles' bounding box).
     pub fn memory_bytes(&self, n: usize) -> usize {
         let [cx, cy, cz] = self.grid_dims();
+        // CellGrid::layout caps the grid at 2^26 cells.
         n * self.tuning.bytes_per_particle + (cx * cy * cz + 1) * 4
     }
 

@@ -76,7 +76,13 @@ pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<Part
         ShapeSection::Box(b) => {
             let half =
                 DVec3::new(positive("box.size[0]", b.size[0])?, positive("box.size[1]", b.size[1])?, positive("box.size[2]", b.size[2])?) * 0.5;
-            ("box", Polyhedron::cuboid(half))
+            let body = Polyhedron::try_cuboid(half).ok_or_else(|| {
+                SceneError::field(
+                    field("box.size"),
+                    format!("{:?} is too flat or too thin for a solid; keep the sides within 1:100 of each other", b.size),
+                )
+            })?;
+            ("box", body)
         }
         ShapeSection::Platonic(p) => {
             let unit: fn(f64) -> Polyhedron = match p.kind.as_str() {
@@ -107,7 +113,14 @@ pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<Part
             if !(3..=MAX_PRISM_SIDES).contains(&p.sides) {
                 return Err(SceneError::field(field("prism.sides"), format!("must be from 3 to {MAX_PRISM_SIDES}, got {}", p.sides)));
             }
-            ("prism", Polyhedron::prism(p.sides as usize, positive("prism.radius", p.radius)?, positive("prism.height", p.height)?))
+            let (radius, height) = (positive("prism.radius", p.radius)?, positive("prism.height", p.height)?);
+            let body = Polyhedron::try_prism(p.sides as usize, radius, height).ok_or_else(|| {
+                SceneError::field(
+                    field("prism"),
+                    format!("radius {radius:e} m and height {height:e} m make a prism too flat or too thin for a solid; keep them within 1:100 of each other"),
+                )
+            })?;
+            ("prism", body)
         }
     };
     Ok(Some(ParticleShape::new(format!("particles[{g}].shape.{name}"), body)))
@@ -116,6 +129,21 @@ pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<Part
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn boxes_and_prisms_within_one_to_a_hundred_are_solids_at_every_length() {
+        // The refusal's advice: sides within 1:100 always make a hull, from 1 nm to 1 km.
+        for scale in [MIN_LENGTH * 100.0, 1e-3, 1.0, MAX_LENGTH] {
+            for (a, b) in [(1.0, 0.01), (0.01, 1.0)] {
+                assert!(Polyhedron::try_cuboid(DVec3::new(a, b, b) * scale).is_some(), "box {a}:{b} at {scale}");
+                assert!(Polyhedron::try_cuboid(DVec3::new(a, a, b) * scale).is_some(), "box {a}:{a}:{b} at {scale}");
+                for sides in [3, 4, 7, 64, MAX_PRISM_SIDES as usize] {
+                    assert!(Polyhedron::try_prism(sides, a * scale, b * scale).is_some(), "prism {sides} {a}:{b} at {scale}");
+                }
+            }
+        }
+        assert!(Polyhedron::try_cuboid(DVec3::new(1e-6, 0.1, 0.15)).is_none());
+    }
 
     #[test]
     fn a_cube_as_given_keeps_its_faces_on_the_axes() {
