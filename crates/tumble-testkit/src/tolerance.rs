@@ -86,6 +86,9 @@ pub enum Observable {
     CentralImpactSpin,
     /// A rolling sphere's contact-point and centre speeds on a belt against V and 2/7 V, m/s.
     BeltSpeed,
+    /// Kinetic + potential energy of a body wrapping round a periodic axis, and its potential
+    /// against −m g·x_unwrapped, over m g times the distance it travelled.
+    PeriodicEnergy,
 }
 
 /// The tolerance table.
@@ -175,6 +178,9 @@ impl Tolerance {
             (CentralImpactSpin, F32) => 1e-3,
             // 2/7 against the 1 of a sphere that slides along: 0.36 m/s at V = 0.5 m/s.
             (BeltSpeed, _) => 2e-3,
+            // One missed wrap is m g_x L, 1/12 of the scale after twelve wraps.
+            (PeriodicEnergy, F64) => 1e-9,
+            (PeriodicEnergy, F32) => 1e-4,
         }
     }
 
