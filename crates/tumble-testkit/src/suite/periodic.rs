@@ -11,7 +11,8 @@ use tumble_scene::schema::BackendName;
 
 /// `scenes/test/periodic_incline.toml`: one sphere slides without friction down a plane
 /// inclined at 20°, wrapping round x about a dozen times. Set at its resting overlap, its
-/// kinetic + potential energy stays at its start (Verlet is exact for the constant force), the
+/// kinetic + potential energy stays at its start (Verlet is exact for the constant force; f32
+/// rounds each velocity increment), the
 /// potential is −m g·x at the unwrapped position x + n L, and n counts the wraps of
 /// x(t) = x0 + v0 t + ½ g_x t².
 pub fn a_sphere_sliding_round_a_periodic_incline_keeps_its_energy(backend: BackendName) {
@@ -27,7 +28,7 @@ pub fn a_sphere_sliding_round_a_periodic_incline_keeps_its_energy(backend: Backe
     let start = sim.observables();
     let (x0, v0) = (0.025, 1.0);
     let chunks = 20;
-    let mut worst = 0.0f64;
+    let (mut worst, mut worst_potential) = (0.0f64, 0.0f64);
     for c in 1..=chunks {
         sim.advance(steps / chunks);
         let t = (c * (steps / chunks)) as f64 * dt;
@@ -37,21 +38,27 @@ pub fn a_sphere_sliding_round_a_periodic_incline_keeps_its_energy(backend: Backe
         let travelled = x0 + v0 * t + 0.5 * g.x * t * t;
         // The wraps so far: the box's image the particle is in.
         assert_eq!(s.image[0], [(travelled / l.x).floor() as i32, 0, 0], "t = {t}: {x} for {travelled}");
-        assert!((x.x - travelled).abs() < 1e-6, "t = {t}: unwrapped x {} against x0 + v0 t + ½ g t² = {travelled}", x.x);
-        // The potential the backend reports is that of the unwrapped position (a missed wrap: m g_x L = 5e-3 J).
+        // f64 is exact to rounding; f32's biased velocity increments (above) walk x off by N² 2⁻²⁴ v Δt / 2.
+        let off = match crate::Precision::of(backend) {
+            crate::Precision::F64 => 1e-9,
+            crate::Precision::F32 => 1e-3,
+        };
+        assert!((x.x - travelled).abs() < off, "t = {t}: unwrapped x {} against x0 + v0 t + ½ g t² = {travelled}", x.x);
+        // The potential the backend reports is that of the unwrapped position (a missed wrap: m g_x L = 5.5e-3 J).
         let unwrapped = -m * g.dot(x);
-        let scale = m * g.length() * (travelled - x0 + d);
+        let scale = o.kinetic_energy + m * g.length() * (travelled - x0 + d);
         assert!(
-            (o.potential_energy - unwrapped).abs() <= Tolerance::on(PeriodicEnergy, backend) * scale,
+            (o.potential_energy - unwrapped).abs() <= Tolerance::on(PeriodicPotential, backend) * scale,
             "t = {t}: potential {} against −m g·x_unwrapped {unwrapped}",
             o.potential_energy
         );
+        worst_potential = worst_potential.max((o.potential_energy - unwrapped).abs() / scale);
         let drift = (o.kinetic_energy + o.potential_energy) - (start.kinetic_energy + start.potential_energy);
         worst = worst.max(drift.abs() / scale);
         assert!(drift.abs() <= Tolerance::on(PeriodicEnergy, backend) * scale, "t = {t}: kinetic + potential moved by {drift} J of {scale} J");
     }
     let wraps = sim.state().image[0][0];
-    println!("{backend:?}: {wraps} wraps, kinetic + potential held to {worst:.1e} of m g Δx");
+    println!("{backend:?}: {wraps} wraps, kinetic + potential held to {worst:.1e}, potential against −m g·x_unwrapped {worst_potential:.1e} of the scale");
     assert!(wraps >= 10, "the sphere should wrap round x at least ten times, wrapped {wraps}");
 }
 
