@@ -170,9 +170,17 @@ pub fn chute(args: &[String]) -> i32 {
         l.x / D,
         l.y / D
     );
-    let _ = writeln!(csv, "# profile: mean v_x of the flowing spheres per {BIN} d bin above the base's centres, {} states from t = {t_from:.2} s", profile.samples);
+    let _ = writeln!(
+        csv,
+        "# profile: mean v_x of the flowing spheres per {BIN} d bin above the base's centres, {} states from t = {t_from:.2} s",
+        profile.samples
+    );
     let _ = writeln!(csv, "# flow height h = {:.2} d (density half the bulk's)", f.h);
-    let _ = writeln!(csv, "# Bagnold fit v = A (h^1.5 - (h - z)^1.5), z and h in d: A = {:.4e} m/s, RMS deviation {:.3} of v(h)", f.bagnold.0, f.bagnold.1);
+    let _ = writeln!(
+        csv,
+        "# Bagnold fit v = A (h^1.5 - (h - z)^1.5), z and h in d: A = {:.4e} m/s, RMS deviation {:.3} of v(h)",
+        f.bagnold.0, f.bagnold.1
+    );
     let _ = writeln!(csv, "# linear fit v = B z: B = {:.4e} m/s, RMS deviation {:.3} of v(h)", f.linear.0, f.linear.1);
     let _ = writeln!(
         csv,
@@ -206,9 +214,7 @@ fn chart(f: &Fit, theta: f64) -> String {
     let xa = LinearAxis { lo: 0.0, hi: ((vmax / step).ceil() + 1.0) * step, step, p0: 90.0, p1: 680.0 };
     let ya = LinearAxis { lo: 0.0, hi: zmax.ceil() + 1.0, step: 1.0, p0: 450.0, p1: 60.0 };
     linear_frame(&mut doc, xa, YAxis::Linear(ya), "mean v_x, m/s", "height above the base z / d");
-    let curve = |g: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
-        (0..=100).map(|k| f.h * k as f64 / 100.0).map(|z| (xa.px(g(z)), ya.px(z))).collect()
-    };
+    let curve = |g: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> { (0..=100).map(|k| f.h * k as f64 / 100.0).map(|z| (xa.px(g(z)), ya.px(z))).collect() };
     doc.polyline(&curve(&|z| f.bagnold.0 * bagnold_shape(f.h, z)), "#D55E00", 2.0, None, 1.0);
     doc.polyline(&curve(&|z| f.linear.0 * z), "#999999", 1.5, Some("5,3"), 1.0);
     for r in &f.rows {

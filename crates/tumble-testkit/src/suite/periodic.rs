@@ -58,7 +58,9 @@ pub fn a_sphere_sliding_round_a_periodic_incline_keeps_its_energy(backend: Backe
         assert!(drift.abs() <= Tolerance::on(PeriodicEnergy, backend) * scale, "t = {t}: kinetic + potential moved by {drift} J of {scale} J");
     }
     let wraps = sim.state().image[0][0];
-    println!("{backend:?}: {wraps} wraps, kinetic + potential held to {worst:.1e}, potential against −m g·x_unwrapped {worst_potential:.1e} of the scale");
+    println!(
+        "{backend:?}: {wraps} wraps, kinetic + potential held to {worst:.1e}, potential against −m g·x_unwrapped {worst_potential:.1e} of the scale"
+    );
     assert!(wraps >= 10, "the sphere should wrap round x at least ten times, wrapped {wraps}");
 }
 
