@@ -84,23 +84,30 @@ fn drag_acceleration(x: vec3<f32>, v: vec3<f32>, k: f32) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// Wraps periodic axes; flags the particle removed when it left through another side.
+// Wraps periodic axes, counting the box lengths taken off into the particle's image (by
+// original id); flags the particle removed when it left through another side.
 fn boundaries(i: u32) {
     var x = pos[i].xyz;
+    var wraps = vec3<i32>(0);
     for (var k = 0; k < 3; k++) {
         let l = params.extent[k];
         let h = 0.5 * l;
         if params.periodic[k] != 0u {
             if x[k] >= h {
                 x[k] -= l;
+                wraps[k] += 1;
             } else if x[k] < -h {
                 x[k] += l;
+                wraps[k] -= 1;
             }
             if x[k] >= h || x[k] < -h {
                 let from_min = x[k] + h;
-                x[k] = from_min - floor(from_min / l) * l - h;
+                let lengths = floor(from_min / l);
+                x[k] = from_min - lengths * l - h;
+                wraps[k] += i32(lengths);
                 if x[k] >= h {
                     x[k] = -h;
+                    wraps[k] += 1;
                 }
             }
         } else if x[k] < -h || x[k] > h {
@@ -108,6 +115,10 @@ fn boundaries(i: u32) {
         }
     }
     pos[i] = vec4<f32>(x, pos[i].w);
+    if PERIODIC && any(wraps != vec3<i32>(0)) {
+        let id = props[i].z;
+        image[id] = vec4<i32>(image[id].xyz + wraps, 0);
+    }
 }
 
 fn alive(i: u32) -> bool {

@@ -163,6 +163,25 @@ fn rotational_energy(i: u32, w: vec4<f32>, shape: u32) -> vec2<f32> {
     return 0.5 * tf_div_f(tf_dot(w.xyz, w.xyz), w.w);
 }
 
+// −g·x of slot i at its unwrapped position x + n∘L (periodic axes), in two-float: n∘L is
+// formed exactly from the f32 extent, so the only error beyond the sum's is L's rounding to
+// f32 (2⁻²⁴ of g·(n∘L), no larger than the summation's own; docs/chute.md).
+fn potential_height(i: u32, x: vec3<f32>) -> vec2<f32> {
+    let g_hi = reduce_level.gravity_hi.xyz;
+    let g_lo = reduce_level.gravity_lo.xyz;
+    var height = tf_dot_tf(g_hi, g_lo, x);
+    if PERIODIC {
+        let n = image[props[i].z].xyz;
+        for (var k = 0u; k < 3u; k++) {
+            if n[k] != 0 {
+                let shift = tf_product(f32(n[k]), params.extent[k]);
+                height = tf_add(height, tf_mul(shift, vec2<f32>(g_hi[k], g_lo[k])));
+            }
+        }
+    }
+    return height;
+}
+
 // Slot i's terms, as the host's Observables::of_particles and add_contacts take them:
 // energies of movable particles only, books and contacts of every particle in the domain.
 fn slot_partial(i: u32) -> Partial {
@@ -180,7 +199,7 @@ fn slot_partial(i: u32) -> Partial {
     if v.w != 0.0 {
         let m = alpha[i].w;
         p.sums[REDUCE_KINETIC] = 0.5 * tf_mul_f(tf_dot(v.xyz, v.xyz), m);
-        p.sums[REDUCE_POTENTIAL] = -tf_mul_f(tf_dot_tf(reduce_level.gravity_hi.xyz, reduce_level.gravity_lo.xyz, x.xyz), m);
+        p.sums[REDUCE_POTENTIAL] = -tf_mul_f(potential_height(i, x.xyz), m);
         p.sums[REDUCE_MASS].x = m;
         if ROTATION {
             let w = omega[i];

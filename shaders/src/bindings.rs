@@ -22,6 +22,8 @@ pub enum Feature {
     Moving,
     /// Polyhedral particles (the POLYHEDRA switch).
     Polyhedra,
+    /// A periodic axis (the PERIODIC switch).
+    Periodic,
 }
 
 /// One binding of a kernel module.
@@ -39,12 +41,13 @@ const fn b(name: &'static str, ty: &'static str, access: Access, feature: Featur
 }
 
 use Access::{Read, ReadWrite, Uniform};
-use Feature::{Always, History, Moving, Polyhedra};
+use Feature::{Always, History, Moving, Periodic, Polyhedra};
 
 const V4F: &str = "array<vec4<f32>>";
 const V4U: &str = "array<vec4<u32>>";
 const U32S: &str = "array<u32>";
 const ATOMICS: &str = "array<atomic<u32>>";
+const IMAGES: &str = "array<vec4<i32>>";
 
 /// broad.wgsl: cell index and counting sort.
 pub const BROAD: &[Binding] = &[
@@ -115,6 +118,8 @@ pub const INTEGRATE: &[Binding] = &[
     b("orient", V4F, ReadWrite, Polyhedra),
     // The pair and wall tables, then the shape table (polyhedra).
     b("tables", V4F, Read, Always),
+    // Periodic images per ORIGINAL id: box lengths wrapped off each axis (xyz), so the re-sort never moves them.
+    b("image", IMAGES, ReadWrite, Periodic),
 ];
 
 /// reduce.wgsl: the output row's reductions (observables, wall groups, drums) and the
@@ -145,6 +150,8 @@ pub const REDUCE: &[Binding] = &[
     // Track rank by particle id (NO_TRACK when untracked), and the gathered rows by rank.
     b("track_rank", U32S, Read, Always),
     b("tracks", V4U, ReadWrite, Always),
+    // Periodic images per original id (integrate.wgsl): the potential uses unwrapped positions.
+    b("image", IMAGES, Read, Periodic),
 ];
 
 /// polyhedra_test.wgsl: the narrow-phase harness.

@@ -5,7 +5,7 @@ use tumble_state::{DrumProfile, Observables, TrackRow};
 
 impl CpuSimulation {
     pub fn observables(&self) -> Observables {
-        let mut o = Observables::of_particles(self.state(), self.plan().model.gravity, self.time());
+        let mut o = Observables::of_particles(self.state(), self.plan().model.gravity, self.plan().model.domain.extent(), self.time());
         for c in self.contact_sums() {
             o.add_contacts(c.elastic, c.contacts as u64, c.max_overlap_ratio);
         }

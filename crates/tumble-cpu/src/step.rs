@@ -399,7 +399,8 @@ impl CpuSimulation {
         let domain = self.plan.model.domain;
         let s = &mut self.state;
         if domain.periodic.iter().any(|&p| p) {
-            self.pool.install(|| s.pos.par_iter_mut().for_each(|x| *x = domain.wrap(*x)));
+            let image = &mut s.image;
+            self.pool.install(|| s.pos.par_iter_mut().zip(image.par_iter_mut()).for_each(|(x, n)| *x = domain.wrap_counting(*x, n)));
         }
         if domain.periodic.iter().all(|&p| p) {
             return;

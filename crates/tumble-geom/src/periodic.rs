@@ -32,18 +32,30 @@ impl PeriodicBox {
 
     /// Wraps a position back into the box along the periodic axes.
     #[inline]
-    pub fn wrap(&self, mut x: DVec3) -> DVec3 {
+    pub fn wrap(&self, x: DVec3) -> DVec3 {
+        let mut image = [0; 3];
+        self.wrap_counting(x, &mut image)
+    }
+
+    /// [`PeriodicBox::wrap`] that also counts the box lengths taken off each axis into `image`
+    /// (+1 per length subtracted), so the unwrapped position `x + image ∘ L` is kept.
+    #[inline]
+    pub fn wrap_counting(&self, mut x: DVec3, image: &mut [i32; 3]) -> DVec3 {
         let l = self.extent();
         for k in 0..3 {
             if self.periodic[k] {
                 if x[k] >= self.max[k] {
                     x[k] -= l[k];
+                    image[k] += 1;
                 } else if x[k] < self.min[k] {
                     x[k] += l[k];
+                    image[k] -= 1;
                 }
                 // A particle moved more than a box length in one step: wrap fully.
                 if x[k] >= self.max[k] || x[k] < self.min[k] {
+                    let lengths = ((x[k] - self.min[k]) / l[k]).floor();
                     x[k] = self.min[k] + (x[k] - self.min[k]).rem_euclid(l[k]);
+                    image[k] += lengths as i32;
                 }
             }
         }
@@ -66,6 +78,19 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn wrap_counting_keeps_the_unwrapped_position(x in -10.0f64..10.0, y in -10.0f64..10.0, z in -4.0f64..4.0) {
+            let d = domain();
+            let x0 = DVec3::new(x, y, z);
+            let mut image = [0; 3];
+            let w = d.wrap_counting(x0, &mut image);
+            let l = d.extent();
+            let back = w + DVec3::new(image[0] as f64, image[1] as f64, image[2] as f64) * l;
+            prop_assert!((back - x0).abs().max_element() < 1e-12, "{x0} wrapped to {w} with {image:?}");
+            prop_assert_eq!(image[2], 0);
+            prop_assert_eq!(w, d.wrap(x0));
+        }
+
         #[test]
         fn minimum_image_is_shortest(dx in -1.99f64..1.99, dy in -2.99f64..2.99, dz in -4.0f64..4.0) {
             let b = domain();

@@ -27,12 +27,13 @@ pub(crate) fn history_entries_per_particle(slots: usize) -> u64 {
     }
 }
 
-/// Device bytes per particle of a plan (history slots and orientations included).
+/// Device bytes per particle of a plan (history slots, orientations and periodic images included).
 pub fn bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
     BYTES_PER_PARTICLE
         + history_bytes_per_particle(crate::upload::history_slots(plan))
         + wall_bytes_per_particle(plan)
         + if plan.model.polyhedra { 16 } else { 0 }
+        + if plan.model.domain.periodic.iter().any(|&p| p) { 16 } else { 0 }
 }
 
 /// Device bytes per grid cell: counts, cursors and starts (u32 each).
@@ -82,6 +83,10 @@ pub struct Buffers {
     pub orient: wgpu::Buffer,
     /// Whether `orient` holds one orientation per particle (and is re-sorted with them).
     pub oriented: bool,
+    /// Periodic images by original id (integrate.wgsl; one dummy element without a periodic axis).
+    pub image: wgpu::Buffer,
+    /// Whether `image` holds one entry per particle.
+    pub imaged: bool,
     /// The two generations of contact-history slots (history.wgsl; 16 bytes each without history).
     pub history: [wgpu::Buffer; 2],
     /// Moving walls: power of the last pass per particle id and wall group (f32), and the
@@ -172,6 +177,8 @@ impl Buffers {
             tables: init(gpu, "tables", &b(tables)),
             orient: init(gpu, "orient", &b(&arrays.orient)),
             oriented: !arrays.orient.is_empty(),
+            image: init(gpu, "image", bytemuck::cast_slice(&arrays.image)),
+            imaged: !arrays.image.is_empty(),
             // Zeroed: no particle holds a spring at t = 0.
             history: [zeroed(gpu, "history a", history_bytes), zeroed(gpu, "history b", history_bytes)],
             wall_power: zeroed(gpu, "wall power", 4 * n * walls.groups),
@@ -201,6 +208,7 @@ impl Buffers {
             "cell_list" => &self.cell_list,
             "tables" => &self.tables,
             "orient" => &self.orient,
+            "image" => &self.image,
             "wall_power" => &self.wall_power,
             "wall_work" => &self.wall_work,
             _ => return None,

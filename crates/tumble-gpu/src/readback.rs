@@ -23,11 +23,13 @@ pub struct DeviceArrays {
     pub stats: Vec<[u32; 2]>,
     /// Orientations (polyhedra scenes; empty otherwise).
     pub orient: Vec<[f32; 4]>,
+    /// Periodic images by original id, not slot (scenes with a periodic axis; empty otherwise).
+    pub image: Vec<[i32; 4]>,
 }
 
 impl DeviceArrays {
     /// The arrays from their bytes, in field order ([`GpuSimulation::array_parts`]).
-    pub(crate) fn from_bytes(bytes: [&[u8]; 11]) -> DeviceArrays {
+    pub(crate) fn from_bytes(bytes: [&[u8]; 12]) -> DeviceArrays {
         fn cast<T: Pod>(bytes: &[u8]) -> Vec<T> {
             bytemuck::pod_collect_to_vec(bytes)
         }
@@ -43,6 +45,7 @@ impl DeviceArrays {
             torque: cast(bytes[8]),
             stats: cast(bytes[9]),
             orient: cast(bytes[10]),
+            image: cast(bytes[11]),
         }
     }
 
@@ -115,7 +118,7 @@ impl GpuSimulation {
     }
 
     /// The buffers of [`DeviceArrays`], in its field order, with the bytes of each it holds.
-    pub(crate) fn array_parts(&self) -> [(&wgpu::Buffer, u64); 11] {
+    pub(crate) fn array_parts(&self) -> [(&wgpu::Buffer, u64); 12] {
         let b = &self.buffers;
         let n = self.slots as u64;
         [
@@ -130,6 +133,7 @@ impl GpuSimulation {
             (&b.torque, 16 * n),
             (&b.stats, 8 * n),
             (&b.orient, if b.oriented { 16 * n } else { 0 }),
+            (&b.image, if b.imaged { 16 * n } else { 0 }),
         ]
     }
 
@@ -138,7 +142,7 @@ impl GpuSimulation {
         let mut parts = self.array_parts().to_vec();
         parts.extend_from_slice(extra);
         let mut v = self.read_bytes(&parts);
-        let rest = v.split_off(11);
+        let rest = v.split_off(12);
         (DeviceArrays::from_bytes(std::array::from_fn(|k| v[k].as_slice())), rest)
     }
 
@@ -189,6 +193,9 @@ impl GpuSimulation {
             s.group.push(self.group[id as usize]);
             s.track.push(self.track[id as usize]);
             s.dissipated.push(a.energy[i][0] as f64);
+            if let Some(n) = a.image.get(id as usize) {
+                s.image.push([n[0], n[1], n[2]]);
+            }
             if self.plan.model.rotation {
                 s.omega.push(v3(a.omega[i]));
                 s.alpha.push(v3(a.alpha[i]));
@@ -223,7 +230,7 @@ impl GpuSimulation {
     }
 
     fn observables_of(&self, a: &DeviceArrays, s: &State, wall_work: &[f64]) -> Observables {
-        let mut o = Observables::of_particles(s, self.plan.model.gravity, self.time());
+        let mut o = Observables::of_particles(s, self.plan.model.gravity, self.plan.model.domain.extent(), self.time());
         for i in a.alive_by_id() {
             o.add_contacts(a.force[i][3] as f64, a.stats[i][0] as u64, f32::from_bits(a.stats[i][1]) as f64);
         }

@@ -30,6 +30,7 @@ impl GpuSimulation {
             ("cell_start", &b.cell_start),
             ("tables", &b.tables),
             ("orient", &b.orient),
+            ("image", &b.image),
             ("history a", &b.history[0]),
             ("history b", &b.history[1]),
             ("wall_power", &b.wall_power),

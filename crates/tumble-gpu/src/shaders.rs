@@ -195,6 +195,7 @@ impl Switches {
             Feature::History => self.history,
             Feature::Moving => self.moving,
             Feature::Polyhedra => self.polyhedra,
+            Feature::Periodic => self.periodic,
         }
     }
 

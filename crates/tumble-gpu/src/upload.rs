@@ -171,6 +171,8 @@ pub struct ParticleArrays {
     pub energy: Vec<[f32; 4]>,
     /// Orientation quaternion (x, y, z, w), polyhedra scenes only (empty otherwise).
     pub orient: Vec<[f32; 4]>,
+    /// Periodic images (xyz, w unused) by ORIGINAL id, scenes with a periodic axis only (empty otherwise).
+    pub image: Vec<[i32; 4]>,
 }
 
 impl ParticleArrays {
@@ -201,6 +203,13 @@ impl ParticleArrays {
             }
             a.props.push([(s.reach[i] as f32).to_bits(), s.material[i] as u32, s.id[i], flags]);
             a.energy.push([0.0; 4]);
+        }
+        if !s.image.is_empty() {
+            a.image = vec![[0; 4]; s.id.iter().map(|&id| id as usize + 1).max().unwrap_or(0)];
+            for i in 0..s.len() {
+                let n = s.image[i];
+                a.image[s.id[i] as usize] = [n[0], n[1], n[2], 0];
+            }
         }
         a
     }

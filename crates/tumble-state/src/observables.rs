@@ -12,7 +12,8 @@ pub struct Observables {
     pub time: f64,
     pub kinetic_energy: f64,
     pub rotational_energy: f64,
-    /// −Σ m g·x over movable particles.
+    /// −Σ m g·x over movable particles, x unwrapped across periodic boundaries (so it is
+    /// continuous when a particle wraps along a periodic axis that gravity has a component on).
     pub potential_energy: f64,
     /// Energy stored in contact springs and cohesive bonds at the last force pass.
     pub elastic_energy: f64,
@@ -35,15 +36,16 @@ impl Observables {
         self.kinetic_energy + self.rotational_energy + self.potential_energy + self.elastic_energy
     }
 
-    /// The particle sums (energies, dissipation, fluid work, finiteness) of `s` at `time`;
-    /// contacts are added with [`Observables::add_contacts`], walls with [`Observables::finish`].
-    pub fn of_particles(s: &State, gravity: DVec3, time: f64) -> Observables {
+    /// The particle sums (energies, dissipation, fluid work, finiteness) of `s` at `time` in a
+    /// domain of extent `extent` (the period of its periodic axes); contacts are added with
+    /// [`Observables::add_contacts`], walls with [`Observables::finish`].
+    pub fn of_particles(s: &State, gravity: DVec3, extent: DVec3, time: f64) -> Observables {
         let mut o = Observables { time, particles: s.len(), finite: true, ..Default::default() };
         for i in 0..s.len() {
             o.finite &= s.pos[i].is_finite() && s.vel[i].is_finite();
             if s.inv_mass[i] != 0.0 {
                 o.kinetic_energy += 0.5 * s.mass[i] * s.vel[i].length_squared();
-                o.potential_energy -= s.mass[i] * gravity.dot(s.pos[i]);
+                o.potential_energy -= s.mass[i] * gravity.dot(s.unwrapped(i, extent));
                 if !s.omega.is_empty() {
                     o.finite &= s.omega[i].is_finite();
                     o.rotational_energy += s.rotational_energy(i);

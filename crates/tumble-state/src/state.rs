@@ -39,6 +39,10 @@ pub struct State {
     pub shape: Vec<u16>,
     pub orient: Vec<DQuat>,
     pub inv_inertia_body: Vec<DVec3>,
+    /// Periodic images: how many box lengths each particle has been wrapped back by, per axis
+    /// (+1 when it left through the max side), so `pos + image ∘ L` is its unwrapped position.
+    /// Empty when no axis is periodic.
+    pub image: Vec<[i32; 3]>,
 }
 
 impl State {
@@ -88,6 +92,9 @@ impl State {
                 });
             }
         }
+        if plan.model.domain.periodic.iter().any(|&p| p) {
+            s.image = vec![[0; 3]; n];
+        }
         s.history = HistorySlots::new(n, if plan.model.history { plan.tuning.history_slots } else { 0 });
         s
     }
@@ -110,6 +117,16 @@ impl State {
         q * ((q.inverse() * self.omega[i]) / self.inv_inertia_body[i])
     }
 
+    /// The unwrapped position of particle `i` in a domain of extent `l` (its position where no
+    /// axis is periodic).
+    #[inline]
+    pub fn unwrapped(&self, i: usize, l: DVec3) -> DVec3 {
+        match self.image.get(i) {
+            Some(n) => self.pos[i] + DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64) * l,
+            None => self.pos[i],
+        }
+    }
+
     pub fn len(&self) -> usize {
         self.pos.len()
     }
@@ -127,6 +144,7 @@ impl State {
         mut fs: impl FnMut(&mut Vec<u16>),
         mut fb: impl FnMut(&mut Vec<bool>),
         mut fq: impl FnMut(&mut Vec<DQuat>),
+        mut fi: impl FnMut(&mut Vec<[i32; 3]>),
     ) {
         for v in [&mut self.pos, &mut self.vel, &mut self.acc, &mut self.omega, &mut self.alpha, &mut self.inv_inertia_body] {
             if !v.is_empty() {
@@ -155,6 +173,9 @@ impl State {
         }
         fq(&mut self.orient);
         fb(&mut self.track);
+        if !self.image.is_empty() {
+            fi(&mut self.image);
+        }
     }
 
     /// Reorders every array by `order` (new slot k holds old particle order[k]).
@@ -170,6 +191,7 @@ impl State {
                     permute(v, order)
                 }
             },
+            |v| permute(v, order),
         );
         self.history.permute(order);
     }
@@ -184,6 +206,7 @@ impl State {
             });
         }
         self.for_each_array(
+            |v| filter(v, keep),
             |v| filter(v, keep),
             |v| filter(v, keep),
             |v| filter(v, keep),

@@ -86,6 +86,12 @@ pub enum Observable {
     CentralImpactSpin,
     /// A rolling sphere's contact-point and centre speeds on a belt against V and 2/7 V, m/s.
     BeltSpeed,
+    /// Kinetic + potential energy of a body wrapping round a periodic axis against its start,
+    /// over its kinetic energy plus m |g| times the distance it travelled.
+    PeriodicEnergy,
+    /// The potential a backend reports against −m g·x at the unwrapped position of its own
+    /// state, over the same scale.
+    PeriodicPotential,
 }
 
 /// The tolerance table.
@@ -175,6 +181,14 @@ impl Tolerance {
             (CentralImpactSpin, F32) => 1e-3,
             // 2/7 against the 1 of a sphere that slides along: 0.36 m/s at V = 0.5 m/s.
             (BeltSpeed, _) => 2e-3,
+            // One missed wrap is m g_x L, 1.8 % of the scale at the end, 3 % after one wrap.
+            // Measured 2.5e-13 (f64). f32 rounds each velocity increment g Δt ≈ 1e-4 v the same
+            // way, so v drifts by up to N 2⁻²⁴ v: measured 1.9e-4 over 11,000 steps (lavapipe).
+            (PeriodicEnergy, F64) => 1e-9,
+            (PeriodicEnergy, F32) => 2e-3,
+            // The device sums the same f32 positions with their images: a few 2⁻²⁴ (measured 4.9e-8).
+            (PeriodicPotential, F64) => 1e-12,
+            (PeriodicPotential, F32) => 1e-6,
         }
     }
 

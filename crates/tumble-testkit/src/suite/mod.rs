@@ -11,7 +11,9 @@
 //! - `polyhedra`: a tumbling box (E and L), a cube resting face-down, an elastic
 //!   octahedron–cube impact, a cube struck by a plate and dragged by a belt;
 //! - `determinism`: two runs bit-identical (and on the CPU one and two threads);
-//! - `restore`: a run continued from a snapshot bit-identical to the one that wrote it.
+//! - `restore`: a run continued from a snapshot bit-identical to the one that wrote it;
+//! - `periodic`: energy across wraps of a periodic axis, a flow plane on one, image counts
+//!   through a snapshot.
 //!
 //! Each stays at CI size: a few thousand steps, on scenes whose GPU shader variants the
 //! backends binary compiles anyway (docs/verification.md lists what each measures).
@@ -19,6 +21,7 @@
 mod determinism;
 mod history;
 mod invariants;
+mod periodic;
 mod polyhedra;
 mod restore;
 mod verification;
@@ -58,6 +61,9 @@ behaviours![
     polyhedra::a_belt_drags_a_cube_to_its_speed,
     determinism::two_runs_of_a_scene_are_bit_identical,
     restore::a_run_continued_from_a_snapshot_is_bit_identical,
+    periodic::a_sphere_sliding_round_a_periodic_incline_keeps_its_energy,
+    periodic::a_flow_plane_on_a_periodic_axis_measures_the_mass_flux_of_a_stream,
+    periodic::a_periodic_run_continued_from_a_snapshot_keeps_its_image_counts,
 ];
 
 /// One trial per behaviour on `backend`, named `backend::module::behaviour`.
