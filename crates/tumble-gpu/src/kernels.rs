@@ -85,7 +85,7 @@ pub fn check_limits(limits: &wgpu::Limits, adapter: &AdapterDescription, switche
     let refuse = |what: String, limit: &'static str, needed: u64, allowed: u64| {
         if needed <= allowed { Ok(()) } else { Err(GpuError::Limit { what, limit, needed, allowed, adapter: adapter.to_string() }) }
     };
-    let features: Vec<&str> = [(Feature::History, "contact history"), (Feature::Moving, "moving walls"), (Feature::Polyhedra, "polyhedra")]
+    let features: Vec<&str> = [(Feature::History, "contact history"), (Feature::Walls, "walls"), (Feature::Moving, "moving walls"), (Feature::Polyhedra, "polyhedra")]
         .into_iter()
         .filter(|(f, _)| switches.feature(*f))
         .map(|(_, name)| name)

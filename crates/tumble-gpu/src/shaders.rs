@@ -193,6 +193,7 @@ impl Switches {
         match feature {
             Feature::Always => true,
             Feature::History => self.history,
+            Feature::Walls => self.walls,
             Feature::Moving => self.moving,
             Feature::Polyhedra => self.polyhedra,
         }
