@@ -198,7 +198,8 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn snapshot_bytes(dir: &Path) -> (u64, usize) {
-    let files: Vec<_> = std::fs::read_dir(dir.join("snapshots")).unwrap().map(|e| e.unwrap().path()).filter(|p| p.to_string_lossy().contains("particles_")).collect();
+    let files: Vec<_> =
+        std::fs::read_dir(dir.join("snapshots")).unwrap().map(|e| e.unwrap().path()).filter(|p| p.to_string_lossy().contains("particles_")).collect();
     (files.iter().map(|p| std::fs::metadata(p).unwrap().len()).sum(), files.len())
 }
 
@@ -207,9 +208,14 @@ fn snapshot_bytes(dir: &Path) -> (u64, usize) {
 #[test]
 fn the_scene_chooses_the_snapshot_encoding_and_bytes_per_particle_are_reported() {
     let mut per_particle = Vec::new();
-    for (setting, format) in [("", SnapshotFormat::Binary), ("snapshot_format = \"compressed\"", SnapshotFormat::Compressed), ("snapshot_format = \"ascii\"", SnapshotFormat::Ascii)] {
+    for (setting, format) in [
+        ("", SnapshotFormat::Binary),
+        ("snapshot_format = \"compressed\"", SnapshotFormat::Compressed),
+        ("snapshot_format = \"ascii\"", SnapshotFormat::Ascii),
+    ] {
         let text = std::fs::read_to_string(root().join("scenes/test/pile.toml")).unwrap();
-        let text = text.replace("duration = 1.0", "duration = 0.02\nsnapshot_interval = 0.01\noutput_interval = 0.01") + &format!("[output]\n{setting}\n");
+        let text =
+            text.replace("duration = 1.0", "duration = 0.02\nsnapshot_interval = 0.01\noutput_interval = 0.01") + &format!("[output]\n{setting}\n");
         let compiled = compile(&parse_scene(&text).unwrap()).unwrap();
         assert_eq!(compiled.plan.run.snapshot_format, format);
         let n = compiled.particles.len();

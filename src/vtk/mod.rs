@@ -142,11 +142,13 @@ pub fn particles_vtp(s: &State, gravity: glam::DVec3) -> PolyData {
         Array::i64("id", order.iter().map(|&i| s.id[i] as i64).collect()),
     ];
     if !s.orient.is_empty() {
-        point_data.push(Array::i32(
-            "shape",
-            order.iter().map(|&i| if s.shape[i] == tumble_scene::SPHERE { -1 } else { s.shape[i] as i32 }).collect(),
+        point_data
+            .push(Array::i32("shape", order.iter().map(|&i| if s.shape[i] == tumble_scene::SPHERE { -1 } else { s.shape[i] as i32 }).collect()));
+        point_data.push(Array::f64(
+            "orientation",
+            4,
+            order.iter().flat_map(|&i| [s.orient[i].w, s.orient[i].x, s.orient[i].y, s.orient[i].z]).collect(),
         ));
-        point_data.push(Array::f64("orientation", 4, order.iter().flat_map(|&i| [s.orient[i].w, s.orient[i].x, s.orient[i].y, s.orient[i].z]).collect()));
     }
     PolyData {
         points: vectors(&|i| s.pos[i].to_array()),

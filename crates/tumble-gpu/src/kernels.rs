@@ -85,11 +85,12 @@ pub fn check_limits(limits: &wgpu::Limits, adapter: &AdapterDescription, switche
     let refuse = |what: String, limit: &'static str, needed: u64, allowed: u64| {
         if needed <= allowed { Ok(()) } else { Err(GpuError::Limit { what, limit, needed, allowed, adapter: adapter.to_string() }) }
     };
-    let features: Vec<&str> = [(Feature::History, "contact history"), (Feature::Walls, "walls"), (Feature::Moving, "moving walls"), (Feature::Polyhedra, "polyhedra")]
-        .into_iter()
-        .filter(|(f, _)| switches.feature(*f))
-        .map(|(_, name)| name)
-        .collect();
+    let features: Vec<&str> =
+        [(Feature::History, "contact history"), (Feature::Walls, "walls"), (Feature::Moving, "moving walls"), (Feature::Polyhedra, "polyhedra")]
+            .into_iter()
+            .filter(|(f, _)| switches.feature(*f))
+            .map(|(_, name)| name)
+            .collect();
     let with = if features.is_empty() { String::new() } else { format!(" with {}", features.join(", ")) };
     refuse("the kernels use one bind group and".into(), "max_bind_groups", 1, limits.max_bind_groups as u64)?;
     for shader in sources_for(switches) {

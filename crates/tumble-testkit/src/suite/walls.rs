@@ -133,5 +133,8 @@ pub fn a_bed_at_rest_in_a_box_puts_its_weight_on_the_walls(backend: BackendName)
         "{backend:?}: box load {force} (M g = {weight}), torque {torque} (Σ m x × g = {moment}); momentum balance within {worst_balance:.1e}, at rest within {rest_force:.1e} (force), {rest_torque:.1e} (torque); kinetic energy {:.1e} J",
         o.kinetic_energy
     );
-    assert!(rest_force <= tolerance && rest_torque <= tolerance, "at rest the box carries M g = {weight} and Σ m x × g = {moment}: {force}, {torque}");
+    assert!(
+        rest_force <= tolerance && rest_torque <= tolerance,
+        "at rest the box carries M g = {weight} and Σ m x × g = {moment}: {force}, {torque}"
+    );
 }
