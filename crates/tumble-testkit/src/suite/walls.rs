@@ -9,7 +9,8 @@ use tumble::{RunOptions, Simulation, compile, parse_scene, run_compiled};
 use tumble_scene::schema::BackendName;
 
 /// One ball in a turning drum with rolling resistance: the shell's power is ω times the torque
-/// about the axis of the wall forces on the ball, (x − a) × F + I α.
+/// about the axis of the wall forces on the ball, (x − a) × F + I α, and the shell's own torque
+/// (observables.csv's `tz_<shell>`) is that torque negated.
 pub fn a_drum_drive_power_is_torque_times_omega(backend: BackendName) {
     let s = compiled(&replaced(&test_scene("drum_one_ball"), "duration = 3.0", "duration = 1.0"));
     let steps = steps(&s);
@@ -23,6 +24,10 @@ pub fn a_drum_drive_power_is_torque_times_omega(backend: BackendName) {
         let f = (st.acc[0] - g) * st.mass[0];
         let torque = (st.pos[0].cross(f) + st.alpha[0] / st.inv_inertia[0]).z;
         let power = sim.wall_power()[0];
+        // The shell takes the reaction: its torque about the axis is the ball's, negated.
+        let shell = sim.frame(false).wall_torque[0].z;
+        let scale = torque.abs() + 5e-4 / omega;
+        assert!((shell + torque).abs() <= Tolerance::on(WallLoad, backend) * scale, "shell torque {shell} vs −(ball's) {}", -torque);
         // A sign error or a missing ω is O(1) of the power.
         let tolerance = Tolerance::on(WallPower, backend);
         assert!((power - torque * omega).abs() <= tolerance * (power.abs() + 5e-4), "power {power} vs torque × ω {}", torque * omega);
