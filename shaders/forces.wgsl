@@ -272,19 +272,28 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
     let w = seen_spin(i);
     let mass = alpha[i].w;
     let walls_base = PAIR_ENTRY_WORDS * params.materials * params.materials;
-    // Wall power (MOVING): walls come grouped in group order; each group's sum is booked once.
+    // Wall loads: walls come grouped in group order; each group's sum is booked once. The sum
+    // holds one group's force and torque at a time, so each is booked without cancellation.
     let polyhedron = POLYHEDRA && shape_of(i) != SPHERE_SHAPE;
+    let pair_force = (*s).force;
+    let pair_torque = (*s).torque;
+    var walls_force = vec3<f32>(0.0);
+    var walls_torque = vec3<f32>(0.0);
+    (*s).force = vec3<f32>(0.0);
+    (*s).torque = vec3<f32>(0.0);
     var group = 0u;
     var power = 0.0;
     for (var k = 0u; k < params.walls; k++) {
         let base = walls_base + WALL_ENTRY_WORDS * k;
-        if MOVING {
-            let g = wall_group(base);
-            if g != group {
-                book_wall_power(props[i].z, group, power);
-                group = g;
-                power = 0.0;
-            }
+        let g = wall_group(base);
+        if g != group {
+            book_wall_load(i, group, power, (*s).force, (*s).torque);
+            walls_force += (*s).force;
+            walls_torque += (*s).torque;
+            (*s).force = vec3<f32>(0.0);
+            (*s).torque = vec3<f32>(0.0);
+            group = g;
+            power = 0.0;
         }
         if polyhedron {
             power += polyhedron_wall_contact(s, i, k, base);
@@ -345,9 +354,11 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
             (*s).ratio = max((*s).ratio, p.overlap / r);
         }
     }
-    if MOVING && params.walls > 0u {
-        book_wall_power(props[i].z, group, power);
+    if params.walls > 0u {
+        book_wall_load(i, group, power, (*s).force, (*s).torque);
     }
+    (*s).force = pair_force + (walls_force + (*s).force);
+    (*s).torque = pair_torque + (walls_torque + (*s).torque);
 }
 
 @compute @workgroup_size(WORKGROUP)
@@ -358,10 +369,12 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var s = Sum(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0u, 0.0, 0u);
     let flags = props[i].w;
-    if MOVING && (flags & (FLAG_DEAD | FLAG_FIXED)) != 0u {
-        // No wall contacts: no wall power.
+    if WALLS && (flags & (FLAG_DEAD | FLAG_FIXED)) != 0u {
+        // No wall contacts: no wall load.
         for (var g = 0u; g < wall_groups(); g++) {
-            wall_power[props[i].z * wall_groups() + g] = 0.0;
+            let k = 2u * (props[i].z * wall_groups() + g);
+            wall_load[k] = vec4<f32>(0.0);
+            wall_load[k + 1u] = vec4<f32>(0.0);
         }
     }
     if (flags & FLAG_DEAD) == 0u {

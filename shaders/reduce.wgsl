@@ -20,7 +20,7 @@ struct ReduceParams {
     groups: u32,
     // Materials per shape row of the inertia table.
     materials: u32,
-    // Lanes: 1 + wall groups (with MOVING) + drums.
+    // Lanes: 1 + wall groups (with WALLS) + drums.
     lanes: u32,
     wall_groups: u32,
     drums: u32,
@@ -37,7 +37,8 @@ struct ReduceParams {
 struct Partial {
     // (hi, lo) pairs. Lane 0: kinetic, rotational, potential (relative to the device origin),
     // movable mass (the host adds the origin's potential with it), elastic, dissipated,
-    // fluid work, unused. A wall group: power, work. A drum: charge mass, Σ m·radial (x, y, z).
+    // fluid work, unused. A wall group: power, work, force (x, y, z), torque about the device's
+    // origin (x, y, z). A drum: charge mass, Σ m·radial (x, y, z).
     sums: array<vec2<f32>, 8>,
     // Lane 0: contacts, largest overlap ratio (f32 bits), finite (1 or 0), particles in the domain.
     counts: vec4<u32>,
@@ -218,13 +219,21 @@ fn slot_partial(i: u32) -> Partial {
     return p;
 }
 
-// Slot (= particle id) i's entries of wall group g: power and work (a Kahan pair).
+// Slot (= particle id) i's entries of wall group g: power, work (a Kahan pair), force, torque.
 fn wall_partial(i: u32, g: u32) -> Partial {
     var p = empty_partial();
-    if MOVING {
+    if WALLS {
         let k = i * reduce_level.wall_groups + g;
-        p.sums[0].x = wall_power[k];
-        let w = wall_work[k];
+        let load = wall_load[2u * k];
+        let torque = wall_load[2u * k + 1u];
+        p.sums[0].x = load.w;
+        for (var c = 0u; c < 3u; c++) {
+            p.sums[2u + c].x = load[c];
+            p.sums[5u + c].x = torque[c];
+        }
+    }
+    if MOVING {
+        let w = wall_work[i * reduce_level.wall_groups + g];
         p.sums[1] = tf_renormalise(w.x, -w.y);
     }
     return p;

@@ -18,10 +18,11 @@
 //     (prisms.rs): (its centre, its shape index), its orientation quaternion (x, y, z, w), in
 //     the pose of the contact pass.
 //
-// Wall power (MOVING): per particle ORIGINAL id and wall group, F_on_particle · v_wall
-// (+ Ω_wall · rolling couple, + Ω_wall · twisting couple for polyhedra) of the last pass, and the work Σ power Δt as a Kahan pair.
-// Each invocation writes only its own id's entries (`wall_power`, `wall_work`); the host sums
-// them in id order.
+// Wall loads (WALLS): per particle ORIGINAL id and wall group, two vec4 of the last pass: the
+// force on the wall (xyz) and the power F_on_particle · v_wall (+ Ω_wall · rolling couple,
+// + Ω_wall · twisting couple for polyhedra; w), then the torque on the wall about the device's
+// origin (xyz); with MOVING the work Σ power Δt as a Kahan pair. Each invocation writes only
+// its own id's entries (`wall_load`, `wall_work`); the reduction sums them in id order.
 
 fn wall_extras(base: u32) -> u32 {
     return u32(tables[base].w);
@@ -38,8 +39,9 @@ fn wall_spin(base: u32) -> vec3<f32> {
     return tables[wall_extras(base)].xyz;
 }
 
+// The wall's group (w5.w of its entry, every kind of wall).
 fn wall_group(base: u32) -> u32 {
-    return u32(tables[wall_extras(base)].w);
+    return u32(tables[base + 5u].w);
 }
 
 // Number of wall groups.
@@ -54,12 +56,14 @@ fn work_add(acc_in: vec2<f32>, x: f32) -> vec2<f32> {
     return vec2<f32>(t, (t - acc_in.x) - y);
 }
 
-// Books one group's power of particle `id` (and its work on committed passes; the t = 0
-// pass's work is cleared by the host).
-fn book_wall_power(id: u32, group: u32, power: f32) {
-    let k = id * wall_groups() + group;
-    wall_power[k] = power;
-    if power != 0.0 {
+// Books one group's load from slot i: `force` and `torque` (about i's centre) are what the
+// group's surfaces did to the particle; the wall takes the reaction, −F and −(x × F + τ) about
+// the device's origin. The work is added on committed passes (the host clears the t = 0 pass's).
+fn book_wall_load(i: u32, group: u32, power: f32, force: vec3<f32>, torque: vec3<f32>) {
+    let k = props[i].z * wall_groups() + group;
+    wall_load[2u * k] = vec4<f32>(-force, power);
+    wall_load[2u * k + 1u] = vec4<f32>(-(cross(pos[i].xyz, force) + torque), 0.0);
+    if MOVING && power != 0.0 {
         wall_work[k] = work_add(wall_work[k], power * params.dt);
     }
 }

@@ -295,7 +295,7 @@ impl ExtraRows {
     /// The extra columns of the row at time `t` (the first row starts the flow count).
     fn row(&mut self, plan: &Plan, t: f64, frame: &Frame) -> ExtraColumns {
         // Nothing to add.
-        if self.moving.is_empty() && plan.model.drums.is_empty() && plan.model.flow_planes.is_empty() {
+        if plan.model.wall_groups.is_empty() && plan.model.drums.is_empty() && plan.model.flow_planes.is_empty() {
             return ExtraColumns::default();
         }
         let work = &frame.wall_work;
@@ -316,7 +316,8 @@ impl ExtraRows {
             },
             _ => Vec::new(),
         };
-        ExtraColumns { power, drums: frame.drums.clone(), flow }
+        let wall_loads = frame.wall_force.iter().copied().zip(frame.wall_torque.iter().copied()).collect();
+        ExtraColumns { power, wall_loads, drums: frame.drums.clone(), flow }
     }
 }
 

@@ -100,6 +100,8 @@ fn snapshots_read_back_with_the_particles_state() {
     scene.run.snapshot_interval = Some(0.01);
     scene.run.output_interval = Some(0.01);
     scene.particles[0].track = true;
+    // Read as text below.
+    scene.output.snapshot_format = tumble_scene::schema::SnapshotFormat::Ascii;
     let compiled = tumble::compile(&scene).unwrap();
     let n = compiled.particles.len();
     tumble::run_compiled(compiled, &tumble::RunOptions { out_dir: Some(out.clone()), threads: 2, ..Default::default() }).unwrap();

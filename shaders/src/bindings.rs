@@ -18,6 +18,8 @@ pub enum Feature {
     Always,
     /// Contact history (the HISTORY switch).
     History,
+    /// Walls (the WALLS switch).
+    Walls,
     /// Moving walls (the MOVING switch).
     Moving,
     /// Polyhedral particles (the POLYHEDRA switch).
@@ -41,7 +43,7 @@ const fn b(name: &'static str, ty: &'static str, access: Access, feature: Featur
 }
 
 use Access::{Read, ReadWrite, Uniform};
-use Feature::{Always, History, Moving, Periodic, Polyhedra};
+use Feature::{Always, History, Moving, Periodic, Polyhedra, Walls};
 
 const V4F: &str = "array<vec4<f32>>";
 const V4U: &str = "array<vec4<u32>>";
@@ -90,8 +92,8 @@ pub const FORCES: &[Binding] = &[
     // The two generations of contact-history slots (history.wgsl).
     b("hist_old", V4U, Read, History),
     b("hist_new", V4U, ReadWrite, History),
-    // Wall power and work per particle id and wall group (walls_moving.wgsl).
-    b("wall_power", "array<f32>", ReadWrite, Moving),
+    // Per particle id and wall group: the wall's load (force, power; torque) and work (walls_moving.wgsl).
+    b("wall_load", V4F, ReadWrite, Walls),
     b("wall_work", "array<vec2<f32>>", ReadWrite, Moving),
     // Orientation (unit quaternion x, y, z, w, body to world).
     b("orient", V4F, Read, Polyhedra),
@@ -140,7 +142,7 @@ pub const REDUCE: &[Binding] = &[
     // Principal moments of inertia per (shape, material), body frame (polyhedra), then the
     // drums (DRUM_ROW_WORDS each, from ReduceParams.drum_rows).
     b("reduce_table", V4F, Read, Always),
-    b("wall_power", "array<f32>", Read, Moving),
+    b("wall_load", V4F, Read, Walls),
     b("wall_work", "array<vec2<f32>>", Read, Moving),
     // Per block, one partial per lane: the observables, then each wall group, then each drum.
     b("partials_in", "array<Partial>", Read, Always),

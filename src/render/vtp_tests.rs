@@ -207,18 +207,22 @@ fn damaged_files_are_refused_with_the_array_named() {
 }
 
 #[test]
-fn the_run_writers_particles_and_walls_are_read_back() {
+fn the_run_writers_particles_and_walls_are_read_back_in_every_encoding() {
+    use tumble_scene::schema::SnapshotFormat;
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/box_settle.toml")).unwrap();
     let compiled = crate::compile(&crate::parse_scene(&text).unwrap()).unwrap();
     let state = crate::State::from_scene(&compiled);
-    let particles = parse(crate::vtk::particles_vtp(&state).as_bytes()).unwrap();
-    assert_eq!(particles.points.len(), state.len());
-    // Rust's shortest round-trip formatting: every number comes back exactly.
     let first = state.id.iter().enumerate().min_by_key(|(_, id)| **id).unwrap().0;
-    assert_eq!(particles.points[0], state.pos[first].to_array());
-    assert_eq!(particles.point_array("radius").unwrap().values[0], state.radius[first]);
-    assert_eq!(particles.point_array("velocity").unwrap().components, 3);
-    let walls = parse(crate::vtk::walls_vtp(&compiled.plan, &compiled.plan.model.walls).as_bytes()).unwrap();
-    assert!(!walls.polys.is_empty() && walls.polys.iter().all(|p| p.len() == 4));
-    assert_eq!(walls.cell_array("wall").unwrap().len(), walls.polys.len());
+    let gravity = compiled.plan.model.gravity;
+    for format in [SnapshotFormat::Binary, SnapshotFormat::Compressed, SnapshotFormat::Ascii] {
+        let particles = parse(&crate::vtk::encode(&crate::vtk::particles_vtp(&state, gravity), format)).unwrap();
+        assert_eq!(particles.points.len(), state.len(), "{format:?}");
+        // Binary is bit-exact; ASCII uses Rust's shortest round-trip formatting: every number comes back exactly.
+        assert_eq!(particles.points[0], state.pos[first].to_array(), "{format:?}");
+        assert_eq!(particles.point_array("radius").unwrap().values[0], state.radius[first], "{format:?}");
+        assert_eq!(particles.point_array("velocity").unwrap().components, 3, "{format:?}");
+        let walls = parse(&crate::vtk::encode(&crate::vtk::walls_vtp(&compiled.plan, &compiled.plan.model.walls), format)).unwrap();
+        assert!(!walls.polys.is_empty() && walls.polys.iter().all(|p| p.len() == 4), "{format:?}");
+        assert_eq!(walls.cell_array("wall").unwrap().len(), walls.polys.len(), "{format:?}");
+    }
 }

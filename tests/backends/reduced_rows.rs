@@ -94,7 +94,7 @@ fn assert_reduced_matches_full(name: &str, gpu: &GpuSimulation) {
     println!("{name}: {} particles, {} tracked", d.particles, reduced.tracks.len());
 }
 
-/// Per wall group, power and work within 1e-5 of the largest group's (f32 entries summed
+/// Per wall group, power, work, force and torque within 1e-5 of the largest group's (f32 entries summed
 /// pairwise, against f64 in id order); per drum, the charge's mass and centre of mass as the
 /// host sums them, toe and shoulder within one histogram bin (0.1°).
 fn assert_wall_groups_and_drums_match(name: &str, d: &tumble_state::Frame, h: &tumble_state::Frame) {
@@ -104,6 +104,14 @@ fn assert_wall_groups_and_drums_match(name: &str, d: &tumble_state::Frame, h: &t
         let worst = dv.iter().zip(hv).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         println!("{name}: wall {what} per group {dv:.6?}, largest difference {:.1e} of the largest group", worst / scale.max(1e-300));
         assert!(worst <= 1e-5 * scale, "{name}: wall {what} device {dv:?} host {hv:?}");
+    }
+    // Force and torque (about the reference point) per axis, against the largest group's magnitude.
+    for (what, dv, hv) in [("force", &d.wall_force, &h.wall_force), ("torque", &d.wall_torque, &h.wall_torque)] {
+        assert_eq!(dv.len(), hv.len());
+        let scale = hv.iter().fold(0.0f64, |m, v| m.max(v.length()));
+        let worst = dv.iter().zip(hv).map(|(a, b)| (*a - *b).length()).fold(0.0, f64::max);
+        println!("{name}: wall {what} per group {dv:.6?}, largest difference {:.1e} of the largest group", worst / scale.max(1e-300));
+        assert!((hv.is_empty() || scale > 0.0) && worst <= 1e-5 * scale, "{name}: wall {what} device {dv:?} host {hv:?}");
     }
     let total = |w: &[f64]| w.iter().sum::<f64>();
     assert!(
@@ -169,8 +177,8 @@ pub fn an_output_row_reads_back_the_same_few_bytes_whatever_the_particle_count()
         assert_eq!(gpu.readbacks() - before, 1, "one read-back per output row");
         let row = gpu.readback_bytes() - before_bytes;
         assert_eq!(frame.tracks.len(), 3);
-        // One 80-byte partial and one 64-byte row per tracked particle.
-        assert_eq!(row, 80 + 3 * 64, "{} particles", frame.observables.particles);
+        // One 80-byte partial per lane (the observables, the box's wall group) and one 64-byte row per tracked particle.
+        assert_eq!(row, 2 * 80 + 3 * 64, "{} particles", frame.observables.particles);
         let before_bytes = gpu.readback_bytes();
         gpu.frame(true);
         let full = gpu.readback_bytes() - before_bytes;
@@ -206,7 +214,10 @@ fn rows_repeat(sc: CompiledScene) {
         assert_eq!(bits(&x.observables), bits(&y.observables));
         assert_eq!(x.observables, y.observables);
         assert_eq!(x.tracks, y.tracks);
-        let walls = |f: &tumble_state::Frame| f.wall_power.iter().chain(&f.wall_work).map(|v| v.to_bits()).collect::<Vec<_>>();
+        let walls = |f: &tumble_state::Frame| {
+            let loads = f.wall_force.iter().chain(&f.wall_torque).flat_map(|v| v.to_array());
+            f.wall_power.iter().chain(&f.wall_work).copied().chain(loads).map(f64::to_bits).collect::<Vec<_>>()
+        };
         assert_eq!(walls(x), walls(y));
         assert_eq!(format!("{:?}", x.drums), format!("{:?}", y.drums));
     }

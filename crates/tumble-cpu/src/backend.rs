@@ -123,6 +123,8 @@ impl Backend for CpuSimulation {
             tracks: self.tracks(),
             wall_power: self.group_power.clone(),
             wall_work: self.group_work.clone(),
+            wall_force: self.group_force.clone(),
+            wall_torque: self.wall_torque(),
             drums: self.drum_profiles(),
             state: with_state.then_some(Cow::Borrowed(&self.state)),
         }

@@ -44,6 +44,15 @@ pub struct PairOut {
     pub overlap_ratio: f64,
 }
 
+/// What one wall contact does to the wall: the power it takes from it (F_on_particle · v_wall
+/// and the couples' Ω_wall · τ), the force on it and the torque on it about the origin.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WallLoad {
+    pub power: f64,
+    pub force: DVec3,
+    pub torque: DVec3,
+}
+
 /// Force of one contact on body a, from the contact normal n (b to a), the
 /// overlaps and the relative velocity of a against b at the contact point.
 pub(crate) struct ContactForce {
@@ -214,8 +223,8 @@ impl SpringSlots<'_> {
 
 /// Particle `i`'s sum: its pairs, gathered in list order, then the walls.
 /// With history it also writes the springs it keeps into `slots` (a sees +ξ, b sees −ξ).
-/// `wall_power` is empty, or one slot per wall candidate of `i` (its share of
-/// `list.wall_entries`), which receives F_on_particle · v_wall of that contact.
+/// `wall_loads` is empty, or one slot per wall candidate of `i` (its share of
+/// `list.wall_entries`), which receives that contact's [`WallLoad`].
 #[inline(always)]
 pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bool>(
     c: &ContactInputs,
@@ -224,7 +233,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     springs: &[Spring],
     i: usize,
     mut slots: SpringSlots,
-    wall_power: &mut [f64],
+    wall_loads: &mut [WallLoad],
 ) -> ContactSum {
     let mut sum = ContactSum::default();
     for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
@@ -266,7 +275,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     let xi = s.pos[i];
     let r = s.radius[i];
     let extra = s.reach[i] - r;
-    wall_power.fill(0.0);
+    wall_loads.fill(WallLoad::default());
     for (slot, &wall) in near.iter().enumerate() {
         let wall = wall as u32;
         let w = &c.walls[wall as usize];
@@ -306,6 +315,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         }
         sum.force += f.force;
         power += f.force.dot(v_wall);
+        let mut couple = torque;
         if ROT {
             sum.torque += torque;
             if params.rolling > 0.0 {
@@ -313,12 +323,15 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
                 let spin = w.angular_velocity();
                 let roll = rolling_torque(params.rolling, r_roll, f.normal, c.omega[i] - spin, s.inv_inertia[i], model.dt);
                 sum.torque += roll;
+                couple += roll;
                 power += roll.dot(spin);
                 sum.dissipation -= roll.dot(c.omega[i] - spin);
             }
         }
-        if let Some(p) = wall_power.get_mut(slot) {
-            *p = power;
+        if let Some(load) = wall_loads.get_mut(slot) {
+            // The wall takes the reaction: −F, and −(x × F + τ) about the origin, so the contact's
+            // momentum and angular momentum balance exactly.
+            *load = WallLoad { power, force: -f.force, torque: -(xi.cross(f.force) + couple) };
         }
         sum.elastic += f.elastic;
         sum.dissipation += f.dissipation;

@@ -36,6 +36,7 @@
 mod backend;
 mod forces;
 mod neighbours;
+pub mod network;
 mod observables;
 mod polyhedra;
 mod step;
@@ -75,11 +76,14 @@ pub struct CpuSimulation {
     walls_time: f64,
     /// `walls_time` at the last neighbour-list build.
     walls_built_at: f64,
-    /// F_on_particle · v_wall per wall candidate (parallel to the list's wall entries).
-    candidate_power: Vec<f64>,
+    /// Per wall candidate (parallel to the list's wall entries): power, force and torque on the wall.
+    candidate_loads: Vec<forces::WallLoad>,
     /// Per wall group: power at the last force pass and work done since t = 0.
     group_power: Vec<f64>,
     group_work: Vec<f64>,
+    /// Per wall group at the last force pass: force on it, torque on it about the origin.
+    group_force: Vec<DVec3>,
+    group_torque: Vec<DVec3>,
 }
 
 impl CpuSimulation {
@@ -117,9 +121,11 @@ impl CpuSimulation {
             moving_walls,
             walls_time: 0.0,
             walls_built_at: 0.0,
-            candidate_power: Vec::new(),
+            candidate_loads: Vec::new(),
             group_power: vec![0.0; groups],
             group_work: vec![0.0; groups],
+            group_force: vec![DVec3::ZERO; groups],
+            group_torque: vec![DVec3::ZERO; groups],
         };
         sim.broad_phase();
         sim.initial_forces();
@@ -212,6 +218,18 @@ impl CpuSimulation {
     /// Work done on the particles by each wall group since t = 0.
     pub fn wall_work(&self) -> &[f64] {
         &self.group_work
+    }
+
+    /// Per wall group: the particles' force on it at the last force pass.
+    pub fn wall_force(&self) -> &[DVec3] {
+        &self.group_force
+    }
+
+    /// Per wall group: the particles' torque on it at the last force pass, about the group's
+    /// reference point (Σ (p − r) × F = Σ p × F − r × Σ F).
+    pub fn wall_torque(&self) -> Vec<DVec3> {
+        let model = &self.plan.model;
+        (0..self.group_torque.len()).map(|g| self.group_torque[g] - model.wall_group_reference(g).cross(self.group_force[g])).collect()
     }
 
     /// The contact sums of the last force pass, by array index.

@@ -1,7 +1,7 @@
 //! The step: broad phase, contacts, body forces, integration (ARCHITECTURE.md, "The step (CPU)").
 
 use crate::CpuSimulation;
-use crate::forces::{ContactInputs, SortedEntry, SpringSlots, gather, pair_contact};
+use crate::forces::{ContactInputs, SortedEntry, SpringSlots, WallLoad, gather, pair_contact};
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
@@ -145,12 +145,19 @@ impl CpuSimulation {
             std::mem::swap(&mut self.state.history, &mut self.history_next);
             self.check_history_capacity();
         }
-        if self.moving_walls {
+        if !self.plan.model.walls.is_empty() {
             // Serial, in array order: the same sums for any thread count.
             self.group_power.fill(0.0);
-            for (&w, &p) in self.neighbours.wall_entries.iter().zip(&self.candidate_power) {
-                self.group_power[self.plan.model.walls[w as usize].group as usize] += p;
+            self.group_force.fill(DVec3::ZERO);
+            self.group_torque.fill(DVec3::ZERO);
+            for (&w, load) in self.neighbours.wall_entries.iter().zip(&self.candidate_loads) {
+                let g = self.plan.model.walls[w as usize].group as usize;
+                self.group_power[g] += load.power;
+                self.group_force[g] += load.force;
+                self.group_torque[g] += load.torque;
             }
+        }
+        if self.moving_walls {
             if commit {
                 let dt = self.plan.model.dt;
                 for (work, p) in self.group_work.iter_mut().zip(&self.group_power) {
@@ -166,14 +173,14 @@ impl CpuSimulation {
         let n = self.state.len();
         let (list, pair_out, pair_spring, sums) = (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.sums);
         let next = &mut self.history_next;
-        // Each particle's share of the wall-power slots (empty without moving walls).
-        let power = &mut self.candidate_power;
-        power.clear();
-        if self.moving_walls {
-            power.resize(list.wall_entries.len(), 0.0);
+        // Each particle's share of the wall-load slots (empty without walls).
+        let loads = &mut self.candidate_loads;
+        loads.clear();
+        if !self.walls.is_empty() {
+            loads.resize(list.wall_entries.len(), WallLoad::default());
         }
-        let mut chunks: Vec<&mut [f64]> = Vec::with_capacity(n);
-        let mut rest = &mut power[..];
+        let mut chunks: Vec<&mut [WallLoad]> = Vec::with_capacity(n);
+        let mut rest = &mut loads[..];
         for i in 0..n {
             let len = if rest.is_empty() { 0 } else { (list.wall_start[i + 1] - list.wall_start[i]) as usize };
             let (mine, tail) = rest.split_at_mut(len);

@@ -45,18 +45,22 @@ pub fn memory_bytes(particles: u64, grid: &Grid, history_slots: usize) -> u64 {
     particles * (BYTES_PER_PARTICLE + history_bytes_per_particle(history_slots)) + cells * BYTES_PER_CELL + cells.div_ceil(SCAN_BLOCK as u64) * 4 * 2
 }
 
-/// Sizes of the moving-wall buffers (zero without moving walls).
+/// Sizes of the wall buffers (zero without walls).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct WallBuffers {
-    /// Wall groups with power booked per particle.
+    /// Wall groups with a load booked per particle (every group).
     pub groups: u64,
+    /// Wall groups with work booked per particle (every group with moving walls, else none).
+    pub work_groups: u64,
     /// Bytes of the per-step wall tables of one batch.
     pub stage_bytes: u64,
 }
 
-/// Device bytes per particle for the wall power and work of `groups` wall groups (moving walls only).
+/// Device bytes per particle for the wall loads (32 bytes per group) and, with moving walls,
+/// the work (8 bytes per group).
 pub fn wall_bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
-    if crate::upload::moving_walls(plan) { 12 * plan.model.wall_groups.len() as u64 } else { 0 }
+    let groups = plan.model.wall_groups.len() as u64;
+    32 * groups + if crate::upload::moving_walls(plan) { 8 * groups } else { 0 }
 }
 
 /// Every buffer of one simulation.
@@ -89,9 +93,10 @@ pub struct Buffers {
     pub imaged: bool,
     /// The two generations of contact-history slots (history.wgsl; 16 bytes each without history).
     pub history: [wgpu::Buffer; 2],
-    /// Moving walls: power of the last pass per particle id and wall group (f32), and the
-    /// work since t = 0 (Kahan pairs); 16 bytes each without moving walls.
-    pub wall_power: wgpu::Buffer,
+    /// Per particle id and wall group: the load of the last pass (force and power, torque about
+    /// the device's origin: two vec4) and, with moving walls, the work since t = 0 (Kahan
+    /// pairs); 16 bytes each without them.
+    pub wall_load: wgpu::Buffer,
     pub wall_work: wgpu::Buffer,
     /// Moving walls: the wall tables of each step of a batch, copied into `tables` before its contact pass.
     pub wall_stage: wgpu::Buffer,
@@ -135,7 +140,7 @@ impl Buffers {
         let n = arrays.pos.len() as u64;
         let cells = grid.cells() as u64 + 2;
         let history_bytes = 16 * n * history_entries_per_particle(history_slots);
-        let largest = (16 * n).max(4 * cells).max(16 * tables.len() as u64).max(history_bytes).max(8 * n * walls.groups);
+        let largest = (16 * n).max(4 * cells).max(16 * tables.len() as u64).max(history_bytes).max(32 * n * walls.groups);
         let available = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         if largest > available || cells > u32::MAX as u64 / 2 || n > u32::MAX as u64 / 2 {
             return Err(GpuError::TooLarge {
@@ -181,8 +186,8 @@ impl Buffers {
             imaged: !arrays.image.is_empty(),
             // Zeroed: no particle holds a spring at t = 0.
             history: [zeroed(gpu, "history a", history_bytes), zeroed(gpu, "history b", history_bytes)],
-            wall_power: zeroed(gpu, "wall power", 4 * n * walls.groups),
-            wall_work: zeroed(gpu, "wall work", 8 * n * walls.groups),
+            wall_load: zeroed(gpu, "wall load", 32 * n * walls.groups),
+            wall_work: zeroed(gpu, "wall work", 8 * n * walls.work_groups),
             wall_stage: zeroed(gpu, "wall stage", walls.stage_bytes),
             scan_levels,
             scan_sizes,
@@ -209,7 +214,7 @@ impl Buffers {
             "tables" => &self.tables,
             "orient" => &self.orient,
             "image" => &self.image,
-            "wall_power" => &self.wall_power,
+            "wall_load" => &self.wall_load,
             "wall_work" => &self.wall_work,
             _ => return None,
         })

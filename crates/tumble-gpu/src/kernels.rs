@@ -322,7 +322,7 @@ mod tests {
             assert!(text.contains(part), "{part}: {text}");
         }
         assert!(matches!(e, GpuError::Limit { needed: 18, allowed: 16, .. }), "{e:?}");
-        // Spheres against static walls bind 13; history with moving walls 17; either alone fits.
+        // Spheres against static walls bind 14 (with the wall loads); history with moving walls 17; either alone fits.
         let spheres = Switches { history: false, moving: false, polyhedra: false, ..everything };
         assert_eq!(check_limits(&gl_limits, &gl(), &spheres), Ok(()));
         assert!(check_limits(&gl_limits, &gl(), &Switches { polyhedra: false, ..everything }).is_err());

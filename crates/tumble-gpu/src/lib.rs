@@ -113,7 +113,8 @@ impl GpuSimulation {
         // never the shape table after them.
         let wall_entries = if moving { upload::wall_table(&plan, 0.0, &hulls).len() } else { 0 };
         let walls = buffers::WallBuffers {
-            groups: if moving { plan.model.wall_groups.len() as u64 } else { 0 },
+            groups: plan.model.wall_groups.len() as u64,
+            work_groups: if moving { plan.model.wall_groups.len() as u64 } else { 0 },
             stage_bytes: 16 * (wall_entries as u64) * STEPS_PER_SUBMIT,
         };
         let buffers = Buffers::new(&gpu, &arrays, &tables, &params, &grid, upload::history_slots(&plan), walls)?;

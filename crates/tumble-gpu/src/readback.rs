@@ -155,20 +155,30 @@ impl GpuSimulation {
     /// An output row from the particle arrays and the wall entries, in one read-back, summed on
     /// the host in f64 (the oracle the device's reductions are checked against).
     pub fn full_frame(&self, with_state: bool) -> Frame<'static> {
-        let power_bytes = self.wall_entry_bytes(4);
+        let load_bytes = self.wall_load_bytes();
         let work_bytes = self.wall_entry_bytes(8);
-        let (a, walls) = self.read_arrays(&[(&self.buffers.wall_power, power_bytes), (&self.buffers.wall_work, work_bytes)]);
+        let (a, walls) = self.read_arrays(&[(&self.buffers.wall_load, load_bytes), (&self.buffers.wall_work, work_bytes)]);
         self.frame_from(&a, &walls[0], &walls[1], with_state)
     }
 
-    /// An output row from read-back particle arrays and wall power and work entries.
-    pub(crate) fn frame_from(&self, a: &DeviceArrays, power: &[u8], work: &[u8], with_state: bool) -> Frame<'static> {
-        let wall_power = self.group_sums_of(power, crate::walls::wall_power_value);
+    /// An output row from read-back particle arrays and wall load and work entries.
+    pub(crate) fn frame_from(&self, a: &DeviceArrays, load: &[u8], work: &[u8], with_state: bool) -> Frame<'static> {
+        let (wall_power, wall_force, torque_about_origin) = self.group_loads(load);
+        let wall_torque = self.torques_about_references(&torque_about_origin, &wall_force);
         let wall_work = self.group_sums_of(work, crate::walls::wall_work_value);
         let s = self.state_from(a);
         let observables = self.observables_of(a, &s, &wall_work);
         let drums = if self.plan.model.drums.is_empty() { Vec::new() } else { tumble_state::drum_profiles(&self.plan, &s) };
-        Frame { observables, tracks: tumble_state::tracks(&s), wall_power, wall_work, drums, state: with_state.then(|| std::borrow::Cow::Owned(s)) }
+        Frame {
+            observables,
+            tracks: tumble_state::tracks(&s),
+            wall_power,
+            wall_work,
+            wall_force,
+            wall_torque,
+            drums,
+            state: with_state.then(|| std::borrow::Cow::Owned(s)),
+        }
     }
 
     /// The particles still in the domain as a host [`State`] in f64, in id order.

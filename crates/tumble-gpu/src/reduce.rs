@@ -41,8 +41,8 @@ use wgpu::util::DeviceExt;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(crate) struct Partial {
-    /// (hi, lo) pairs: in lane 0 indexed by the `SUM_*` constants; a wall group's power and
-    /// work; a drum's charge mass and Σ m·radial.
+    /// (hi, lo) pairs: in lane 0 indexed by the `SUM_*` constants; a wall group's power, work,
+    /// force and torque about the device's origin; a drum's charge mass and Σ m·radial.
     sums: [[f32; 2]; 8],
     /// Lane 0: contacts, largest overlap ratio (f32 bits), finite (1 or 0), particles in the domain.
     counts: [u32; 4],
@@ -152,9 +152,9 @@ fn storage(gpu: &Gpu, label: &str, contents: &[u8]) -> wgpu::Buffer {
 /// The reduction's buffers and bind groups of one simulation.
 pub(crate) struct Reduction {
     levels: Vec<(u32, u32)>,
-    /// Lanes of every level: the observables, each wall group (with moving walls), each drum.
+    /// Lanes of every level: the observables, each wall group, each drum.
     lanes: u32,
-    /// Wall groups with a lane (all of them with moving walls, none otherwise).
+    /// Wall groups with a lane (all of them with walls, none otherwise).
     wall_lanes: usize,
     /// The partials each level writes, `lanes` per workgroup; the last holds the whole sums.
     partials: Vec<wgpu::Buffer>,
@@ -179,7 +179,7 @@ impl Reduction {
         let levels = levels(slots);
         let drums = plan.model.drums.len();
         assert!(drums == 0 || switches.moving, "a drum is a rotating wall");
-        let wall_lanes = if switches.moving { plan.model.wall_groups.len() } else { 0 };
+        let wall_lanes = if switches.walls { plan.model.wall_groups.len() } else { 0 };
         let lanes = (1 + wall_lanes + drums) as u32;
         let partials: Vec<wgpu::Buffer> = levels
             .iter()
@@ -287,6 +287,9 @@ impl GpuSimulation {
         let wall_lane = |g: usize, k: usize| if g < r.wall_lanes { lanes[1 + g].sum(k) } else { 0.0 };
         let wall_power: Vec<f64> = (0..groups).map(|g| wall_lane(g, 0)).collect();
         let wall_work: Vec<f64> = (0..groups).map(|g| wall_lane(g, 1)).collect();
+        let wall_force: Vec<DVec3> = (0..groups).map(|g| DVec3::new(wall_lane(g, 2), wall_lane(g, 3), wall_lane(g, 4))).collect();
+        let about_origin: Vec<DVec3> = (0..groups).map(|g| DVec3::new(wall_lane(g, 5), wall_lane(g, 6), wall_lane(g, 7))).collect();
+        let wall_torque = self.torques_about_references(&about_origin, &wall_force);
         let observables = self.observables_of_partial(&lanes[0], &wall_work);
         self.alive.set(Some(observables.particles));
         let tracks = self.track_rows(&bytemuck::pod_collect_to_vec(&v[1]));
@@ -295,7 +298,7 @@ impl GpuSimulation {
             let arrays = crate::readback::DeviceArrays::from_bytes(std::array::from_fn(|k| v[3 + k].as_slice()));
             std::borrow::Cow::Owned(self.state_from(&arrays))
         });
-        Frame { observables, tracks, wall_power, wall_work, drums, state }
+        Frame { observables, tracks, wall_power, wall_work, wall_force, wall_torque, drums, state }
     }
 
     fn observables_of_partial(&self, p: &Partial, wall_work: &[f64]) -> Observables {

@@ -33,7 +33,7 @@ impl GpuSimulation {
             ("image", &b.image),
             ("history a", &b.history[0]),
             ("history b", &b.history[1]),
-            ("wall_power", &b.wall_power),
+            ("wall_load", &b.wall_load),
             ("wall_work", &b.wall_work),
         ]
         .into_iter()
@@ -55,9 +55,9 @@ impl GpuSimulation {
             &bytes[k][..len as usize]
         };
         let arrays = DeviceArrays::from_bytes(self.array_parts().map(|(buffer, len)| prefix(buffer, len)));
-        let power = prefix(&self.buffers.wall_power, self.wall_entry_bytes(4));
+        let load = prefix(&self.buffers.wall_load, self.wall_load_bytes());
         let work = prefix(&self.buffers.wall_work, self.wall_entry_bytes(8));
-        let frame = self.frame_from(&arrays, power, work, true);
+        let frame = self.frame_from(&arrays, load, work, true);
         let device = DeviceImage {
             adapter: self.adapter().to_string(),
             buffers: buffers.into_iter().map(|(name, _)| name).zip(bytes).collect(),

@@ -193,6 +193,7 @@ impl Switches {
         match feature {
             Feature::Always => true,
             Feature::History => self.history,
+            Feature::Walls => self.walls,
             Feature::Moving => self.moving,
             Feature::Polyhedra => self.polyhedra,
             Feature::Periodic => self.periodic,
@@ -258,7 +259,8 @@ mod tests {
         let off = Switches { history: false, moving: false, polyhedra: false, ..Switches::everything() };
         let forces = |s: &Switches| sources_for(s).into_iter().find(|m| m.name == "forces").unwrap();
         assert_eq!(forces(&Switches::everything()).storage_buffers(&Switches::everything()), 18);
-        assert_eq!(forces(&off).storage_buffers(&off), 13);
+        // Static walls bind their loads (wall_load) and nothing else of the moving walls.
+        assert_eq!(forces(&off).storage_buffers(&off), 14);
         let source = forces(&off).source;
         assert!(source.contains("var<private> hist_old: array<vec4<u32>, 1>;") && !source.contains("@binding(14)"), "{source}");
         assert!(source.contains("@group(0) @binding(13) var<storage, read_write> stats_out: array<vec2<u32>>;"));

@@ -346,8 +346,9 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
                 extras.push([q.x as f32, q.y as f32, q.z as f32, q.w as f32]);
             }
         }
-        // w0.w: the first index of this wall's extras (walls_moving.wgsl).
+        // w0.w: the first index of this wall's extras; w5.w: its group (walls_moving.wgsl).
         entry[0][3] = extra;
+        entry[5][3] = w.group as f32;
         main.extend_from_slice(&entry);
     }
     main.extend(extras);
@@ -356,8 +357,8 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
 
 /// Why the GPU backend cannot run the plan's walls, if it cannot.
 pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
-    // The contact pass books each group's power once, walking the walls in group order.
-    if moving_walls(plan) && plan.model.walls.windows(2).any(|w| w[1].group < w[0].group) {
+    // The contact pass books each group's load once, walking the walls in group order from group 0.
+    if plan.model.walls.first().is_some_and(|w| w.group != 0) || plan.model.walls.windows(2).any(|w| w[1].group < w[0].group) {
         return Some("its wall surfaces are not in wall-group order".into());
     }
     // Table indices are stored as f32 (exact below 2^24).

@@ -2,6 +2,7 @@
 //! drum charge profiles as the output row has them (reduced on the device, reduce.rs).
 
 use crate::GpuSimulation;
+use glam::DVec3;
 use tumble_scene::Wall;
 use tumble_state::DrumProfile;
 
@@ -19,6 +20,38 @@ impl GpuSimulation {
     /// Bytes of the per-(id, group) wall entries of `element_bytes` each (zero without moving walls).
     pub(crate) fn wall_entry_bytes(&self, element_bytes: u64) -> u64 {
         if self.moving { element_bytes * self.slots as u64 * self.plan.model.wall_groups.len() as u64 } else { 0 }
+    }
+
+    /// Bytes of the per-(id, group) wall loads (two vec4 each; zero without walls).
+    pub(crate) fn wall_load_bytes(&self) -> u64 {
+        32 * self.slots as u64 * self.plan.model.wall_groups.len() as u64
+    }
+
+    /// Per wall group, the sums over particles (in id order, f64) of the wall loads read back as
+    /// `bytes`: power, force, and torque about the device's origin (the host's oracle sums).
+    pub(crate) fn group_loads(&self, bytes: &[u8]) -> (Vec<f64>, Vec<DVec3>, Vec<DVec3>) {
+        let groups = self.plan.model.wall_groups.len();
+        let (mut power, mut force, mut torque) = (vec![0.0; groups], vec![DVec3::ZERO; groups], vec![DVec3::ZERO; groups]);
+        if bytes.is_empty() || groups == 0 {
+            return (power, force, torque);
+        }
+        let all: Vec<[[f32; 4]; 2]> = bytemuck::pod_collect_to_vec(bytes);
+        let v3 = |v: [f32; 4]| DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64);
+        for per_id in all.chunks(groups) {
+            for (g, [load, couple]) in per_id.iter().enumerate() {
+                power[g] += load[3] as f64;
+                force[g] += v3(*load);
+                torque[g] += v3(*couple);
+            }
+        }
+        (power, force, torque)
+    }
+
+    /// Torques about the device's origin (the domain's centre o) moved to each group's reference
+    /// point r: Σ (p − r) × F = Σ (p − o) × F + (o − r) × Σ F.
+    pub(crate) fn torques_about_references(&self, about_origin: &[DVec3], force: &[DVec3]) -> Vec<DVec3> {
+        let origin = crate::upload::centre(&self.plan);
+        (0..about_origin.len()).map(|g| about_origin[g] + (origin - self.plan.model.wall_group_reference(g)).cross(force[g])).collect()
     }
 
     /// Per wall group, the sum over particles (in id order, f64) of `entry(id, group)` read back as `bytes` (the host's oracle sums).
@@ -53,11 +86,6 @@ impl GpuSimulation {
     pub fn drum_profiles(&self) -> Vec<DrumProfile> {
         self.frame(false).drums
     }
-}
-
-/// One (id, group) entry of the wall power buffer.
-pub(crate) fn wall_power_value(p: &f32) -> f64 {
-    *p as f64
 }
 
 /// One (id, group) entry of the wall work buffer: a Kahan pair (sum, compensation).

@@ -232,6 +232,23 @@ impl PhysicsModel {
     pub fn pair(&self, a: u16, b: u16) -> &PairParams {
         &self.pairs[a as usize * self.materials.len() + b as usize]
     }
+
+    /// The point wall group `g`'s torque is taken about: the rotation centre of its rotating
+    /// surfaces, else a static cylinder's axis point, else the origin.
+    pub fn wall_group_reference(&self, g: usize) -> DVec3 {
+        let mine = || self.walls.iter().filter(move |w| w.group as usize == g);
+        let rotation = mine().find_map(|w| match w.motion {
+            Some(Motion::Rotate { point, .. }) => Some(point),
+            _ => None,
+        });
+        let axis = || {
+            mine().find_map(|w| match &w.shape {
+                SurfaceShape::Cylinder(c) => Some(c.point),
+                _ => None,
+            })
+        };
+        rotation.or_else(axis).unwrap_or(DVec3::ZERO)
+    }
 }
 
 /// The run's schedule and bookkeeping: how long, how often to write, where to run.
@@ -248,6 +265,10 @@ pub struct RunSettings {
     pub agglomerates: bool,
     /// Largest share of the particles that may leave the domain before the run stops.
     pub max_lost_fraction: f64,
+    /// Encoding of the snapshot .vtp files.
+    pub snapshot_format: crate::schema::SnapshotFormat,
+    /// Write the contact network at every snapshot.
+    pub contacts: bool,
 }
 
 /// How the backends organise the work: neighbour search, memory layout (not physics: the

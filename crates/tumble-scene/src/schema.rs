@@ -29,6 +29,25 @@ pub struct OutputSection {
     /// Planes whose mass flow is reported in observables.csv (`flow_<name>`, `mass_<name>`).
     #[serde(default)]
     pub flow_planes: Vec<FlowPlaneSection>,
+    /// How snapshot .vtp files are encoded (docs/cli.md, "Snapshots").
+    #[serde(default)]
+    pub snapshot_format: SnapshotFormat,
+    /// Write the contact network (`snapshots/contacts_NNNNNN.vtp`) at every snapshot.
+    #[serde(default)]
+    pub contacts: bool,
+}
+
+/// Encoding of the VTK XML snapshot files.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum SnapshotFormat {
+    /// Appended raw binary (little-endian, UInt64 headers).
+    #[default]
+    Binary,
+    /// Appended binary, zlib-compressed in blocks (vtkZLibDataCompressor).
+    Compressed,
+    /// Inline ASCII.
+    Ascii,
 }
 
 #[derive(Clone, Debug, Deserialize)]

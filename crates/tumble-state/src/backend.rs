@@ -37,6 +37,10 @@ pub struct Frame<'a> {
     /// Per wall group: power at the last force pass and work since t = 0.
     pub wall_power: Vec<f64>,
     pub wall_work: Vec<f64>,
+    /// Per wall group at the last force pass: the particles' contact force on its surfaces, and
+    /// its torque about the group's reference point (`PhysicsModel::wall_group_reference`).
+    pub wall_force: Vec<DVec3>,
+    pub wall_torque: Vec<DVec3>,
     pub drums: Vec<DrumProfile>,
     /// The particle arrays, when asked for (flow planes, agglomerates).
     pub state: Option<Cow<'a, State>>,

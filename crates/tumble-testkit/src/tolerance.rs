@@ -50,6 +50,9 @@ pub enum Observable {
     Mass,
     /// A wall's drive power against torque × ω, relative.
     WallPower,
+    /// The walls' force and torque against the particles' momentum balance, or a resting bed's
+    /// weight and moment, relative to M |g| (and M |g| times the domain's size).
+    WallLoad,
     /// A projectile's position against its parabola, m (Verlet is exact for a constant force).
     FreeFallPosition,
     /// A projectile's velocity against v0 + g t, m/s.
@@ -132,6 +135,8 @@ impl Tolerance {
             // Measured 5.5e-16 (f64), 1.9e-7 (f32).
             (WallPower, F64) => 1e-9,
             (WallPower, F32) => 2e-3,
+            (WallLoad, F64) => 1e-9,
+            (WallLoad, F32) => 1e-4,
             // Symplectic Euler's first-order error over the tests' 0.15 s at Δt = 1 ms is g t Δt / 2 =
             // 7.4e-4 m; f32 rounds each of the 150 position updates at 3e-8 m.
             (FreeFallPosition, F64) => 1e-12,

@@ -92,6 +92,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         monitor,
         agglomerates: scene.run.agglomerates.unwrap_or(mechanics.cohesion),
         max_lost_fraction: lost_fraction(scene)?,
+        snapshot_format: scene.output.snapshot_format,
+        contacts: scene.output.contacts,
     };
     let tuning = Tuning { cell_size, skin, resort_interval, history_slots, bytes_per_particle: tuning::bytes_per_particle(&model, history_slots) };
     let report = PlanReport {

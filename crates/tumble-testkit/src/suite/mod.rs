@@ -54,6 +54,7 @@ behaviours![
     walls::a_drum_drive_power_is_torque_times_omega,
     walls::flow_planes_count_the_mass_through_and_moving_walls_write_a_series,
     walls::a_belt_drags_a_rolling_sphere_until_its_contact_point_moves_with_it,
+    walls::a_bed_at_rest_in_a_box_puts_its_weight_on_the_walls,
     polyhedra::a_box_spun_about_its_intermediate_axis_tumbles_keeping_energy_and_momentum,
     polyhedra::a_cube_set_face_down_on_a_plane_rests_at_m_g_over_k,
     polyhedra::an_octahedron_striking_a_cube_face_rebounds_elastically,

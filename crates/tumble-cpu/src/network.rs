@@ -1,0 +1,82 @@
+//! The contact network of a state: every touching pair's force, recomputed in f64 with the
+//! step's own pair kernel from the positions, velocities and stored springs alone (so any
+//! backend's read-back state can be given; a GPU's is its f32 state widened).
+
+use crate::forces::{ContactInputs, pair_contact};
+use glam::DVec3;
+use tumble_broad::{CellGrid, grid_pairs};
+use tumble_scene::{PhysicsModel, Wall};
+use tumble_state::{Spring, State};
+
+/// One touching pair: slots `a` (the lower id) and `b`, and the force on a (b feels its negation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairForce {
+    pub a: usize,
+    pub b: usize,
+    pub force: DVec3,
+    /// Unit vector from b's centre to a's (minimum image): the contact normal of two spheres.
+    pub normal: DVec3,
+}
+
+/// Every pair of `state` whose bodies touch (overlap ≥ 0), with its force: the kernel of the
+/// step evaluated once at the state's velocities (not Verlet's predicted ones), springs read
+/// from the state and advanced by this evaluation's slip; in id order of (a, b).
+pub fn pair_forces(model: &PhysicsModel, state: &State, walls: &[Wall]) -> Vec<PairForce> {
+    let n = state.len();
+    let domain = model.domain;
+    let reach = &state.reach;
+    let cell = 2.0 * reach.iter().copied().fold(0.0, f64::max);
+    let mut pairs = if n < 2 || cell <= 0.0 {
+        Vec::new()
+    } else {
+        // The particles' bounding box along non-periodic axes, so a sparse domain stays cheap.
+        let mut bounds = domain;
+        for k in 0..3 {
+            if !domain.periodic[k] {
+                bounds.min[k] = state.pos.iter().map(|x| x[k]).fold(f64::INFINITY, f64::min);
+                bounds.max[k] = state.pos.iter().map(|x| x[k]).fold(f64::NEG_INFINITY, f64::max).max(bounds.min[k] + cell);
+            }
+        }
+        let mut grid = CellGrid::new(&bounds, cell);
+        grid.build(&state.pos);
+        grid_pairs(&grid, &state.pos, reach, &domain)
+    };
+    // Canonical order: the lower id first, as the step computes each pair.
+    for p in &mut pairs {
+        if state.id[p.0 as usize] > state.id[p.1 as usize] {
+            *p = (p.1, p.0);
+        }
+    }
+    pairs.sort_unstable_by_key(|&(a, b)| (state.id[a as usize], state.id[b as usize]));
+    let zeros = vec![DVec3::ZERO; if state.omega.is_empty() { n } else { 0 }];
+    let omega = if state.omega.is_empty() { &zeros } else { &state.omega };
+    let inputs = ContactInputs { model, state, vel: &state.vel, omega, walls };
+    let hist = model.history && state.history.slots > 0 && state.history.count.len() == n;
+    let poly = model.polyhedra && state.shape.len() == n;
+    let evaluate = |a: usize, b: usize| {
+        let mut spring = Spring::default();
+        macro_rules! with {
+            ($coh:literal, $hist:literal, $poly:literal) => {
+                pair_contact::<true, $coh, true, $hist, $poly>(&inputs, a, b, &mut spring)
+            };
+        }
+        match (model.cohesion, hist, poly) {
+            (false, false, false) => with!(false, false, false),
+            (false, true, false) => with!(false, true, false),
+            (true, false, false) => with!(true, false, false),
+            (true, true, false) => with!(true, true, false),
+            (_, false, true) => with!(false, false, true),
+            (_, true, true) => with!(false, true, true),
+        }
+    };
+    pairs
+        .into_iter()
+        .filter_map(|(a, b)| {
+            let (a, b) = (a as usize, b as usize);
+            let out = evaluate(a, b);
+            let touching = out.overlap_ratio >= 0.0;
+            let d = domain.minimum_image(state.pos[a] - state.pos[b]);
+            touching.then(|| PairForce { a, b, force: out.force, normal: d.normalize_or_zero() })
+        })
+        .collect()
+}

@@ -1,0 +1,209 @@
+//! ParaView snapshots: `snapshots/particles_NNNNNN.vtp` (VTK XML PolyData, in the scene's
+//! `output.snapshot_format`: appended binary by default, see encoding.rs) and `particles.pvd`,
+//! the time series that opens them all; `walls.vtp` when every wall is static, else
+//! `snapshots/walls_NNNNNN.vtp` at each snapshot and `walls.pvd`; with `output.contacts`,
+//! `snapshots/contacts_NNNNNN.vtp` and `contacts.pvd` (contacts.rs).
+
+pub mod contacts;
+pub mod encoding;
+
+use crate::{Simulation, State};
+pub use encoding::{Array, Cells, PolyData, Values, encode};
+use std::fmt::Write as _;
+use std::io;
+use std::path::{Path, PathBuf};
+use tumble_scene::schema::SnapshotFormat;
+
+/// Writes particle snapshots and keeps the .pvd collections current.
+pub struct SnapshotWriter {
+    out_dir: PathBuf,
+    format: SnapshotFormat,
+    moving_walls: bool,
+    /// (series name, its entries): particles, bodies, walls, contacts.
+    series: Vec<(&'static str, Vec<(f64, String)>)>,
+}
+
+fn pvd(entries: &[(f64, String)]) -> String {
+    let mut pvd = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
+    for (t, file) in entries {
+        let _ = writeln!(pvd, "    <DataSet timestep=\"{t}\" part=\"0\" file=\"{file}\"/>");
+    }
+    pvd += "  </Collection>\n</VTKFile>\n";
+    pvd
+}
+
+impl SnapshotWriter {
+    /// Creates snapshots/ and, when the scene has walls and none moves, `walls.vtp`.
+    pub fn create(out_dir: &Path, plan: &tumble_scene::Plan) -> io::Result<Self> {
+        std::fs::create_dir_all(out_dir.join("snapshots"))?;
+        let format = plan.run.snapshot_format;
+        let moving_walls = plan.model.walls.iter().any(|w| w.motion.is_some());
+        if !plan.model.walls.is_empty() && !moving_walls {
+            std::fs::write(out_dir.join("walls.vtp"), encode(&walls_vtp(plan, &plan.model.walls), format))?;
+        }
+        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format, moving_walls, series: Vec::new() })
+    }
+
+    /// Writes `data` as `snapshots/<series>_<index>.vtp` and rewrites `<series>.pvd`.
+    fn add(&mut self, series: &'static str, index: usize, time: f64, data: &PolyData) -> io::Result<()> {
+        let name = format!("snapshots/{series}_{index:06}.vtp");
+        std::fs::write(self.out_dir.join(&name), encode(data, self.format))?;
+        let k = match self.series.iter().position(|(s, _)| *s == series) {
+            Some(k) => k,
+            None => {
+                self.series.push((series, Vec::new()));
+                self.series.len() - 1
+            }
+        };
+        self.series[k].1.push((time, name));
+        std::fs::write(self.out_dir.join(format!("{series}.pvd")), pvd(&self.series[k].1))
+    }
+
+    /// Writes snapshot `index` of `state` (the run's particles at `time`) and rewrites the .pvd files.
+    pub fn write(&mut self, index: usize, sim: &Simulation, time: f64, state: &State) -> io::Result<()> {
+        let plan = sim.plan();
+        self.add("particles", index, time, &particles_vtp(state, plan.model.gravity))?;
+        if plan.model.polyhedra {
+            self.add("bodies", index, time, &bodies_vtp(plan, state))?;
+        }
+        if self.moving_walls {
+            self.add("walls", index, time, &walls_vtp(plan, &sim.walls()))?;
+        }
+        if plan.run.contacts {
+            self.add("contacts", index, time, &contacts::contacts_vtp(plan, state, &sim.walls()))?;
+        }
+        Ok(())
+    }
+}
+
+/// The polyhedral particles' surfaces as VTK XML PolyData polygons (sorted by id), with the
+/// particle's id, group and speed as cell data: what ParaView shows as the bodies themselves.
+pub fn bodies_vtp(plan: &tumble_scene::Plan, s: &State) -> PolyData {
+    let shapes = &plan.model.shapes;
+    let mut order: Vec<usize> = (0..s.len()).filter(|&i| s.shape[i] != tumble_scene::SPHERE).collect();
+    order.sort_by_key(|&i| s.id[i]);
+    let (mut points, mut polys, mut cell_of) = (Vec::new(), Vec::new(), Vec::new());
+    for &i in &order {
+        let body = &shapes[s.shape[i] as usize].body;
+        let base = points.len();
+        points.extend(body.vertices().iter().map(|v| s.pos[i] + s.orient[i] * *v));
+        for f in body.faces() {
+            polys.push(f.vertices.iter().map(|&k| base + k as usize).collect::<Vec<_>>());
+            cell_of.push(i);
+        }
+    }
+    PolyData {
+        points: points.iter().flat_map(|p| p.to_array()).collect(),
+        polys: Cells::of(polys),
+        cell_data: vec![
+            Array::i64("id", cell_of.iter().map(|&i| s.id[i] as i64).collect()),
+            Array::i32("group", cell_of.iter().map(|&i| s.group[i] as i32).collect()),
+            Array::f64("speed", 1, cell_of.iter().map(|&i| s.vel[i].length()).collect()),
+        ],
+        cell_attributes: (Some("id".into()), None),
+        ..Default::default()
+    }
+}
+
+/// Force on movable particle `i` at the last force pass: m (a − g), the contact forces plus
+/// explicit drag; zero for fixed particles (their acceleration is not kept).
+pub fn particle_force(s: &State, i: usize, gravity: glam::DVec3) -> glam::DVec3 {
+    if s.inv_mass[i] == 0.0 { glam::DVec3::ZERO } else { s.mass[i] * (s.acc[i] - gravity) }
+}
+
+/// Torque about the centre of movable particle `i` at the last force pass, from its angular
+/// acceleration: I α (world-frame R I Rᵀ α for polyhedra); zero without rotation and for fixed bodies.
+pub fn particle_torque(s: &State, i: usize) -> glam::DVec3 {
+    if s.alpha.is_empty() || s.inv_inertia[i] == 0.0 {
+        return glam::DVec3::ZERO;
+    }
+    if s.orient.is_empty() {
+        return s.alpha[i] / s.inv_inertia[i];
+    }
+    let q = s.orient[i];
+    q * ((q.inverse() * s.alpha[i]) / s.inv_inertia_body[i])
+}
+
+/// The particles as VTK XML PolyData (one vertex per particle, sorted by id).
+pub fn particles_vtp(s: &State, gravity: glam::DVec3) -> PolyData {
+    let mut order: Vec<usize> = (0..s.len()).collect();
+    order.sort_by_key(|&i| s.id[i]);
+    let n = order.len();
+    let vectors = |f: &dyn Fn(usize) -> [f64; 3]| order.iter().flat_map(|&i| f(i)).collect::<Vec<f64>>();
+    let omega = |i: usize| if s.omega.is_empty() { [0.0; 3] } else { s.omega[i].to_array() };
+    let mut point_data = vec![
+        Array::f64("radius", 1, order.iter().map(|&i| s.radius[i]).collect()),
+        Array::f64("velocity", 3, vectors(&|i| s.vel[i].to_array())),
+        Array::f64("angular_velocity", 3, vectors(&omega)),
+        Array::f64("force", 3, vectors(&|i| particle_force(s, i, gravity).to_array())),
+        Array::f64("torque", 3, vectors(&|i| particle_torque(s, i).to_array())),
+        Array::i32("material", order.iter().map(|&i| s.material[i] as i32).collect()),
+        Array::i32("group", order.iter().map(|&i| s.group[i] as i32).collect()),
+        Array::i64("id", order.iter().map(|&i| s.id[i] as i64).collect()),
+    ];
+    if !s.orient.is_empty() {
+        point_data
+            .push(Array::i32("shape", order.iter().map(|&i| if s.shape[i] == tumble_scene::SPHERE { -1 } else { s.shape[i] as i32 }).collect()));
+        point_data.push(Array::f64(
+            "orientation",
+            4,
+            order.iter().flat_map(|&i| [s.orient[i].w, s.orient[i].x, s.orient[i].y, s.orient[i].z]).collect(),
+        ));
+    }
+    PolyData {
+        points: vectors(&|i| s.pos[i].to_array()),
+        verts: Cells::of((0..n).map(|k| [k])),
+        point_data,
+        point_attributes: (Some("radius".into()), Some("velocity".into())),
+        ..Default::default()
+    }
+}
+
+/// Walls (`plan.model.walls`, or the same walls in another pose) as VTK XML PolyData polygons: quads
+/// as they are, planes as a square covering the domain, cylinders as 48 facets, lifters as their six faces.
+pub fn walls_vtp(plan: &tumble_scene::Plan, walls: &[tumble_scene::Wall]) -> PolyData {
+    use tumble_geom::{DVec3, SurfaceShape};
+    let mut points: Vec<DVec3> = Vec::new();
+    let mut polys: Vec<Vec<usize>> = Vec::new();
+    let mut wall_of_poly: Vec<usize> = Vec::new();
+    let centre = 0.5 * (plan.model.domain.min + plan.model.domain.max);
+    let size = plan.model.domain.extent().length();
+    for (w, wall) in walls.iter().enumerate() {
+        let mut quad = |corners: [DVec3; 4]| {
+            polys.push((points.len()..points.len() + 4).collect());
+            points.extend(corners);
+            wall_of_poly.push(w);
+        };
+        match &wall.shape {
+            SurfaceShape::Quad(q) => quad(q.corners),
+            SurfaceShape::Plane(p) => {
+                let foot = centre - p.normal * p.signed_distance(centre);
+                let u = p.normal.any_orthonormal_vector() * size;
+                let v = p.normal.cross(u);
+                quad([foot - u - v, foot + u - v, foot + u + v, foot - u + v]);
+            }
+            SurfaceShape::Cylinder(c) => {
+                let (u, v) = c.axis.any_orthonormal_pair();
+                let ring = |k: usize, s: f64| {
+                    let phi = std::f64::consts::TAU * k as f64 / 48.0;
+                    c.point + c.axis * s + (u * phi.cos() + v * phi.sin()) * c.radius
+                };
+                for k in 0..48 {
+                    quad([ring(k, 0.0), ring(k + 1, 0.0), ring(k + 1, c.length), ring(k, c.length)]);
+                }
+            }
+            SurfaceShape::Prism(p) => p.corners().for_each(&mut quad),
+        }
+    }
+    PolyData {
+        points: points.iter().flat_map(|p| p.to_array()).collect(),
+        polys: Cells::of(polys),
+        cell_data: vec![
+            Array::i32("wall", wall_of_poly.iter().map(|&w| w as i32).collect()),
+            Array::i32("material", wall_of_poly.iter().map(|&w| walls[w].material as i32).collect()),
+            Array::i32("group", wall_of_poly.iter().map(|&w| walls[w].group as i32).collect()),
+        ],
+        cell_attributes: (Some("wall".into()), None),
+        ..Default::default()
+    }
+}
