@@ -46,16 +46,17 @@ impl PeriodicBox {
             if self.periodic[k] {
                 if x[k] >= self.max[k] {
                     x[k] -= l[k];
-                    image[k] += 1;
+                    image[k] = image[k].saturating_add(1);
                 } else if x[k] < self.min[k] {
                     x[k] += l[k];
-                    image[k] -= 1;
+                    image[k] = image[k].saturating_sub(1);
                 }
                 // A particle moved more than a box length in one step: wrap fully.
                 if x[k] >= self.max[k] || x[k] < self.min[k] {
                     let lengths = ((x[k] - self.min[k]) / l[k]).floor();
                     x[k] = self.min[k] + (x[k] - self.min[k]).rem_euclid(l[k]);
-                    image[k] += lengths as i32;
+                    // Saturates for a particle that has flown off to a non-finite distance (the monitor stops that run).
+                    image[k] = image[k].saturating_add(lengths as i32);
                 }
             }
         }

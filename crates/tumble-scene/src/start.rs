@@ -64,8 +64,8 @@ fn check_scales(scene: &Scene, p: &InitialParticles, domain: &PeriodicBox) -> Re
         let speed = magnitude(p.velocity[i]) + magnitude(p.angular_velocity[i]) * p.radius[i];
         if !(speed <= MAX_INITIAL_SPEED) {
             return Err(SceneError::field(
-                format!("{}.velocity", group_label(scene, p.group[i])),
-                format!("a particle starts at {speed:.3e} m/s (centre plus spin at its surface); speeds are in m/s and at most {MAX_INITIAL_SPEED:.0e} m/s are accepted"),
+                format!("particles[{}].velocity", p.group[i]),
+                format!("a particle of {} starts at {speed:.3e} m/s (centre plus spin at its surface); speeds are in m/s and at most {MAX_INITIAL_SPEED:.0e} m/s are accepted", group_label(scene, p.group[i])),
             ));
         }
     }
@@ -75,8 +75,13 @@ fn check_scales(scene: &Scene, p: &InitialParticles, domain: &PeriodicBox) -> Re
         let axis = ["x", "y", "z"][(0..3).min_by(|&a, &b| extent[a].total_cmp(&extent[b])).unwrap_or(0)];
         let what = if p.shape[i] == SPHERE { "diameter" } else { "bounding diameter" };
         return Err(SceneError::field(
-            format!("{}.shape", group_label(scene, p.group[i])),
-            format!("a particle's {what} ({d} m) is not smaller than the domain ({smallest} m along {axis}); lengths are in metres, not millimetres"),
+            format!("particles[{}].shape", p.group[i]),
+            format!(
+                "a particle of {} has a {what} of {} m, not smaller than the domain ({} m along {axis}); lengths are in metres, not millimetres",
+                group_label(scene, p.group[i]),
+                number(d),
+                number(smallest)
+            ),
         ));
     }
     Ok(())
@@ -146,6 +151,11 @@ impl Overlaps {
     }
 }
 
+/// A length to six significant digits, in exponent form when very large or small.
+fn number(x: f64) -> String {
+    if (1e-4..1e6).contains(&x.abs()) { format!("{:.5e}", x).parse::<f64>().unwrap_or(x).to_string() } else { format!("{x:.5e}") }
+}
+
 /// A position to six significant digits: `[-0.0775, 0.0925, 0]`.
 fn shown(x: DVec3) -> String {
     let c = x.to_array().map(|v| format!("{:.5e}", v).parse::<f64>().unwrap_or(v).to_string());
@@ -163,10 +173,19 @@ fn overlap_advice(start: &StartSection) -> String {
 fn check_pair_overlaps(scene: &Scene, p: &InitialParticles, shapes: &[ParticleShape], domain: &PeriodicBox, start: &StartSection) -> Result<(), SceneError> {
     let n = p.len();
     let r_max = p.radius.iter().fold(0.0f64, |a, &r| a.max(r));
-    // Cells at least one largest diameter wide, and not many more cells than particles.
-    let volume = domain.extent().element_product();
+    // The grid spans the particles (a large domain around a small bed would put them all in a
+    // few cells), with cells at least one largest diameter wide and about one particle each.
+    let (lo, hi) = p.position.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+    let mut bounds = *domain;
+    for k in 0..3 {
+        if !domain.periodic[k] {
+            bounds.min[k] = lo[k];
+            bounds.max[k] = hi[k].max(lo[k] + 2.0 * r_max);
+        }
+    }
+    let volume = bounds.extent().element_product();
     let min_cell = (2.0 * r_max).max((volume / n as f64).cbrt());
-    let mut grid = CellGrid::new(domain, min_cell);
+    let mut grid = CellGrid::new(&bounds, min_cell);
     grid.build(&p.position);
     let order = grid.order();
     // Groups whose random placement was asked to allow overlaps keep them among themselves.
