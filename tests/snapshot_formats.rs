@@ -229,7 +229,7 @@ fn the_scene_chooses_the_snapshot_encoding_and_bytes_per_particle_are_reported()
         per_particle.push((format, bytes as f64 / (files * n) as f64));
         let csv = std::fs::read_to_string(out.join("observables.csv")).unwrap();
         assert!(csv.lines().next().unwrap().ends_with(",fx_box,fy_box,fz_box,tx_box,ty_box,tz_box"), "every wall group's load: {csv}");
-        assert!(csv.lines().skip(1).all(|l| l.split(',').count() == 14), "{csv}");
+        assert!(csv.lines().skip(1).all(|l| l.split(',').count() == 15), "{csv}");
         let _ = std::fs::remove_dir_all(&out);
     }
     println!("pile ({} snapshots): bytes per particle {per_particle:?}", 3);

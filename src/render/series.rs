@@ -1,4 +1,4 @@
-//! A run's snapshot series on disk (what `src/vtk.rs` writes) and the picture of one snapshot.
+//! A run's snapshot series on disk (what `src/vtk/mod.rs` writes) and the picture of one snapshot.
 
 use super::colour::{unit, viridis};
 use super::gpu::{Line, Picture, Sphere, Triangle};

@@ -186,10 +186,13 @@ pub fn lifters_are_one_contact_per_bar_as_on_the_cpu() {
     let f = &prisms[3].faces[3];
     positions.push(prisms[3].centre + 0.4 * (centre(f) - prisms[3].centre));
     let list: Vec<String> = positions.iter().map(|x| format!("[{}, {}, {}]", x.x, x.y, x.z)).collect();
-    let text = SMALL_MILL.replace(
-        "lattice = { min = [-0.055, -0.07, 0.0], max = [0.055, 0.0, 0.035], spacing = 0.0105 }",
-        &format!("positions = [{}]", list.join(", ")),
-    );
+    // Pressed into the bars on purpose: the starting-state check is told so.
+    let text = SMALL_MILL
+        .replace(
+            "lattice = { min = [-0.055, -0.07, 0.0], max = [0.055, 0.0, 0.035], spacing = 0.0105 }",
+            &format!("positions = [{}]", list.join(", ")),
+        )
+        .replacen("[run]\n", "[run]\nstart = { allow_overlap = true }\n", 1);
     let s = scene(&text);
     let cpu = Simulation::new(s.clone(), 1);
     let gpu = GpuSimulation::new(s).unwrap();

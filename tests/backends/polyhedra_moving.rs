@@ -167,6 +167,8 @@ pub fn turning_lifters_sweep_into_cubes_as_on_the_cpu() {
         "lattice = { min = [-0.0355, -0.0284, 0.0004], max = [0.0355, 0.0142, 0.0288], spacing = 0.0142 }",
         &format!("positions = [{}]", sites.join(", ")),
     );
+    // Random orientations can put a corner a hair into its bar: deliberate, so the check is told.
+    let text = text.replacen("[run]\n", "[run]\nstart = { allow_overlap = true }\n", 1);
     let s = scene(&text);
     // The bars' faces move at ω r ≈ 0.29 m/s: 2.4 mm in 8 ms.
     let steps = (0.008 / s.plan.model.dt).round() as u64;

@@ -66,7 +66,7 @@ pub fn a_sphere_covers_pi_r_squared_where_the_camera_puts_it() {
 }
 
 /// A run folder with one snapshot of the given particles (centre, radius, velocity), in the
-/// ASCII layout src/vtk.rs writes.
+/// ASCII layout src/vtk/mod.rs writes.
 fn run_folder(name: &str, particles: &[(DVec3, f64, DVec3)]) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("tumble-render-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

@@ -36,7 +36,7 @@ fn a_snapshot_of_another_scene_or_version_is_refused_and_changes_nothing() {
 
     let mut bytes = heap.snapshot().to_bytes();
     bytes[8] = bytes[8].wrapping_add(1);
-    assert!(matches!(Snapshot::from_bytes(&bytes), Err(SnapshotError::Version { found: 3, expected: 2 })));
+    assert!(matches!(Snapshot::from_bytes(&bytes), Err(SnapshotError::Version { found, expected }) if found == expected + 1));
     let bytes = heap.snapshot().to_bytes();
     assert!(matches!(Snapshot::from_bytes(&bytes[..bytes.len() - 3]), Err(SnapshotError::Corrupt(_))));
 }

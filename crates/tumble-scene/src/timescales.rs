@@ -35,11 +35,12 @@ pub const ACCURATE_STEPS_PER_COLLISION: f64 = 10.0;
 /// The default Δt is at most this share of the viscous tangential relaxation time; above it the plan warns.
 pub const TANGENTIAL_STEP_SHARE: f64 = 1.0 / 6.0;
 
-/// An estimate of the fastest impact (docs/physics.md, "Time step"): the fastest initial particle
-/// after the deepest fall under gravity the domain allows, hit by the fastest wall point.
+/// An estimate of the fastest impact (docs/physics.md, "Time step"): two of the fastest particles
+/// (initial speed after the deepest fall under gravity the domain allows) meeting head on, or one
+/// hit by the fastest wall point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ImpactSpeed {
-    /// √(v_0² + 2 g h) + v_wall, at least 0.1 m/s.
+    /// max(2 v_p, v_p + v_wall) with v_p = √(v_0² + 2 g h), at least 0.1 m/s.
     pub speed: f64,
     /// Fastest initial speed of a movable particle.
     pub initial: f64,
@@ -208,7 +209,7 @@ pub(crate) fn timescales(
 }
 
 /// The impact speed estimate: energy conservation bounds a lone particle's speed by
-/// √(v_0² + 2 g h); a moving wall can meet it head on at its own speed.
+/// v_p = √(v_0² + 2 g h); two such particles, or one and a moving wall, can meet head on.
 fn impact_speed(p: &InitialParticles, gravity: DVec3, domain: &PeriodicBox, walls: &[Wall]) -> ImpactSpeed {
     let movable = || (0..p.len()).filter(|&i| !p.fixed[i]);
     let initial = movable().map(|i| p.velocity[i].length()).fold(0.0, f64::max);
@@ -226,6 +227,7 @@ fn impact_speed(p: &InitialParticles, gravity: DVec3, domain: &PeriodicBox, wall
     } else {
         0.0
     };
-    let speed = ((initial * initial + 2.0 * g * drop_height).sqrt() + wall).max(0.1);
+    let particle = (initial * initial + 2.0 * g * drop_height).sqrt();
+    let speed = (2.0 * particle).max(particle + wall).max(0.1);
     ImpactSpeed { speed, initial, drop_height, wall }
 }
