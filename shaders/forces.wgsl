@@ -34,7 +34,7 @@ struct ContactForce {
     tangential: vec3<f32>,
     elastic: f32,
     dissipation: f32,
-    // |F_n| applied (rolling resistance) and the spring to keep: ξ, stored energy (history; zero when none).
+    // max(F_n, 0) (friction capacity, rolling resistance) and the spring to keep: ξ, stored energy (history; zero when none).
     normal: f32,
     spring: vec4<f32>,
 }
@@ -76,7 +76,8 @@ fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_r
             applied = max(applied, 0.0);
         }
         let vt = v_rel - n * vn;
-        out.normal = abs(applied);
+        // The friction capacity: a pulling dashpot gives none.
+        out.normal = max(applied, 0.0);
         var ft = vec3<f32>(0.0);
         var slip_loss = 0.0;
         if HISTORY && (tangential_law == TANGENTIAL_HISTORY_LINEAR || tangential_law == TANGENTIAL_HISTORY_MINDLIN) {
@@ -88,7 +89,7 @@ fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_r
         } else if TANGENTIAL && (tangential_law == TANGENTIAL_VISCOUS_COULOMB || tangential_law == TANGENTIAL_STICK_LIMITED || tangential_law == TANGENTIAL_DYNAMIC_ONLY) {
             let speed = length(vt);
             if speed > 0.0 {
-                var magnitude = t1.y * abs(applied);
+                var magnitude = t1.y * out.normal;
                 switch tangential_law {
                     case TANGENTIAL_VISCOUS_COULOMB: {
                         var c_t = t1.z;

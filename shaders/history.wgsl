@@ -104,8 +104,11 @@ struct Spring {
 
 // One step of a history contact (pair table t1 = (TANGENTIAL_HISTORY_LINEAR or _MINDLIN, μ,
 // k_t or G*, damping ratio or β), t2.w = linear damping η [N s/m]): the old
-// spring rotated into the tangent plane keeping its length, ξ += v_t Δt,
-// F_t = −k_t ξ − η_t v_t, capped at μ|F_n| with ξ reset to −(F_t + η_t v_t)/k_t.
+// spring rotated into the tangent plane keeping its length, ξ += v_t Δt, then the
+// sliding rule of tumble_contact::history_force with L = μ·normal (normal = max(F_n, 0)):
+// a spring past L slides at L along −ξ̂ (against the slip when −ξ̂ would push along it)
+// with ξ truncated to −F_t/k_t and no dashpot; otherwise F_t = −k_t ξ − η_t v_t, scaled
+// back to L if the dashpot takes it past, ξ kept.
 // `old_spring` = (old ξ, its stored energy); the dissipation is the work done on the
 // contact minus the change of stored energy, as on the CPU (so a Mindlin k_t that
 // changed with the overlap is booked too).
@@ -131,19 +134,27 @@ fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star
         }
     }
     xi += vt * dt;
-    var force = -k_t * xi - eta_t * vt;
-    let limit = t1.y * normal;
-    let magnitude = length(force);
-    if magnitude > limit {
-        if magnitude > 0.0 {
-            force *= limit / magnitude;
-        } else {
-            force = vec3<f32>(0.0);
+    let limit = t1.y * max(normal, 0.0);
+    let elastic = -k_t * xi;
+    let elastic_magnitude = length(elastic);
+    var force: vec3<f32>;
+    if elastic_magnitude > limit {
+        let speed = length(vt);
+        var direction = elastic / elastic_magnitude;
+        if dot(elastic, vt) > 0.0 && speed > 0.0 {
+            direction = -vt / speed;
         }
+        force = direction * limit;
         if k_t > 0.0 {
-            xi = -(force + eta_t * vt) / k_t;
+            xi = -force / k_t;
         } else {
             xi = vec3<f32>(0.0);
+        }
+    } else {
+        force = elastic - eta_t * vt;
+        let magnitude = length(force);
+        if magnitude > limit {
+            force *= limit / magnitude;
         }
     }
     let energy = 0.5 * k_t * dot(xi, xi);

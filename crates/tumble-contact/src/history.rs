@@ -45,10 +45,18 @@ pub struct SpringForce {
 /// Advances the spring `spring` of a contact with normal `n` by the tangential
 /// relative velocity `vt` over `dt` and returns the force on i.
 ///
-/// The old spring is first rotated into the current tangent plane, keeping its
-/// length; then ξ ← ξ + v_t Δt and F_t = −k_t ξ − η_t v_t. Past the Coulomb
-/// limit μ|F_n| the force is scaled back and ξ reset to −(F_t + η_t v_t)/k_t,
-/// so the stored spring is consistent with the capped force.
+/// `normal` is the friction capacity's normal force, max(F_n, 0): a pulling
+/// dashpot gives no friction. The old spring is first rotated into the current
+/// tangent plane, keeping its length; then ξ ← ξ + v_t Δt, and with the
+/// Coulomb limit L = μ·normal (docs/physics.md, "The sliding rule"):
+///
+/// - the spring alone reaches L: the contact slides, F_t = L along −ξ̂ (or
+///   against the slip when −ξ̂ would push along it), ξ is truncated to the
+///   capped elastic force, ξ = −F_t/k_t, and the dashpot is off;
+/// - otherwise F_t = −k_t ξ − η_t v_t, scaled back to L if the dashpot takes
+///   it past the limit; ξ is kept as it is (the elastic part is below L).
+///
+/// While sliding F_t · v_t ≤ 0; only a sticking spring returns what it stored.
 ///
 /// ```
 /// use tumble_contact::{DVec3, SpringLaw, history_force};
@@ -83,14 +91,22 @@ pub fn history_force(
     }
     let rotated_energy = 0.5 * k_t * xi.length_squared();
     xi += vt * dt;
-    let mut force = -k_t * xi - eta_t * vt;
-    let limit = friction * normal;
-    let magnitude = force.length();
-    let sliding = magnitude > limit;
-    if sliding {
-        force *= if magnitude > 0.0 { limit / magnitude } else { 0.0 };
-        xi = if k_t > 0.0 { -(force + eta_t * vt) / k_t } else { DVec3::ZERO };
-    }
+    let limit = friction * normal.max(0.0);
+    let elastic = -k_t * xi;
+    let elastic_magnitude = elastic.length();
+    let (force, sliding) = if elastic_magnitude > limit {
+        // The spring alone is past the limit: slide against the slip, the spring truncated to what L implies.
+        let speed = vt.length();
+        let direction = if elastic.dot(vt) <= 0.0 || speed == 0.0 { elastic / elastic_magnitude } else { -vt / speed };
+        let force = direction * limit;
+        xi = if k_t > 0.0 { -force / k_t } else { DVec3::ZERO };
+        (force, true)
+    } else {
+        let trial = elastic - eta_t * vt;
+        let magnitude = trial.length();
+        // The dashpot alone took it past L; the capped force then opposes the slip (|trial| > |elastic| needs trial · v_t < 0).
+        if magnitude > limit { (trial * (limit / magnitude), true) } else { (trial, false) }
+    };
     let energy = 0.5 * k_t * xi.length_squared();
     // Work done on the contact minus what the spring kept.
     let dissipation = if dt > 0.0 { -force.dot(vt) - (energy - rotated_energy) / dt } else { 0.0 };
@@ -137,15 +153,46 @@ mod tests {
     }
 
     #[test]
-    fn coulomb_limit_caps_force_and_resets_spring_consistently() {
+    fn coulomb_limit_truncates_the_spring_to_the_capped_elastic_force() {
         let v = DVec3::new(0.0, 3.0, 0.0);
         let f = history_force(&LAW, 0.5, 10.0, 1e-4, 0.05, 0.1, DVec3::new(0.0, 0.01, 0.0), DVec3::Z, v, 1e-3);
         assert!(f.sliding);
         assert!((f.force.length() - 5.0).abs() < 1e-12);
         assert!(f.force.y < 0.0);
-        // −k_t ξ − η_t v_t reproduces the capped force.
-        assert!((-1.0e4 * f.spring - 2.0 * v - f.force).length() < 1e-12);
+        // The spring alone supplies the capped force; the dashpot is off while sliding.
+        assert!((-1.0e4 * f.spring - f.force).length() < 1e-12);
         assert!(f.dissipation > 0.0);
+    }
+
+    #[test]
+    fn damping_past_the_limit_at_onset_never_stores_a_spring_against_the_slip() {
+        // The case that broke Hertz–Mindlin sliding: at contact onset η_t|v_t| alone exceeds μF_n.
+        let law = SpringLaw::Linear { stiffness: 1.0e4, damping: 50.0, damping_ratio: 0.0 };
+        let v = DVec3::new(0.2, 0.0, 0.0);
+        let f = history_force(&law, 0.4, 10.0, 1e-4, 0.05, 0.1, DVec3::ZERO, DVec3::Z, v, 1e-4);
+        assert!(f.sliding && (f.force.length() - 4.0).abs() < 1e-12 && f.force.x < 0.0);
+        assert!(f.spring.dot(v) > 0.0, "the stored spring points along the slip: {:?}", f.spring);
+        // A stiffer spring next step (Mindlin k_t grows with δ) still pulls against the slip.
+        let stiff = SpringLaw::Linear { stiffness: 1.0e7, damping: 50.0, damping_ratio: 0.0 };
+        let g = history_force(&stiff, 0.4, 10.0, 1e-4, 0.05, 0.1, f.spring, DVec3::Z, v, 1e-4);
+        assert!(g.force.dot(v) < 0.0 && (g.force.length() - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_pulling_normal_force_gives_no_friction() {
+        let v = DVec3::new(0.1, 0.0, 0.0);
+        let f = history_force(&LAW, 0.5, -3.0, 1e-4, 0.05, 0.1, DVec3::new(1e-4, 0.0, 0.0), DVec3::Z, v, 1e-3);
+        assert_eq!(f.force, DVec3::ZERO);
+        assert_eq!(f.spring, DVec3::ZERO);
+    }
+
+    #[test]
+    fn a_saturated_spring_that_would_push_along_the_slip_slides_against_it() {
+        // Slip reversed while the (now stiffer) spring is past the limit: friction opposes the slip.
+        let v = DVec3::new(-0.1, 0.0, 0.0);
+        let f = history_force(&LAW, 0.5, 10.0, 1e-4, 0.05, 0.1, DVec3::new(0.01, 0.0, 0.0), DVec3::Z, v, 1e-3);
+        assert!(f.sliding && f.force.dot(v) <= 0.0);
+        assert!((f.force.x - 5.0).abs() < 1e-12);
     }
 
     #[test]

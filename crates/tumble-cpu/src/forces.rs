@@ -58,7 +58,7 @@ pub struct WallLoad {
 pub(crate) struct ContactForce {
     pub force: DVec3,
     pub tangential: DVec3,
-    /// |F_n| applied, for the rolling torque.
+    /// max(F_n, 0): the friction capacity's normal force, and the rolling torque's.
     pub normal: f64,
     pub elastic: f64,
     pub dissipation: f64,
@@ -91,7 +91,7 @@ pub(crate) fn contact_force<const COH: bool, const HIST: bool>(
         let vn = v_rel.dot(n);
         let nf = normal_force(&p.normal, overlap, vn, m_star, r_star);
         let applied = if p.no_attraction { nf.total().max(0.0) } else { nf.total() };
-        out.normal = applied.abs();
+        out.normal = applied.max(0.0);
         let t = tangential_part::<HIST>(p, out.normal, nf.stiffness, overlap, r_star, m_star, n, v_rel - n * vn, dt, old_spring, spring);
         out.force += n * applied + t.force;
         out.tangential = t.force;

@@ -76,7 +76,7 @@ fn polyhedron_force<const HIST: bool>(
     let nf = normal_force(&params.normal, k.depth, vn, m_star, r_star);
     let applied = if params.no_attraction { nf.total().max(0.0) } else { nf.total() };
     out.force = n * applied;
-    out.normal = applied.abs();
+    out.normal = applied.max(0.0);
     out.elastic = nf.energy;
     out.dissipation = -(applied - nf.elastic) * vn;
     let stiffness = nf.stiffness;

@@ -8,7 +8,9 @@ use crate::SceneError;
 use crate::plan::{Material, PairParams};
 use crate::schema::*;
 use crate::targets::{MovableMeans, Stickiness, cohesion_for_stickiness_number};
-use tumble_contact::{NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, hertz_effective_moduli, stickiness_number};
+use tumble_contact::{
+    NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, clipped_damping_ratio, clipped_hertz_beta, hertz_effective_moduli, stickiness_number,
+};
 
 /// Cohesion of a pair as the scene gives it.
 #[derive(Clone, Copy, Debug)]
@@ -190,6 +192,16 @@ fn pair_law(
             let (e_star, g_star) = hertz_effective_moduli(ea, na, eb, nb);
             NormalLaw::hertz(e_star, g_star, e)
         }
+    };
+    // A clipped dashpot loses less than a pulling one: its coefficient is recomputed to keep e.
+    let normal = match normal {
+        NormalLaw::Linear { stiffness, restitution, .. } if no_attraction => {
+            NormalLaw::Linear { stiffness, restitution, damping_ratio: clipped_damping_ratio(restitution) }
+        }
+        NormalLaw::Hertz { e_star, g_star, restitution, .. } if no_attraction => {
+            NormalLaw::Hertz { e_star, g_star, restitution, beta: clipped_hertz_beta(restitution) }
+        }
+        law => law,
     };
     let mu = |f: f64| -> Result<f64, SceneError> { non_negative(&format!("{root}.tangential.friction"), f) };
     let tangential = match tangential {
