@@ -95,6 +95,11 @@ impl FloorScene {
     }
 
     pub fn compile(&self) -> CompiledScene {
+        compile(&self.parsed()).expect("friction study scene compiles")
+    }
+
+    /// The scene before compilation, for studies that change a setting the fields do not carry.
+    pub fn parsed(&self) -> tumble_scene::schema::Scene {
         let v = |x: DVec3| format!("[{:e}, {:e}, {:e}]", x.x, x.y, x.z);
         let mut text = format!(
             "name = \"friction-study\"\n[run]\nduration = {}\ndt = {{ collision_fraction = 50 }}\nintegrator = \"verlet\"\nrotation = \"{}\"\n\
@@ -120,7 +125,7 @@ impl FloorScene {
         );
         let mut scene = parse_scene(&text).expect("friction study scene parses");
         scene.run.monitor.enabled = false;
-        compile(&scene).expect("friction study scene compiles")
+        scene
     }
 }
 
@@ -156,6 +161,19 @@ pub fn oblique_impact(model: FrictionModel, hertz: bool, friction: f64, restitut
 
 /// [`oblique_impact`] on a chosen backend.
 pub fn oblique_impact_on(backend: BackendName, model: FrictionModel, hertz: bool, friction: f64, restitution: f64, angle_deg: f64) -> Impact {
+    oblique_impact_with(backend, model, hertz, friction, restitution, angle_deg, false)
+}
+
+/// [`oblique_impact_on`] with the normal force clipped at zero (`no_attraction`) when asked.
+pub fn oblique_impact_with(
+    backend: BackendName,
+    model: FrictionModel,
+    hertz: bool,
+    friction: f64,
+    restitution: f64,
+    angle_deg: f64,
+    no_attraction: bool,
+) -> Impact {
     let t = angle_deg.to_radians();
     let speed = 1.0;
     let (vt, vn) = (speed * t.sin(), speed * t.cos());
@@ -174,7 +192,9 @@ pub fn oblique_impact_on(backend: BackendName, model: FrictionModel, hertz: bool
         // Hertz contacts at 1 m/s are shorter than the linear ones here.
         duration: gap / vn + 2.0 * t_col,
     };
-    let compiled = scene.compile();
+    let mut parsed = scene.parsed();
+    parsed.contact.no_attraction = no_attraction;
+    let compiled = compile(&parsed).expect("oblique impact scene compiles");
     let steps = compiled.plan.run.steps;
     let mut sim = on(backend, compiled);
     sim.advance(steps);

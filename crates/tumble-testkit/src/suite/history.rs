@@ -38,6 +38,24 @@ pub fn oblique_impacts_follow_coulomb_theory_while_sliding(backend: BackendName)
     );
 }
 
+/// Damped Hertz–Mindlin impacts that slide throughout (e = 0.5, μ = 0.4, the regime where a spring
+/// reset through the dashpot pushed along the slip): Coulomb theory with the measured restitution,
+/// with the dashpot free to pull and clipped (`no_attraction`, damping recomputed to keep e).
+pub fn damped_hertz_mindlin_impacts_slide_at_the_coulomb_limit(backend: BackendName) {
+    let (mu, e) = (0.4, 0.5);
+    // Sliding throughout needs tan θ ≥ 7/2 μ (1 + e) = 2.1: θ ≥ 64.5°.
+    for (angle, clipped) in [(70.0, true), (80.0, false)] {
+        let i = oblique_impact_with(backend, FrictionModel::History, true, mu, e, angle, clipped);
+        let (vt, spin) = coulomb_impact(angle, mu, i.normal);
+        println!("{angle}° clipped {clipped}: {i:?} theory v_t {vt} spin {spin}");
+        if clipped {
+            assert!((i.normal - e).abs() < Tolerance::on(Restitution, backend), "{angle}°: the clipped dashpot gives e = {}", i.normal);
+        }
+        assert!((i.tangential / vt - 1.0).abs() < Tolerance::on(TangentialRatio, backend), "{angle}°: v_t'/v_t = {} vs {vt}", i.tangential);
+        assert!((i.spin / spin - 1.0).abs() < Tolerance::on(SpinRatio, backend), "{angle}°: Rω'/v_t = {} vs {spin}", i.spin);
+    }
+}
+
 /// A sphere on a 15° incline below the friction angle stays put (a history-free law creeps).
 pub fn a_spring_holds_a_sphere_on_an_incline(backend: BackendName) {
     let angle = 15.0;

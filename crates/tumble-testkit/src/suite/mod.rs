@@ -47,6 +47,7 @@ behaviours![
     verification::a_sphere_set_on_a_plane_rests_at_m_g_over_k,
     history::slide_to_roll_at_five_sevenths,
     history::oblique_impacts_follow_coulomb_theory_while_sliding,
+    history::damped_hertz_mindlin_impacts_slide_at_the_coulomb_limit,
     history::a_spring_holds_a_sphere_on_an_incline,
     history::rolls_at_five_sevenths_g_sin_theta,
     history::rolling_resistance_holds_below_tan_theta_equal_mu_r_and_rolls_above,
