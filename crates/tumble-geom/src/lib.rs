@@ -21,6 +21,7 @@ pub use glam::{DQuat, DVec3};
 
 mod contact_mass;
 mod enclosing_sphere;
+mod overlap_volume;
 mod periodic;
 mod polyhedron;
 mod polyhedron_cylinder;
@@ -37,6 +38,7 @@ mod sphere_sphere;
 mod surface;
 
 pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosing_sphere_of_spheres, tangent_balls};
+pub use overlap_volume::{OverlapVolume, overlap_volume};
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};
 pub use polyhedron_polyhedron::{
