@@ -79,7 +79,8 @@ fn clipped_damping(p: f64, q: f64, restitution: f64) -> f64 {
         return 0.0;
     }
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    while clipped_restitution(p, q, hi) > restitution {
+    // c = 1024 gives e ≈ 1e-6; scenes ask for at least MIN_CLIPPED_RESTITUTION.
+    while hi < 1024.0 && clipped_restitution(p, q, hi) > restitution {
         hi *= 2.0;
     }
     for _ in 0..50 {
@@ -88,6 +89,10 @@ fn clipped_damping(p: f64, q: f64, restitution: f64) -> f64 {
     }
     0.5 * (lo + hi)
 }
+
+/// The smallest restitution a scene may ask of a clipped contact: e ≈ 1e-4 needs c ≈ 100 already,
+/// since a clipped dashpot lets go as soon as it would pull.
+pub const MIN_CLIPPED_RESTITUTION: f64 = 1e-4;
 
 /// Damping ratio γ of a linear spring-dashpot whose force is clipped at zero (`no_attraction`)
 /// so that it still rebounds with restitution e. The clip removes the dashpot's pull at the end of

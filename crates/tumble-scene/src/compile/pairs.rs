@@ -9,7 +9,7 @@ use crate::plan::{Material, PairParams};
 use crate::schema::*;
 use crate::targets::{MovableMeans, Stickiness, cohesion_for_stickiness_number};
 use tumble_contact::{
-    NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, clipped_damping_ratio, clipped_hertz_beta, hertz_effective_moduli, stickiness_number,
+    MIN_CLIPPED_RESTITUTION, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, clipped_damping_ratio, clipped_hertz_beta, hertz_effective_moduli, stickiness_number,
 };
 
 /// Cohesion of a pair as the scene gives it.
@@ -193,6 +193,12 @@ fn pair_law(
             NormalLaw::hertz(e_star, g_star, e)
         }
     };
+    if no_attraction && e < MIN_CLIPPED_RESTITUTION {
+        return Err(SceneError::field(
+            format!("{root}.restitution"),
+            format!("with no_attraction the restitution must be at least {MIN_CLIPPED_RESTITUTION:e} (a clipped dashpot cannot absorb more), got {e}"),
+        ));
+    }
     // A clipped dashpot loses less than a pulling one: its coefficient is recomputed to keep e.
     let normal = match normal {
         NormalLaw::Linear { stiffness, restitution, .. } if no_attraction => {
