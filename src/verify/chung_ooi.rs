@@ -8,7 +8,7 @@
 
 use super::FrictionModel;
 use crate::{Simulation, TrackRow};
-use glam::DVec3;
+pub use glam::DVec3;
 use tumble_scene::schema::{BackendName, DtSpec};
 use tumble_scene::{compile, parse_scene};
 
