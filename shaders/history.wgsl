@@ -106,8 +106,7 @@ struct Spring {
 // k_t or G*, damping ratio or β), t2.w = linear damping η [N s/m]): the old
 // spring rotated into the tangent plane keeping its length, ξ += v_t Δt, then the
 // sliding rule of tumble_contact::history_force with L = μ·normal (normal = max(F_n, 0)):
-// a spring past L slides at L along −ξ̂ (against the slip when −ξ̂ would push along it)
-// with ξ truncated to −F_t/k_t and no dashpot; otherwise F_t = −k_t ξ − η_t v_t, scaled
+// a spring past L slides at L along −ξ̂ with ξ truncated to −F_t/k_t and no dashpot; otherwise F_t = −k_t ξ − η_t v_t, scaled
 // back to L if the dashpot takes it past, ξ kept.
 // `old_spring` = (old ξ, its stored energy); the dissipation is the work done on the
 // contact minus the change of stored energy, as on the CPU (so a Mindlin k_t that
@@ -139,12 +138,7 @@ fn history_force(t1: vec4<f32>, t2: vec4<f32>, normal: f32, overlap: f32, r_star
     let elastic_magnitude = length(elastic);
     var force: vec3<f32>;
     if elastic_magnitude > limit {
-        let speed = length(vt);
-        var direction = elastic / elastic_magnitude;
-        if dot(elastic, vt) > 0.0 && speed > 0.0 {
-            direction = -vt / speed;
-        }
-        force = direction * limit;
+        force = elastic * (limit / elastic_magnitude);
         if k_t > 0.0 {
             xi = -force / k_t;
         } else {
