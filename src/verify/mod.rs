@@ -6,6 +6,7 @@
 
 mod cases;
 mod expect;
+pub mod chung_ooi;
 mod friction;
 mod report;
 
