@@ -161,3 +161,11 @@ fn epsd2_without_history_is_refused_naming_the_field() {
     println!("{err}");
     assert!(err.contains("contact.rolling_model") && err.contains("history"), "{err}");
 }
+
+#[test]
+fn the_gpu_backend_refuses_epsd2_naming_the_field() {
+    let compiled = compile(&scene(RollingModelName::Epsd2, 0.0, 0.0, 0.8, 0.1)).unwrap();
+    let Err(err) = Simulation::gpu(compiled) else { panic!("the GPU backend ran EPSD2") };
+    let err = err.to_string();
+    assert!(err.contains("contact.rolling_model") && err.contains("cpu"), "{err}");
+}
