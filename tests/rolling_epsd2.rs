@@ -85,15 +85,14 @@ fn below_the_limit_the_sphere_rocks_at_the_rolling_spring_frequency() {
     let mut sim = Simulation::new(compiled, 1);
     let samples = spin_history(&mut sim, steps);
     // Downward zero crossings of ω_y, linearly interpolated.
-    let crossings: Vec<f64> = samples
-        .windows(2)
-        .filter(|w| w[0].1 > 0.0 && w[1].1 <= 0.0)
-        .map(|w| w[0].0 + (w[1].0 - w[0].0) * w[0].1 / (w[0].1 - w[1].1))
-        .collect();
+    let crossings: Vec<f64> =
+        samples.windows(2).filter(|w| w[0].1 > 0.0 && w[1].1 <= 0.0).map(|w| w[0].0 + (w[1].0 - w[0].0) * w[0].1 / (w[0].1 - w[1].1)).collect();
     assert!(crossings.len() >= 5, "only {} oscillations", crossings.len());
     let measured = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
     let amplitude = samples.iter().map(|s| s.1.abs()).fold(0.0, f64::max);
-    println!("rocking period {measured:.6e} s, theory {theory:.6e} s (rigid contact 2π√(I_c/k_r) = {rigid:.6e} s), peak |ω| {amplitude:.4e} of ω0 = {w0}");
+    println!(
+        "rocking period {measured:.6e} s, theory {theory:.6e} s (rigid contact 2π√(I_c/k_r) = {rigid:.6e} s), peak |ω| {amplitude:.4e} of ω0 = {w0}"
+    );
     assert!((measured / theory - 1.0).abs() < 2e-3, "period {measured} vs {theory}");
     assert!(amplitude <= 1.01 * w0, "elastic rocking cannot gain energy: {amplitude}");
 }

@@ -6,8 +6,8 @@ use crate::neighbours::NeighbourList;
 use crate::polyhedra::{equivalent_radius, polyhedron_pair, polyhedron_wall};
 use glam::DVec3;
 use tumble_contact::{
-    RollingModel, TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, epsd2_torque, history_force, normal_force, rolling_stiffness,
-    rolling_torque, tangential_force,
+    RollingModel, TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, epsd2_torque, history_force, normal_force,
+    rolling_stiffness, rolling_torque, tangential_force,
 };
 use tumble_geom::sphere_sphere;
 use tumble_scene::{PairParams, PhysicsModel, SPHERE, Wall};
@@ -370,7 +370,16 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
 /// when the contact has ended: its stored energy is then booked by [`book_ended_springs`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn epsd2_couple(p: &PairParams, overlap: f64, r_star: f64, normal: f64, n: DVec3, relative: DVec3, dt: f64, spring: &mut Spring) -> tumble_contact::RollingSpring {
+fn epsd2_couple(
+    p: &PairParams,
+    overlap: f64,
+    r_star: f64,
+    normal: f64,
+    n: DVec3,
+    relative: DVec3,
+    dt: f64,
+    spring: &mut Spring,
+) -> tumble_contact::RollingSpring {
     if overlap < 0.0 {
         return tumble_contact::RollingSpring { torque: DVec3::ZERO, energy: 0.0, dissipation: 0.0, rolling: false };
     }

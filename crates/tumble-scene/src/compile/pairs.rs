@@ -9,7 +9,8 @@ use crate::plan::{Material, PairParams};
 use crate::schema::*;
 use crate::targets::{MovableMeans, Stickiness, cohesion_for_stickiness_number};
 use tumble_contact::{
-    NormalLaw, RollingModel, SpringLaw, TangentialLaw, ViscousParameter, clipped_damping_ratio, clipped_hertz_beta, hertz_effective_moduli, stickiness_number,
+    NormalLaw, RollingModel, SpringLaw, TangentialLaw, ViscousParameter, clipped_damping_ratio, clipped_hertz_beta, hertz_effective_moduli,
+    stickiness_number,
 };
 
 /// Cohesion of a pair as the scene gives it.
@@ -128,7 +129,14 @@ pub(super) fn pair_table(
                 cohesion_for_stickiness_number(sy, e, effect_length, u, means.reduced_mass)
             }
         };
-        let pair = PairParams { normal: law.normal, tangential: law.tangential, cohesion, no_attraction: law.no_attraction, rolling: law.rolling, rolling_model: law.rolling_model };
+        let pair = PairParams {
+            normal: law.normal,
+            tangential: law.tangential,
+            cohesion,
+            no_attraction: law.no_attraction,
+            rolling: law.rolling,
+            rolling_model: law.rolling_model,
+        };
         if let Some((k_c, k_n)) = pair.cohesion_over_stiffness() {
             return Err(SceneError::field(
                 format!("{root}.cohesion"),
