@@ -165,6 +165,10 @@ fn energy_balance_closes_with_tangential_springs() {
     for (label, tangential) in [
         ("Cundall–Strack", "tangential = { model = \"history\", friction = 0.4 }"),
         ("Cundall–Strack with rolling resistance", "tangential = { model = \"history\", friction = 0.4 }\nrolling_friction = 0.05"),
+        (
+            "Cundall–Strack with an EPSD2 rolling spring",
+            "tangential = { model = \"history\", friction = 0.4 }\nrolling_friction = 0.05\nrolling_model = \"epsd2\"",
+        ),
     ] {
         let text = ENERGY_BALANCE.replace("tangential = { model = \"viscous-coulomb\", friction = 0.4, viscous = 1.0 }", tangential);
         assert_ne!(text, ENERGY_BALANCE);

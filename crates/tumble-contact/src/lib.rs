@@ -18,6 +18,7 @@ mod drag;
 mod history;
 mod normal;
 mod params;
+mod rolling;
 mod tangential;
 
 pub use cohesion::{cohesion_energy, cohesion_force, stickiness_number};
@@ -28,4 +29,5 @@ pub use params::{
     MIN_CLIPPED_RESTITUTION, clipped_damping_ratio, clipped_hertz_beta, collision_time, damping_ratio, hertz_beta, hertz_contact_time, hertz_effective_moduli, hertz_max_force, hertz_max_overlap, linear_damping,
     rayleigh_time,
 };
+pub use rolling::{RollingModel, RollingSpring, epsd2_torque, rolling_stiffness};
 pub use tangential::{TangentialLaw, ViscousParameter, tangential_force};

@@ -6,7 +6,8 @@ use crate::neighbours::NeighbourList;
 use crate::polyhedra::{equivalent_radius, polyhedron_pair, polyhedron_wall};
 use glam::DVec3;
 use tumble_contact::{
-    TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, history_force, normal_force, rolling_torque, tangential_force,
+    RollingModel, TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, epsd2_torque, history_force, normal_force,
+    rolling_stiffness, rolling_torque, tangential_force,
 };
 use tumble_geom::sphere_sphere;
 use tumble_scene::{PairParams, PhysicsModel, SPHERE, Wall};
@@ -128,7 +129,8 @@ pub(crate) fn tangential_part<const HIST: bool>(
     match p.tangential {
         TangentialLaw::History { friction, spring: law } if HIST => {
             let h = history_force(&law, friction, normal, overlap, r_star, m_star, old_spring.xi, n, vt, dt);
-            *spring = Spring { xi: h.spring, energy: h.energy };
+            // The rolling spring passes through; the rolling pass advances it.
+            *spring = Spring { xi: h.spring, energy: h.energy, ..old_spring };
             let loss = if dt > 0.0 { -h.force.dot(vt) - (h.energy - old_spring.energy) / dt } else { 0.0 };
             TangentialPart { force: h.force, energy: h.energy, loss }
         }
@@ -188,11 +190,19 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
         out.torque_b = g.arm_j.cross(-f.tangential);
         if params.rolling > 0.0 {
             let relative = c.omega[a] - c.omega[b];
-            let roll = rolling_torque(params.rolling, r_star, f.normal, relative, s.inv_inertia[a] + s.inv_inertia[b], model.dt);
+            let roll = if HIST && params.rolling_model == RollingModel::Epsd2 {
+                let r = epsd2_couple(params, g.overlap, r_star, f.normal, g.normal, relative, model.dt, spring);
+                out.elastic += r.energy;
+                out.dissipation += r.dissipation;
+                r.torque
+            } else {
+                let roll = rolling_torque(params.rolling, r_star, f.normal, relative, s.inv_inertia[a] + s.inv_inertia[b], model.dt);
+                // The couple opposes the relative rolling: all its work is dissipated.
+                out.dissipation -= roll.dot(relative);
+                roll
+            };
             out.torque_a += roll;
             out.torque_b -= roll;
-            // The couple opposes the relative rolling: all its work is dissipated.
-            out.dissipation -= roll.dot(relative);
         }
     }
     out.elastic += f.elastic;
@@ -239,11 +249,11 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
         let k = (e >> 1) as usize;
         let p = &pairs[k];
-        if HIST && springs[k].xi != DVec3::ZERO {
+        if HIST && springs[k].is_loaded() {
             let [a, b] = list.pairs[k];
             let sp = springs[k];
-            let (other, xi) = if e & 1 == 0 { (b, sp.xi) } else { (a, -sp.xi) };
-            slots.keep(&mut sum.springs, c.state.id[other as usize], Spring { xi, energy: sp.energy });
+            let (other, kept) = if e & 1 == 0 { (b, sp) } else { (a, sp.mirrored()) };
+            slots.keep(&mut sum.springs, c.state.id[other as usize], kept);
         }
         if e & 1 == 0 {
             sum.force += p.force;
@@ -310,9 +320,6 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
             let torque = arm.cross(f.tangential);
             (v_wall, k.overlap, f, torque, r)
         };
-        if HIST && spring.xi != DVec3::ZERO {
-            slots.keep(&mut sum.springs, key, spring);
-        }
         sum.force += f.force;
         power += f.force.dot(v_wall);
         let mut couple = torque;
@@ -321,12 +328,25 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
             if params.rolling > 0.0 {
                 // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
                 let spin = w.angular_velocity();
-                let roll = rolling_torque(params.rolling, r_roll, f.normal, c.omega[i] - spin, s.inv_inertia[i], model.dt);
+                let relative = c.omega[i] - spin;
+                let roll = if HIST && params.rolling_model == RollingModel::Epsd2 && !(POLY && s.shape[i] != SPHERE) {
+                    let normal = w.shape.sphere_proximity(xi, r, extra).map_or(DVec3::ZERO, |k| k.normal);
+                    let e = epsd2_couple(params, overlap, r_roll, f.normal, normal, relative, model.dt, &mut spring);
+                    sum.elastic += e.energy;
+                    sum.dissipation += e.dissipation;
+                    e.torque
+                } else {
+                    let roll = rolling_torque(params.rolling, r_roll, f.normal, relative, s.inv_inertia[i], model.dt);
+                    sum.dissipation -= roll.dot(relative);
+                    roll
+                };
                 sum.torque += roll;
                 couple += roll;
                 power += roll.dot(spin);
-                sum.dissipation -= roll.dot(c.omega[i] - spin);
             }
+        }
+        if HIST && spring.is_loaded() {
+            slots.keep(&mut sum.springs, key, spring);
         }
         if let Some(load) = wall_loads.get_mut(slot) {
             // The wall takes the reaction: −F, and −(x × F + τ) about the origin, so the contact's
@@ -346,6 +366,30 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     sum
 }
 
+/// The EPSD2 rolling spring of a contact with normal `n` (b to a): advances `spring.roll` (zero
+/// when the contact has ended: its stored energy is then booked by [`book_ended_springs`]).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn epsd2_couple(
+    p: &PairParams,
+    overlap: f64,
+    r_star: f64,
+    normal: f64,
+    n: DVec3,
+    relative: DVec3,
+    dt: f64,
+    spring: &mut Spring,
+) -> tumble_contact::RollingSpring {
+    if overlap < 0.0 {
+        return tumble_contact::RollingSpring { torque: DVec3::ZERO, energy: 0.0, dissipation: 0.0, rolling: false };
+    }
+    let k_r = rolling_stiffness(&p.normal, overlap, p.rolling, r_star);
+    let r = epsd2_torque(k_r, p.rolling * r_star * normal, spring.roll, spring.roll_energy, n, relative, dt);
+    spring.roll = r.torque;
+    spring.roll_energy = r.energy;
+    r
+}
+
 /// A contact that ended takes its spring's stored energy with it: book it as dissipated,
 /// once per pair (on the lower id's side; walls on the particle's).
 #[inline(always)]
@@ -354,7 +398,7 @@ fn book_ended_springs(c: &ContactInputs, i: usize, slots: &SpringSlots, sum: &mu
     let me = c.state.id[i];
     for (key, spring) in c.state.history.of(i) {
         if (key & WALL_KEY != 0 || me < key) && !kept.contains(&key) {
-            sum.dissipation += spring.energy / c.model.dt;
+            sum.dissipation += spring.stored_energy() / c.model.dt;
         }
     }
 }

@@ -97,6 +97,11 @@ impl GpuSimulation {
     /// Uploads a compiled scene to the process's GPU and evaluates the initial forces.
     pub fn new(scene: CompiledScene) -> Result<Self, GpuError> {
         let hulls = prisms::PrismHulls::new(&scene.plan)?;
+        if scene.plan.model.pairs.iter().any(|p| p.rolling > 0.0 && p.rolling_model == tumble_contact::RollingModel::Epsd2) {
+            return Err(GpuError::Feature(
+                "contact.rolling_model = \"epsd2\" (the rolling spring kept with the contact history) is not on the GPU backend yet; use backend = \"cpu\" or rolling_model = \"constant\"".into(),
+            ));
+        }
         if let Some(why) = upload::unsupported_walls(&scene.plan, &hulls) {
             return Err(GpuError::Feature(format!("{why}; use backend = \"cpu\"")));
         }

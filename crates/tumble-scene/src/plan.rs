@@ -8,7 +8,7 @@ use crate::targets::Targets;
 pub use crate::timescales::Timescales;
 use glam::DVec3;
 use std::fmt::Write as _;
-use tumble_contact::{FlowField, NormalLaw, TangentialLaw};
+use tumble_contact::{FlowField, NormalLaw, RollingModel, TangentialLaw};
 use tumble_geom::{DQuat, PeriodicBox, Plane, SurfaceShape};
 use tumble_integrate::Integrator;
 
@@ -22,6 +22,8 @@ pub struct PairParams {
     pub no_attraction: bool,
     /// Rolling resistance μ_r (0: none).
     pub rolling: f64,
+    /// How μ_r acts: a constant torque, or an EPSD2 rolling spring capped at μ_r R* F_n.
+    pub rolling_model: RollingModel,
 }
 
 impl PairParams {

@@ -9,12 +9,33 @@ use serde::{Deserialize, Serialize};
 /// Marks a key as a wall index rather than a particle id.
 pub const WALL_KEY: u32 = 1 << 31;
 
-/// One contact's tangential spring and the energy it stores.
+/// One contact's tangential spring, its rolling spring (EPSD2), and the energies they store.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Spring {
     pub xi: DVec3,
     /// ½ k_t |ξ|² as booked at the last step: what is dissipated if the contact ends now.
     pub energy: f64,
+    /// The rolling torque on the holder (zero unless the pair's rolling model is EPSD2).
+    pub roll: DVec3,
+    /// ½ |M_r|² / k_r as booked at the last step.
+    pub roll_energy: f64,
+}
+
+impl Spring {
+    /// The spring as the other side of the pair holds it: ξ and the rolling torque negated.
+    pub fn mirrored(self) -> Spring {
+        Spring { xi: -self.xi, roll: -self.roll, ..self }
+    }
+
+    /// True when the contact keeps something: a tangential or a rolling spring.
+    pub fn is_loaded(&self) -> bool {
+        self.xi != DVec3::ZERO || self.roll != DVec3::ZERO
+    }
+
+    /// Everything the contact stores, dissipated if it ends now.
+    pub fn stored_energy(&self) -> f64 {
+        self.energy + self.roll_energy
+    }
 }
 
 /// One generation of spring slots: `slots` per particle, the first `count[i]` in use.
@@ -117,7 +138,7 @@ mod tests {
         for i in 0..3 {
             h.count[i] = 1;
             h.key[2 * i] = 10 + i as u32;
-            h.spring[2 * i] = Spring { xi: DVec3::splat(i as f64), energy: i as f64 };
+            h.spring[2 * i] = Spring { xi: DVec3::splat(i as f64), energy: i as f64, ..Default::default() };
         }
         h.permute(&[2, 0, 1]);
         assert_eq!(h.find(0, 12).xi, DVec3::splat(2.0));

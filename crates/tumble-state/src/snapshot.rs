@@ -6,7 +6,8 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 /// The layout version written into every snapshot; a reader refuses any other.
-pub const SNAPSHOT_VERSION: u32 = 3;
+/// 4: contact springs carry the EPSD2 rolling torque and its energy.
+pub const SNAPSHOT_VERSION: u32 = 4;
 
 /// The first bytes of an encoded snapshot.
 const MAGIC: &[u8; 8] = b"TUMBLESN";

@@ -102,6 +102,12 @@ pub(super) fn mechanics(
     if polyhedra && cohesion {
         return Err(SceneError::field("contact.cohesion", "cohesion acts between spheres only; this scene has polyhedral particles"));
     }
+    if polyhedra && pairs.iter().any(|p| p.rolling > 0.0 && p.rolling_model == tumble_contact::RollingModel::Epsd2) {
+        return Err(SceneError::field(
+            "contact.rolling_model",
+            "\"epsd2\" is modelled for spheres only; this scene has polyhedral particles (use \"constant\")",
+        ));
+    }
     if polyhedra && fluid.is_some() {
         return Err(SceneError::field("fluid", "fluid drag is modelled for spheres only; this scene has polyhedral particles"));
     }

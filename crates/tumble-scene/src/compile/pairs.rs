@@ -9,7 +9,8 @@ use crate::plan::{Material, PairParams};
 use crate::schema::*;
 use crate::targets::{MovableMeans, Stickiness, cohesion_for_stickiness_number};
 use tumble_contact::{
-    MIN_CLIPPED_RESTITUTION, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, clipped_damping_ratio, clipped_hertz_beta, hertz_effective_moduli, stickiness_number,
+    MIN_CLIPPED_RESTITUTION, NormalLaw, RollingModel, SpringLaw, TangentialLaw, ViscousParameter, clipped_damping_ratio, clipped_hertz_beta,
+    hertz_effective_moduli, stickiness_number,
 };
 
 /// Cohesion of a pair as the scene gives it.
@@ -45,6 +46,7 @@ pub(super) struct PairLaw {
     cohesion: CohesionInput,
     no_attraction: bool,
     rolling: f64,
+    rolling_model: RollingModel,
 }
 
 /// The laws of every material pair, row-major [a * materials + b], and a check that each
@@ -71,6 +73,7 @@ pub(super) fn pair_laws(scene: &Scene, table: &MaterialTable) -> Result<Vec<Pair
                 &format!("{rolling_root}.rolling_friction"),
                 p.and_then(|p| p.rolling_friction).or(scene.contact.rolling_friction).unwrap_or(0.0),
             )?;
+            law.rolling_model = rolling_model(scene, &law)?;
             laws.push(law);
         }
     }
@@ -126,7 +129,14 @@ pub(super) fn pair_table(
                 cohesion_for_stickiness_number(sy, e, effect_length, u, means.reduced_mass)
             }
         };
-        let pair = PairParams { normal: law.normal, tangential: law.tangential, cohesion, no_attraction: law.no_attraction, rolling: law.rolling };
+        let pair = PairParams {
+            normal: law.normal,
+            tangential: law.tangential,
+            cohesion,
+            no_attraction: law.no_attraction,
+            rolling: law.rolling,
+            rolling_model: law.rolling_model,
+        };
         if let Some((k_c, k_n)) = pair.cohesion_over_stiffness() {
             return Err(SceneError::field(
                 format!("{root}.cohesion"),
@@ -260,7 +270,23 @@ fn pair_law(
         }
         None => CohesionInput::None,
     };
-    Ok(PairLaw { root: root.to_string(), normal, tangential, cohesion, no_attraction, rolling: 0.0 })
+    Ok(PairLaw { root: root.to_string(), normal, tangential, cohesion, no_attraction, rolling: 0.0, rolling_model: RollingModel::Constant })
+}
+
+/// The rolling model of a pair: EPSD2 stores its torque with the tangential spring, so a pair
+/// with rolling friction under it needs the history law.
+fn rolling_model(scene: &Scene, law: &PairLaw) -> Result<RollingModel, SceneError> {
+    match scene.contact.rolling_model {
+        None | Some(RollingModelName::Constant) => Ok(RollingModel::Constant),
+        Some(RollingModelName::Epsd2) if law.rolling == 0.0 || law.tangential.has_history() => Ok(RollingModel::Epsd2),
+        Some(RollingModelName::Epsd2) => Err(SceneError::field(
+            "contact.rolling_model",
+            format!(
+                "\"epsd2\" keeps a rolling spring beside the tangential one and needs {}.tangential model = \"history\"; use rolling_model = \"constant\" (valid: \"constant\", \"epsd2\")",
+                law.root
+            ),
+        )),
+    }
 }
 
 /// Cundall–Strack spring: the given η_t, or the normal law's damping ratio applied to k_t.

@@ -89,7 +89,13 @@ pub(super) fn features(scene: &Scene, model: &PhysicsModel, mechanics: &Mechanic
             name: "rolling",
             active: rolling,
             reason: if rolling {
-                format!("rolling resistance μ_r = {} (constant directional torque)", pairs.iter().map(|p| p.rolling).fold(0.0, f64::max))
+                let epsd2 = pairs.iter().any(|p| p.rolling > 0.0 && p.rolling_model == tumble_contact::RollingModel::Epsd2);
+                let how = if epsd2 {
+                    "EPSD2 elastic–plastic rolling spring, k_r = 2.25 k_n μ_r² R*², kept with the tangential spring"
+                } else {
+                    "constant directional torque"
+                };
+                format!("rolling resistance μ_r = {} ({how})", pairs.iter().map(|p| p.rolling).fold(0.0, f64::max))
             } else {
                 "no rolling_friction: no rolling torque".into()
             },

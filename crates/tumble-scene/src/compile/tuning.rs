@@ -78,6 +78,6 @@ pub(super) fn bytes_per_particle(model: &PhysicsModel, history_slots: usize) -> 
         + if rotation { 8 * 7 } else { 0 } // angular velocity and acceleration, inverse inertia
         + if model.integrator == Integrator::Verlet { 24 * if rotation { 2 } else { 1 } } else { 0 }
         + if model.fluid.is_some() { 8 } else { 0 }
-        + if model.history { 2 * (2 + history_slots * (4 + 32)) } else { 0 } // two generations of spring slots: count, neighbour id, ξ and its energy
+        + if model.history { 2 * (2 + history_slots * (4 + 64)) } else { 0 } // two generations of spring slots: count, neighbour id, ξ, the rolling torque and their energies
         + if model.polyhedra { 2 + 32 + 24 } else { 0 } // shape index, orientation, principal inverse inertia
 }

@@ -117,10 +117,20 @@ pub struct ContactSection {
     pub no_attraction: bool,
     /// Rolling resistance μ_r (constant directional torque μ_r R* |F_n|).
     pub rolling_friction: Option<f64>,
+    /// How rolling_friction acts: "constant" (default) or "epsd2" (elastic–plastic spring, needs history).
+    pub rolling_model: Option<RollingModelName>,
     /// Contacts with history each particle can hold (tangential model "history").
     pub history_slots: Option<u32>,
     #[serde(default)]
     pub pairs: Vec<PairSection>,
+}
+
+/// The rolling resistance models `contact.rolling_model` names.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum RollingModelName {
+    Constant,
+    Epsd2,
 }
 
 /// Per material pair overrides of the default contact.
