@@ -42,6 +42,21 @@ pub struct SpringForce {
     pub sliding: bool,
 }
 
+/// `stored` projected onto the plane normal to `n` and rescaled to its old length: a contact's
+/// stored spring (or rolling torque) follows the turning normal without loading or unloading.
+#[inline]
+pub(crate) fn rotate_into_tangent_plane(stored: DVec3, n: DVec3) -> DVec3 {
+    let old_len2 = stored.length_squared();
+    let mut v = stored - n * n.dot(stored);
+    if old_len2 > 0.0 {
+        let len2 = v.length_squared();
+        if len2 > 0.0 {
+            v *= (old_len2 / len2).sqrt();
+        }
+    }
+    v
+}
+
 /// Advances the spring `spring` of a contact with normal `n` by the tangential
 /// relative velocity `vt` over `dt` and returns the force on i.
 ///
@@ -80,15 +95,7 @@ pub fn history_force(
     dt: f64,
 ) -> SpringForce {
     let (k_t, eta_t) = law.stiffness_damping(overlap, r_star, m_star);
-    // Rotate the old spring into the current tangent plane, keeping its length.
-    let old_len2 = spring.length_squared();
-    let mut xi = spring - n * n.dot(spring);
-    if old_len2 > 0.0 {
-        let len2 = xi.length_squared();
-        if len2 > 0.0 {
-            xi *= (old_len2 / len2).sqrt();
-        }
-    }
+    let mut xi = rotate_into_tangent_plane(spring, n);
     let rotated_energy = 0.5 * k_t * xi.length_squared();
     xi += vt * dt;
     let limit = friction * normal.max(0.0);

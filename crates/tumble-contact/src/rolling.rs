@@ -62,14 +62,7 @@ pub struct RollingSpring {
 /// ```
 #[inline]
 pub fn epsd2_torque(k_r: f64, limit: f64, stored: DVec3, stored_energy: f64, n: DVec3, omega_rel: DVec3, dt: f64) -> RollingSpring {
-    let old_len2 = stored.length_squared();
-    let mut torque = stored - n * n.dot(stored);
-    if old_len2 > 0.0 {
-        let len2 = torque.length_squared();
-        if len2 > 0.0 {
-            torque *= (old_len2 / len2).sqrt();
-        }
-    }
+    let mut torque = crate::history::rotate_into_tangent_plane(stored, n);
     let omega_t = omega_rel - n * n.dot(omega_rel);
     torque -= k_r * dt * omega_t;
     let magnitude = torque.length();
