@@ -298,9 +298,9 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
             if HIST {
                 spring = s.history.find(i, key);
             }
-            let Some((k, f, torque, twist_power)) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
-            power = twist_power;
-            (w.velocity_at(k.point), k.depth, f, torque, equivalent_radius(c, i))
+            let Some(k) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
+            power = k.spin_power;
+            (w.velocity_at(k.point), k.depth, k.force, k.torque, equivalent_radius(c, i))
         } else {
             let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
             let effect_overlap = k.overlap + extra;

@@ -1,15 +1,22 @@
-//! Contacts of polyhedral particles: one contact per pair at the depth-weighted point of the
-//! manifold with the SAT depth (a tilted face contact's point moves towards its deeper side,
-//! which rights it), the same normal and tangential laws as spheres, and twisting friction
-//! over the manifold. Torques are those of the whole
-//! force about each centre (a normal force on a polyhedron need not pass through its centre).
+//! Contacts of polyhedral particles, in one of two models (`PolyhedronContact`):
+//!
+//! - volume (default): the normal law at δ_V = V / A_ref, V the overlap volume and A_ref the
+//!   pair's reference area, along V's gradient (tumble-geom's `VolumeContact`), so the normal
+//!   force derives from a potential and elastic contacts conserve energy; the tangential law at
+//!   the point on the force's line of action nearest the overlap's centroid, twisting friction
+//!   over a disc of the contact's area.
+//! - depth: one contact per pair at the depth-weighted point of the manifold with the SAT depth
+//!   (a tilted face contact's point moves towards its deeper side, which rights it), twisting
+//!   friction over the manifold; the torques are those of the whole force about each centre.
+//!
+//! Spheres meet polyhedra at the closest point in both (a distance potential already).
 
 use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
 use glam::DVec3;
 use tumble_contact::{normal_force, rolling_torque};
-use tumble_geom::{PolyContact, Polyhedron, Pose, polyhedron_polyhedron, sphere_polyhedron};
+use tumble_geom::{PolyContact, Polyhedron, Pose, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron};
 use tumble_integrate::world_inverse_inertia_times;
-use tumble_scene::PairParams;
+use tumble_scene::{PairParams, PolyhedronContact};
 use tumble_scene::{SPHERE, Wall};
 use tumble_state::Spring;
 
@@ -36,19 +43,95 @@ fn inverse_inertia_about(c: &ContactInputs, i: usize, n: DVec3) -> f64 {
     if s.shape[i] == SPHERE { s.inv_inertia[i] } else { world_inverse_inertia_times(s.orient[i], s.inv_inertia_body[i], n).dot(n) }
 }
 
-/// Coulomb friction against the relative spin about the normal, on a contact patch: μ |F_n| r̄ with
-/// r̄ the depth-weighted mean distance of the manifold points from the contact point (what
-/// point forces ∝ depth, each at its Coulomb limit, exert against a pure spin). A one-point
-/// contact has none. Capped so that it never reverses the relative spin within a step.
+/// The patch radius r̄ of twisting friction for a depth contact: the depth-weighted mean distance of
+/// the manifold points from the contact point (what point forces ∝ depth, each at its Coulomb
+/// limit, exert against a pure spin). A one-point contact has none.
 #[inline(always)]
-fn twisting_torque(k: &PolyContact, friction: f64, normal: f64, spin_rel: DVec3, inv_inertia_sum: f64, dt: f64) -> DVec3 {
+fn manifold_spread(k: &PolyContact) -> f64 {
     let points = k.manifold();
-    if points.len() < 2 || friction == 0.0 {
-        return DVec3::ZERO;
+    if points.len() < 2 {
+        return 0.0;
     }
     let total: f64 = points.iter().map(|m| m.depth).sum();
-    let spread = points.iter().map(|m| m.depth * (m.point - k.point).length()).sum::<f64>() / total;
-    rolling_torque(friction, spread, normal, k.normal * spin_rel.dot(k.normal), inv_inertia_sum, dt)
+    points.iter().map(|m| m.depth * (m.point - k.point).length()).sum::<f64>() / total
+}
+
+/// The patch radius r̄ of twisting friction for a volume contact: the mean distance from the
+/// centre of a disc of the contact's area, (2/3)√(|S|/π) (a square patch's is within 2 % of it).
+#[inline(always)]
+pub(crate) fn area_spread(area: f64) -> f64 {
+    (2.0 / 3.0) * (area / std::f64::consts::PI).sqrt()
+}
+
+/// Coulomb friction against the relative spin about the normal `n` on a contact patch of radius
+/// `spread`: μ |F_n| r̄, capped so that it never reverses the relative spin within a step.
+#[inline(always)]
+fn twisting_torque(spread: f64, n: DVec3, friction: f64, normal: f64, spin_rel: DVec3, inv_inertia_sum: f64, dt: f64) -> DVec3 {
+    if spread <= 0.0 || friction == 0.0 {
+        return DVec3::ZERO;
+    }
+    rolling_torque(friction, spread, normal, n * spin_rel.dot(n), inv_inertia_sum, dt)
+}
+
+/// The share of the normal law a volume contact gives its overlap volume; the rest goes to the
+/// corners inside the other body, spread over the corners of the largest face (so a face lying on
+/// a larger face meets the whole law, and a corner meets (1 − share)/corners of it).
+pub const VOLUME_SHARE: f64 = 0.5;
+
+/// The overlap-volume force on body A (docs/polyhedra.md): the normal law at the depth
+/// δ_V = V / A_ref with the rate −V̇ / A_ref, times [`VOLUME_SHARE`], along the volume's gradient
+/// (force `push`, torques `turn_a`, `turn_b` per unit w'(V)); the law at each corner's depth,
+/// times its share, along that corner's normal at the corner; and the tangential law at the
+/// contact point with the normal force's magnitude along the normal. `corners` = the corner
+/// counts of A's and B's largest faces. Returns the force on A and the torques about A's and
+/// B's centres.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn volume_force<const HIST: bool>(
+    params: &PairParams,
+    k: &VolumeContact,
+    a_ref: f64,
+    corners: (f64, f64),
+    volume_rate: f64,
+    v_at: impl Fn(DVec3) -> DVec3,
+    xa: DVec3,
+    xb: DVec3,
+    m_star: f64,
+    r_star: f64,
+    dt: f64,
+    spring: &mut Spring,
+) -> (ContactForce, DVec3, DVec3) {
+    let old_spring = if HIST { std::mem::take(spring) } else { Spring::default() };
+    let law = |depth: f64, vn: f64, share: f64| {
+        let nf = normal_force(&params.normal, depth, vn, m_star, r_star);
+        let applied = share * if params.no_attraction { nf.total().max(0.0) } else { nf.total() };
+        (applied, share * nf.energy, -(applied - share * nf.elastic) * vn, share * nf.stiffness)
+    };
+    let depth = k.volume / a_ref;
+    let vn = -volume_rate / a_ref;
+    let (applied, mut elastic, mut dissipation, stiffness) = law(depth, vn, VOLUME_SHARE);
+    let per_volume = applied / a_ref;
+    let mut normal_force = k.push * per_volume;
+    let (mut torque_a, mut torque_b) = (k.turn_a * per_volume, k.turn_b * per_volume);
+    for c in &k.vertices {
+        let share = (1.0 - VOLUME_SHARE) / if c.of_a { corners.0 } else { corners.1 };
+        let (applied, energy, loss, _) = law(c.depth, c.normal.dot(v_at(c.point)), share);
+        let f = c.normal * applied;
+        normal_force += f;
+        torque_a += (c.point - xa).cross(f);
+        torque_b -= (c.point - xb).cross(f);
+        elastic += energy;
+        dissipation += loss;
+    }
+    let n = k.normal;
+    let normal = normal_force.dot(n).max(0.0);
+    let v = v_at(k.point);
+    let gain = k.push.length() / a_ref;
+    let t = tangential_part::<HIST>(params, normal, stiffness * gain * gain / VOLUME_SHARE, depth, r_star, m_star, n, v - n * v.dot(n), dt, old_spring, spring);
+    let out = ContactForce { force: normal_force + t.force, tangential: t.force, normal, elastic: elastic + t.energy, dissipation: dissipation + t.loss };
+    torque_a += (k.point - xa).cross(t.force);
+    torque_b -= (k.point - xb).cross(t.force);
+    (out, torque_a, torque_b)
 }
 
 /// The force of a polyhedron contact on body A (at `xa`), with its torque about `xa` and, when B is
@@ -90,34 +173,65 @@ fn polyhedron_force<const HIST: bool>(
     (out, torque_a, torque_b)
 }
 
+/// The overlap-volume contact's reference area of particle `i` (a sphere has none).
+#[inline(always)]
+fn contact_area(c: &ContactInputs, i: usize) -> f64 {
+    match c.state.shape[i] {
+        SPHERE => f64::INFINITY,
+        k => c.model.shapes[k as usize].contact_area,
+    }
+}
+
+/// The corner count of particle `i`'s largest face.
+#[inline(always)]
+fn contact_corners(c: &ContactInputs, i: usize) -> f64 {
+    c.model.shapes[c.state.shape[i] as usize].contact_corners as f64
+}
+
 /// Pair (a, b), a with the lower id, at least one a polyhedron; `d` = x_a − x_b (minimum image).
 #[inline(always)]
 pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: usize, d: DVec3, spring: &mut Spring) -> PairOut {
     let s = c.state;
     let mut out = PairOut { overlap_ratio: -1.0, ..Default::default() };
     let (xa, xb) = (s.pos[a], s.pos[a] - d);
-    let contact = match (body(c, a, xa), body(c, b, xb)) {
-        (Some((pa, qa)), Some((pb, qb))) => polyhedron_polyhedron(pa, &qa, pb, &qb),
-        (None, Some((pb, qb))) => sphere_polyhedron(xa, s.radius[a], pb, &qb),
-        (Some((pa, qa)), None) => sphere_polyhedron(xb, s.radius[b], pa, &qa).map(PolyContact::flipped),
-        (None, None) => unreachable!("sphere pairs take the sphere path"),
-    };
-    let Some(k) = contact else { return out };
     let v_at = |p: DVec3| c.vel[a] + c.omega[a].cross(p - xa) - c.vel[b] - c.omega[b].cross(p - xb);
     let params = c.model.pair(s.material[a], s.material[b]);
     let m_star = 1.0 / (s.inv_mass[a] + s.inv_mass[b]);
     let (ra, rb) = (equivalent_radius(c, a), equivalent_radius(c, b));
     let r_star = ra * rb / (ra + rb);
-    if HIST {
-        *spring = s.history.find(a, s.id[b]);
-    }
-    let (f, torque_a, torque_b) = polyhedron_force::<HIST>(params, &k, v_at, xa, xb, m_star, r_star, c.model.dt, spring);
+    let (f, torque_a, torque_b, n, spread, depth) = match (body(c, a, xa), body(c, b, xb)) {
+        (Some((pa, qa)), Some((pb, qb))) if c.model.polyhedron_contact == PolyhedronContact::Volume => {
+            let Some(k) = polyhedron_polyhedron_volume(pa, &qa, pb, &qb) else { return out };
+            if HIST {
+                *spring = s.history.find(a, s.id[b]);
+            }
+            let rate = k.volume_rate(c.vel[a] - c.vel[b], c.omega[a], c.omega[b]);
+            let a_ref = contact_area(c, a).min(contact_area(c, b));
+            let corners = (contact_corners(c, a), contact_corners(c, b));
+            let (f, ta, tb) = volume_force::<HIST>(params, &k, a_ref, corners, rate, v_at, xa, xb, m_star, r_star, c.model.dt, spring);
+            (f, ta, tb, k.normal, area_spread(k.area), k.depth)
+        }
+        bodies => {
+            let contact = match bodies {
+                (Some((pa, qa)), Some((pb, qb))) => polyhedron_polyhedron(pa, &qa, pb, &qb),
+                (None, Some((pb, qb))) => sphere_polyhedron(xa, s.radius[a], pb, &qb),
+                (Some((pa, qa)), None) => sphere_polyhedron(xb, s.radius[b], pa, &qa).map(PolyContact::flipped),
+                (None, None) => unreachable!("sphere pairs take the sphere path"),
+            };
+            let Some(k) = contact else { return out };
+            if HIST {
+                *spring = s.history.find(a, s.id[b]);
+            }
+            let (f, ta, tb) = polyhedron_force::<HIST>(params, &k, v_at, xa, xb, m_star, r_star, c.model.dt, spring);
+            (f, ta, tb, k.normal, manifold_spread(&k), k.depth)
+        }
+    };
     out.force = f.force;
     out.torque_a = torque_a;
     out.torque_b = torque_b;
     let spin = c.omega[a] - c.omega[b];
-    let inv_n = inverse_inertia_about(c, a, k.normal) + inverse_inertia_about(c, b, k.normal);
-    let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inv_n, c.model.dt);
+    let inv_n = inverse_inertia_about(c, a, n) + inverse_inertia_about(c, b, n);
+    let twist = twisting_torque(spread, n, params.tangential.friction(), f.normal, spin, inv_n, c.model.dt);
     out.torque_a += twist;
     out.torque_b -= twist;
     out.dissipation -= twist.dot(spin);
@@ -130,29 +244,49 @@ pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: 
     }
     out.elastic = f.elastic;
     out.dissipation += f.dissipation;
-    out.overlap_ratio = k.depth / ra.min(rb);
+    out.overlap_ratio = depth / ra.min(rb);
     out
 }
 
+/// One wall contact of a polyhedral particle.
+pub(crate) struct PolyhedronWallContact {
+    /// Where the contact's tangential force acts (the wall's velocity there enters v_rel).
+    pub point: DVec3,
+    pub depth: f64,
+    pub force: ContactForce,
+    /// About the particle's centre, twisting friction included.
+    pub torque: DVec3,
+    /// Power the wall's spin Ω delivers through the part of the torque that F at `point` does
+    /// not explain: Ω · (τ − (point − x) × F); the caller adds F · v_wall(point).
+    pub spin_power: f64,
+}
+
 /// A polyhedral particle against one wall: the contact, the force, the torque about the centre
-/// (twisting friction included) and the power that torque's twisting part draws from the wall's spin.
+/// (twisting friction included) and the power the wall's spin delivers beyond F · v_wall(point).
 #[inline(always)]
-pub(crate) fn polyhedron_wall<const HIST: bool>(
-    c: &ContactInputs,
-    i: usize,
-    w: &Wall,
-    spring: &mut Spring,
-) -> Option<(PolyContact, ContactForce, DVec3, f64)> {
+pub(crate) fn polyhedron_wall<const HIST: bool>(c: &ContactInputs, i: usize, w: &Wall, spring: &mut Spring) -> Option<PolyhedronWallContact> {
     let s = c.state;
     let (poly, pose) = body(c, i, s.pos[i])?;
-    let k = w.shape.polyhedron_contact(poly, &pose)?;
     let xi = s.pos[i];
     let v_at = |p: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.velocity_at(p);
     let params = c.model.pair(s.material[i], w.material);
-    let (mut f, torque, _) = polyhedron_force::<HIST>(params, &k, v_at, xi, xi, s.mass[i], equivalent_radius(c, i), c.model.dt, spring);
     let wall_spin = w.angular_velocity();
     let spin = c.omega[i] - wall_spin;
-    let twist = twisting_torque(&k, params.tangential.friction(), f.normal, spin, inverse_inertia_about(c, i, k.normal), c.model.dt);
+    let (r, m) = (equivalent_radius(c, i), s.mass[i]);
+    let (point, depth, mut f, torque, n, spread) = if c.model.polyhedron_contact == PolyhedronContact::Volume {
+        let k = w.shape.polyhedron_volume(poly, &pose)?;
+        let rate = k.volume_rate(c.vel[i] - w.velocity_at(xi), spin, DVec3::ZERO);
+        let corners = contact_corners(c, i);
+        let (f, torque, _) = volume_force::<HIST>(params, &k, contact_area(c, i), (corners, corners), rate, v_at, xi, xi, m, r, c.model.dt, spring);
+        (k.point, k.depth, f, torque, k.normal, area_spread(k.area))
+    } else {
+        let k = w.shape.polyhedron_contact(poly, &pose)?;
+        let (f, torque, _) = polyhedron_force::<HIST>(params, &k, v_at, xi, xi, m, r, c.model.dt, spring);
+        (k.point, k.depth, f, torque, k.normal, manifold_spread(&k))
+    };
+    let twist = twisting_torque(spread, n, params.tangential.friction(), f.normal, spin, inverse_inertia_about(c, i, n), c.model.dt);
     f.dissipation -= twist.dot(spin);
-    Some((k, f, torque + twist, twist.dot(wall_spin)))
+    let torque = torque + twist;
+    let spin_power = wall_spin.dot(torque - (point - xi).cross(f.force));
+    Some(PolyhedronWallContact { point, depth, force: f, torque, spin_power })
 }

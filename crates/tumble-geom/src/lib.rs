@@ -36,9 +36,10 @@ mod sphere_prism;
 mod sphere_quad;
 mod sphere_sphere;
 mod surface;
+mod volume_contact;
 
 pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosing_sphere_of_spheres, tangent_balls};
-pub use overlap_volume::{OverlapVolume, overlap_volume};
+pub use overlap_volume::{OverlapVolume, overlap_volume, overlap_volume_about};
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};
 pub use polyhedron_polyhedron::{
@@ -53,3 +54,4 @@ pub use sphere_prism::Prism;
 pub use sphere_quad::Quad;
 pub use sphere_sphere::{SpherePair, sphere_sphere};
 pub use surface::{SurfaceContact, SurfaceShape};
+pub use volume_contact::{CORNER_SMOOTHING, VertexPenetration, VolumeContact, polyhedron_polyhedron_volume};

@@ -1,32 +1,26 @@
-//! The overlap of two convex polyhedra as a polytope, I = A ∩ B, with what an energy-conserving
+//! The overlap of two convex bodies as a polytope, I = A ∩ B, with what an energy-conserving
 //! contact needs from it (Feng, Han & Owen 2012): its volume V and, over the part of its boundary
 //! that lies on B's faces, the area vector S = ∫ n_B dA and the first moment M = ∫ r × n_B dA.
 //! Those are the derivatives of V: translating A by dx changes V by −S·dx, and turning A by dθ
 //! about a point x changes it by −(M − x × S)·dθ, so a potential w(V) gives A the force
 //! w'(V) S and the torque about x, w'(V) (M − x × S), with B taking the opposite wrench.
 //!
-//! I is built by clipping A's faces by every face plane of B (Sutherland–Hodgman per polygon,
-//! a cap polygon on the plane closing the cut). A face of A that lies in a plane of B with the
-//! same outward normal belongs to both boundaries: it counts half to each, which is the mean of
-//! the two one-sided derivatives (an aligned stack of equal cubes then feels no sideways push).
+//! The boundary of I is A's faces clipped by B's planes and B's faces clipped by A's planes
+//! (Sutherland–Hodgman per polygon); V follows from the divergence theorem over both sets, S and
+//! M from B's set alone. A face of one body lying in a plane of the other with the same outward
+//! normal belongs to both boundaries: each copy counts half, which is the mean of the two
+//! one-sided derivatives (an aligned stack of equal cubes then feels no sideways push). A wall
+//! is a body of the same kind: its bounding planes and its faces as polygons large enough to
+//! cover any cross-section of A (`overlap_walls.rs`).
+//!
+//! Everything is computed relative to an `origin` near the overlap, so that the divergence sums
+//! are of the size of V itself and not of the bodies' (this is what keeps the f32 port exact
+//! enough for overlaps of 1e-4 of the size).
 
+use crate::polyhedron_polyhedron::Buf;
 use crate::{DVec3, Polyhedron, Pose};
 
-/// Which body's surface a boundary polygon of the overlap lies on.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Owner {
-    A,
-    B,
-    /// Coplanar faces of both with the same outward normal.
-    Both,
-}
-
-struct Polygon {
-    points: Vec<DVec3>,
-    owner: Owner,
-}
-
-/// The overlap polytope's volume and the derivatives of that volume (world frame).
+/// The overlap polytope's volume and the derivatives of that volume.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OverlapVolume {
     pub volume: f64,
@@ -43,10 +37,166 @@ impl OverlapVolume {
     pub fn torque_about(&self, x: DVec3) -> DVec3 {
         self.moment - x.cross(self.area)
     }
+
+    /// The point on the line of action of the area vector nearest the overlap's centroid: where a
+    /// contact force along `area` acts (exactly, when the moment has no part along the area).
+    pub fn action_point(&self) -> DVec3 {
+        let s2 = self.area.length_squared();
+        if s2 == 0.0 {
+            return self.centroid;
+        }
+        self.centroid + self.area.cross(self.torque_about(self.centroid)) / s2
+    }
 }
 
 /// Relative tolerance of "on the plane", in units of the bodies' size.
-const PLANE_TOLERANCE: f64 = 1e-12;
+pub(crate) const PLANE_TOLERANCE: f64 = 1e-12;
+
+/// A convex body as the clipper sees it, relative to the origin of the computation: its bounding
+/// planes m · p ≤ offset (m the outward unit normal) and the faces of its boundary that can lie
+/// inside the other body (convex polygons, counter-clockwise seen from outside).
+pub(crate) struct Region {
+    pub planes: Buf<(DVec3, f64)>,
+    pub faces: Vec<(DVec3, Buf<DVec3>)>,
+    /// Corners that can poke into the other body.
+    pub vertices: Buf<DVec3>,
+}
+
+impl Region {
+    /// A polyhedron at `pose`, relative to `origin`.
+    pub fn of_polyhedron(p: &Polyhedron, pose: &Pose, origin: DVec3) -> Region {
+        let verts: Buf<DVec3> = p.vertices().iter().map(|v| pose.to_world(*v) - origin).collect();
+        let mut planes = Buf::new();
+        let mut faces = Vec::with_capacity(p.faces().len());
+        for f in p.faces() {
+            let n = pose.rotate(f.normal);
+            let points: Buf<DVec3> = f.vertices.iter().map(|&v| verts[v as usize]).collect();
+            planes.push((n, n.dot(points[0])));
+            faces.push((n, points));
+        }
+        Region { planes, faces, vertices: verts }
+    }
+
+    /// How deep `p` lies inside this region and the gradient of that depth, or `None` outside.
+    ///
+    /// The depth is the smooth minimum of the distances d_f to the bounding planes,
+    /// d = −τ ln Σ exp(−d_f / τ), so a corner near an edge of the region turns its push from one
+    /// face's normal to the other's over a band of width ~τ rather than at once (a kink in a
+    /// potential costs the integrator its order); d ≤ min d_f, equal to it far from edges. The
+    /// gradient −∂d/∂p = Σ w_f m_f (weights exp(−d_f/τ) normalised) points out through the
+    /// nearest faces and is a unit vector only away from edges.
+    pub fn penetration(&self, p: DVec3, tau: f64) -> Option<(f64, DVec3)> {
+        let mut nearest = f64::INFINITY;
+        for &(m, offset) in &self.planes {
+            let d = offset - m.dot(p);
+            if d <= 0.0 {
+                return None;
+            }
+            nearest = nearest.min(d);
+        }
+        let (mut sum, mut out) = (0.0, DVec3::ZERO);
+        for &(m, offset) in &self.planes {
+            let w = (-(offset - m.dot(p) - nearest) / tau).exp();
+            sum += w;
+            out += w * m;
+        }
+        let depth = nearest - tau * sum.ln();
+        (depth > 0.0).then(|| (depth, out / sum))
+    }
+}
+
+/// Sums over the overlap's boundary, relative to the computation's origin.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Moments {
+    pub volume: f64,
+    /// ∫ x dV.
+    pub first: DVec3,
+    /// ∫ n_B dA and ∫ r × n_B dA over B's faces inside A.
+    pub area: DVec3,
+    pub moment: DVec3,
+}
+
+impl Moments {
+    /// Adds one boundary polygon: its share of the volume (divergence theorem, fan tetrahedra
+    /// from the origin) with weight `wv` and of the area and moment with weight `wa`.
+    fn add(&mut self, p: &[DVec3], wv: f64, wa: f64) {
+        for k in 1..p.len() - 1 {
+            let (p0, p1, p2) = (p[0], p[k], p[k + 1]);
+            let six_v = p0.dot(p1.cross(p2));
+            self.volume += wv * six_v / 6.0;
+            self.first += wv * six_v / 24.0 * (p0 + p1 + p2);
+            if wa != 0.0 {
+                let tri_area = 0.5 * (p1 - p0).cross(p2 - p0);
+                self.area += wa * tri_area;
+                self.moment += wa * ((p0 + p1 + p2) / 3.0).cross(tri_area);
+            }
+        }
+    }
+}
+
+/// The part of the convex polygon `points` (outward normal `normal`) inside every plane of
+/// `planes`, and whether it lies in one of those planes facing the same way (shared); `None`
+/// when nothing of positive area is left (or it lies in a plane facing the other way: a touch).
+pub(crate) fn clip_polygon(points: &[DVec3], normal: DVec3, planes: &[(DVec3, f64)], eps: f64) -> Option<(Buf<DVec3>, bool)> {
+    let mut poly: Buf<DVec3> = points.iter().copied().collect();
+    let mut shared = false;
+    let mut h: Buf<f64> = Buf::new();
+    for &(m, offset) in planes {
+        h.clear();
+        h.extend(poly.iter().map(|p| m.dot(*p) - offset));
+        if h.iter().all(|x| x.abs() <= eps) {
+            if normal.dot(m) > 0.0 {
+                shared = true;
+                continue;
+            }
+            return None;
+        }
+        if h.iter().all(|&x| x <= eps) {
+            continue;
+        }
+        if h.iter().all(|&x| x >= -eps) {
+            return None;
+        }
+        let mut out: Buf<DVec3> = Buf::new();
+        for k in 0..poly.len() {
+            let j = (k + 1) % poly.len();
+            let (p, hp, q, hq) = (poly[k], h[k], poly[j], h[j]);
+            if hp <= eps {
+                out.push(p);
+            }
+            if (hp < -eps && hq > eps) || (hp > eps && hq < -eps) {
+                out.push(p + (q - p) * (hp / (hp - hq)));
+            }
+        }
+        if out.len() < 3 {
+            return None;
+        }
+        poly = out;
+    }
+    Some((poly, shared))
+}
+
+/// The overlap's sums: A's faces clipped by B's planes (volume only) and B's faces clipped by
+/// A's planes (volume, area and moment); also the largest depth of the overlap below B's first
+/// plane (for walls, whose first plane is the surface itself). `None` without a positive volume.
+pub(crate) fn overlap_moments(a: &Region, b: &Region, eps: f64) -> Option<(Moments, f64)> {
+    let mut m = Moments::default();
+    let (m0, o0) = b.planes[0];
+    let mut depth = 0.0f64;
+    for (n, face) in &a.faces {
+        if let Some((poly, shared)) = clip_polygon(face, *n, &b.planes, eps) {
+            m.add(&poly, if shared { 0.5 } else { 1.0 }, 0.0);
+            depth = poly.iter().map(|p| o0 - m0.dot(*p)).fold(depth, f64::max);
+        }
+    }
+    for (n, face) in &b.faces {
+        if let Some((poly, shared)) = clip_polygon(face, *n, &a.planes, eps) {
+            let w = if shared { 0.5 } else { 1.0 };
+            m.add(&poly, w, w);
+        }
+    }
+    (m.volume > 0.0).then_some((m, depth))
+}
 
 /// The overlap of A (at `pose_a`) and B (at `pose_b`), or None when they do not intersect
 /// (or only touch: zero volume).
@@ -59,115 +209,32 @@ const PLANE_TOLERANCE: f64 = 1e-12;
 /// assert!((o.volume - 0.1).abs() < 1e-12 && (o.area - DVec3::Z).length() < 1e-12);
 /// ```
 pub fn overlap_volume(a: &Polyhedron, pose_a: &Pose, b: &Polyhedron, pose_b: &Pose) -> Option<OverlapVolume> {
-    let scale = a.bounding_radius().max(b.bounding_radius());
-    let eps = PLANE_TOLERANCE * scale;
-    let mut polygons: Vec<Polygon> = a
-        .faces()
-        .iter()
-        .map(|f| Polygon { points: f.vertices.iter().map(|&v| pose_a.to_world(a.vertices()[v as usize])).collect(), owner: Owner::A })
-        .collect();
-    for face in b.faces() {
-        let n = pose_b.rotate(face.normal);
-        let d = n.dot(pose_b.to_world(face.centroid));
-        let mut cut: Vec<DVec3> = Vec::new();
-        let mut shared = false;
-        for polygon in polygons.iter_mut() {
-            let h: Vec<f64> = polygon.points.iter().map(|p| n.dot(*p) - d).collect();
-            if h.iter().all(|x| x.abs() <= eps) {
-                // In the plane: shared when it faces the same way, else a zero-thickness sliver.
-                if polygon_normal(&polygon.points).dot(n) > 0.0 {
-                    polygon.owner = if polygon.owner == Owner::A { Owner::Both } else { polygon.owner };
-                    shared = true;
-                } else {
-                    polygon.points.clear();
-                }
-                continue;
-            }
-            polygon.points = clip(&polygon.points, &h, eps, &mut cut);
-        }
-        polygons.retain(|p| p.points.len() >= 3);
-        if !shared && cut.len() >= 3 {
-            let cap = convex_polygon_in_plane(cut, n, eps);
-            if cap.len() >= 3 {
-                polygons.push(Polygon { points: cap, owner: Owner::B });
-            }
-        }
-        if polygons.is_empty() {
-            return None;
-        }
-    }
-    let mut volume = 0.0;
-    let mut first = DVec3::ZERO;
-    let (mut area, mut moment) = (DVec3::ZERO, DVec3::ZERO);
-    for polygon in &polygons {
-        let p = &polygon.points;
-        let weight = match polygon.owner {
-            Owner::A => 0.0,
-            Owner::B => 1.0,
-            Owner::Both => 0.5,
-        };
-        for k in 1..p.len() - 1 {
-            let (p0, p1, p2) = (p[0], p[k], p[k + 1]);
-            let cross = (p1 - p0).cross(p2 - p0);
-            // Divergence theorem over the fan triangle: signed tetrahedron from the origin.
-            let six_v = p0.dot(p1.cross(p2));
-            volume += six_v / 6.0;
-            first += six_v / 24.0 * (p0 + p1 + p2);
-            let tri_area = 0.5 * cross;
-            area += weight * tri_area;
-            moment += weight * ((p0 + p1 + p2) / 3.0).cross(tri_area);
-        }
-    }
-    (volume > 0.0).then(|| OverlapVolume { volume, area, moment, centroid: first / volume })
+    overlap_volume_about(a, pose_a, b, pose_b, 0.5 * (pose_a.position + pose_b.position))
 }
 
-/// Newell's normal of a planar polygon (unnormalised; its length is twice the area).
-fn polygon_normal(points: &[DVec3]) -> DVec3 {
-    let mut n = DVec3::ZERO;
-    for k in 0..points.len() {
-        let (p, q) = (points[k], points[(k + 1) % points.len()]);
-        n += DVec3::new((p.y - q.y) * (p.z + q.z), (p.z - q.z) * (p.x + q.x), (p.x - q.x) * (p.y + q.y));
+/// [`overlap_volume`] computed relative to `origin` (a point near the overlap keeps the sums
+/// small; the answer is in world coordinates either way).
+pub fn overlap_volume_about(a: &Polyhedron, pose_a: &Pose, b: &Polyhedron, pose_b: &Pose, origin: DVec3) -> Option<OverlapVolume> {
+    let reach = a.bounding_radius() + b.bounding_radius();
+    if (pose_a.position - pose_b.position).length_squared() >= reach * reach {
+        return None;
     }
-    n
+    let eps = PLANE_TOLERANCE * a.bounding_radius().max(b.bounding_radius());
+    let (ra, rb) = (Region::of_polyhedron(a, pose_a, origin), Region::of_polyhedron(b, pose_b, origin));
+    let (m, _) = overlap_moments(&ra, &rb, eps)?;
+    Some(m.world(origin))
 }
 
-/// The part of a convex polygon with signed heights `h` where h ≤ 0; points on the plane go to `cut`.
-fn clip(points: &[DVec3], h: &[f64], eps: f64, cut: &mut Vec<DVec3>) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(points.len() + 1);
-    for k in 0..points.len() {
-        let j = (k + 1) % points.len();
-        let (p, hp, q, hq) = (points[k], h[k], points[j], h[j]);
-        if hp <= eps {
-            out.push(p);
-            if hp >= -eps {
-                cut.push(p);
-            }
-        }
-        if (hp < -eps && hq > eps) || (hp > eps && hq < -eps) {
-            let x = p + (q - p) * (hp / (hp - hq));
-            out.push(x);
-            cut.push(x);
+impl Moments {
+    /// In world coordinates, the computation's origin at `origin`.
+    pub(crate) fn world(&self, origin: DVec3) -> OverlapVolume {
+        OverlapVolume {
+            volume: self.volume,
+            area: self.area,
+            moment: self.moment + origin.cross(self.area),
+            centroid: origin + self.first / self.volume,
         }
     }
-    out
-}
-
-/// The distinct points of `points` (all in the plane with normal `n`) ordered counter-clockwise about n.
-fn convex_polygon_in_plane(mut points: Vec<DVec3>, n: DVec3, eps: f64) -> Vec<DVec3> {
-    let mut distinct: Vec<DVec3> = Vec::with_capacity(points.len());
-    for p in points.drain(..) {
-        if distinct.iter().all(|q| (*q - p).length() > 10.0 * eps) {
-            distinct.push(p);
-        }
-    }
-    let centre = distinct.iter().copied().sum::<DVec3>() / distinct.len() as f64;
-    let u = n.any_orthonormal_vector();
-    let v = n.cross(u);
-    distinct.sort_by(|p, q| {
-        let (dp, dq) = (*p - centre, *q - centre);
-        dp.dot(v).atan2(dp.dot(u)).total_cmp(&dq.dot(v).atan2(dq.dot(u)))
-    });
-    distinct
 }
 
 #[cfg(test)]
@@ -196,12 +263,34 @@ mod tests {
         assert!((o.volume - 0.05).abs() < 1e-12);
         assert!((o.area - DVec3::Z).length() < 1e-12, "{:?}", o.area);
         assert!(o.torque_about(DVec3::new(0.0, 0.0, 0.95)).length() < 1e-12);
+        // The force acts through the middle of the shared face's strip.
+        assert!((o.action_point() - DVec3::new(0.0, 0.0, 0.475)).length() < 1e-12, "{:?}", o.action_point());
     }
 
     #[test]
-    fn separated_bodies_do_not_overlap() {
+    fn separated_and_touching_bodies_do_not_overlap() {
         let cube = Polyhedron::cube(1.0);
         assert!(overlap_volume(&cube, &Pose::from_position(DVec3::new(0.0, 0.0, 1.01)), &cube, &Pose::from_position(DVec3::ZERO)).is_none());
+        assert!(overlap_volume(&cube, &Pose::from_position(DVec3::new(0.2, 0.0, 1.0)), &cube, &Pose::from_position(DVec3::ZERO)).is_none());
+    }
+
+    /// The first moments over the whole boundary close: ∮ n dA = 0 means S equals minus A's
+    /// clipped faces' area, a check of the polygon orientation on both sides.
+    #[test]
+    fn the_boundary_of_the_overlap_is_closed() {
+        let (a, b) = (Polyhedron::dodecahedron(0.6), Polyhedron::cube(1.0));
+        let (pa, pb) = (pose(DVec3::new(0.4, 0.3, 0.5), DVec3::new(1.0, 2.0, 0.5), 0.7), pose(DVec3::ZERO, DVec3::new(0.3, -1.0, 0.2), 0.4));
+        let (ra, rb) = (Region::of_polyhedron(&a, &pa, DVec3::ZERO), Region::of_polyhedron(&b, &pb, DVec3::ZERO));
+        let mut a_side = DVec3::ZERO;
+        for (n, face) in &ra.faces {
+            if let Some((poly, _)) = clip_polygon(face, *n, &rb.planes, 1e-12) {
+                let mut m = Moments::default();
+                m.add(&poly, 0.0, 1.0);
+                a_side += m.area;
+            }
+        }
+        let o = overlap_volume(&a, &pa, &b, &pb).unwrap();
+        assert!((o.area + a_side).length() < 1e-12, "S {:?}, A's faces {a_side:?}", o.area);
     }
 
     /// The area vector and moment are the volume's derivatives: central differences of V under
@@ -246,6 +335,16 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 50, "only {checked} overlapping trials");
+    }
+
+    #[test]
+    fn the_answer_does_not_depend_on_the_origin() {
+        let (a, b) = (Polyhedron::octahedron(1.2), Polyhedron::dodecahedron(0.6));
+        let (pa, pb) = (pose(DVec3::new(0.5, 0.4, 0.6), DVec3::new(1.0, 0.2, 0.5), 0.3), pose(DVec3::ZERO, DVec3::new(0.3, 1.0, 0.2), 1.4));
+        let o1 = overlap_volume_about(&a, &pa, &b, &pb, DVec3::ZERO).unwrap();
+        let o2 = overlap_volume_about(&a, &pa, &b, &pb, DVec3::new(3.0, -2.0, 7.0)).unwrap();
+        assert!((o1.volume - o2.volume).abs() < 1e-12 && (o1.area - o2.area).length() < 1e-12);
+        assert!((o1.moment - o2.moment).length() < 1e-11 && (o1.centroid - o2.centroid).length() < 1e-11);
     }
 
     #[test]

@@ -224,6 +224,18 @@ impl Polyhedron {
         &self.edges
     }
 
+    /// Area of face `f`.
+    pub fn face_area(&self, f: usize) -> f64 {
+        let v = &self.faces[f].vertices;
+        let p = |k: usize| self.vertices[v[k] as usize];
+        (1..v.len() - 1).map(|k| (p(k) - p(0)).cross(p(k + 1) - p(0))).sum::<DVec3>().length() / 2.0
+    }
+
+    /// The largest face area: the contact area of a face lying on a flat wall.
+    pub fn largest_face_area(&self) -> f64 {
+        (0..self.faces.len()).map(|f| self.face_area(f)).fold(0.0, f64::max)
+    }
+
     /// Largest vertex distance from the centre of mass.
     pub fn bounding_radius(&self) -> f64 {
         self.bounding_radius

@@ -43,7 +43,8 @@ pub use error::SceneError;
 pub use load::{parse_scene, read_scene};
 pub use particles::InitialParticles;
 pub use plan::{
-    CompiledScene, Drag, Drum, Feature, Fluid, Material, PairParams, PhysicsModel, Plan, PlanReport, RunSettings, Timescales, Tuning, Wall,
+    CompiledScene, Drag, Drum, Feature, Fluid, Material, PairParams, PhysicsModel, Plan, PlanReport, PolyhedronContact, RunSettings, Timescales,
+    Tuning, Wall,
 };
 pub use rng::Rng;
 pub use schema::Scene;

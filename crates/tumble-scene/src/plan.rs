@@ -37,6 +37,18 @@ impl PairParams {
     }
 }
 
+/// How polyhedra meet each other and the walls (docs/polyhedra.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PolyhedronContact {
+    /// The normal law at the depth V / A_ref of the overlap volume V spread over the pair's
+    /// reference area, along the volume's gradient: a potential, so elastic contacts conserve energy.
+    #[default]
+    Volume,
+    /// The normal law at the separating-axis depth, at the manifold's depth-weighted point (not a
+    /// potential: elastic contacts gain or lose energy as the contact's feature changes).
+    Depth,
+}
+
 /// Drag law of the fluid.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Drag {
@@ -209,6 +221,8 @@ pub struct PhysicsModel {
     pub polyhedra: bool,
     /// Polyhedral particle types, indexed by `InitialParticles::shape`.
     pub shapes: Vec<crate::ParticleShape>,
+    /// The polyhedron contact model (only read when `polyhedra`).
+    pub polyhedron_contact: PolyhedronContact,
     pub cohesion: bool,
     /// Some pair keeps a tangential spring per contact.
     pub history: bool,

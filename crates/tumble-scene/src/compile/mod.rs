@@ -12,8 +12,8 @@ mod tuning;
 
 use crate::SceneError;
 use crate::particles::compile_particles;
-use crate::plan::{CompiledScene, PhysicsModel, Plan, PlanReport, RunSettings, Tuning};
-use crate::schema::{Scene, V3};
+use crate::plan::{CompiledScene, PhysicsModel, Plan, PlanReport, PolyhedronContact, RunSettings, Tuning};
+use crate::schema::{PolyhedronModelName, Scene, V3};
 use crate::targets::{MovableMeans, Targets};
 use glam::DVec3;
 
@@ -68,6 +68,10 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         rotation: mechanics.rotation,
         polyhedra: mechanics.polyhedra,
         shapes,
+        polyhedron_contact: match scene.contact.polyhedron_model {
+            Some(PolyhedronModelName::Depth) => PolyhedronContact::Depth,
+            _ => PolyhedronContact::Volume,
+        },
         cohesion: mechanics.cohesion,
         history: mechanics.history,
         rolling: mechanics.rolling,

@@ -119,6 +119,9 @@ pub struct ContactSection {
     pub rolling_friction: Option<f64>,
     /// How rolling_friction acts: "constant" (default) or "epsd2" (elastic–plastic spring, needs history).
     pub rolling_model: Option<RollingModelName>,
+    /// How polyhedra meet: "volume" (default; a potential of the overlap volume, energy-conserving)
+    /// or "depth" (the separating-axis depth at the manifold's depth-weighted point).
+    pub polyhedron_model: Option<PolyhedronModelName>,
     /// Contacts with history each particle can hold (tangential model "history").
     pub history_slots: Option<u32>,
     #[serde(default)]
@@ -131,6 +134,14 @@ pub struct ContactSection {
 pub enum RollingModelName {
     Constant,
     Epsd2,
+}
+
+/// The polyhedron contact models `contact.polyhedron_model` names.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum PolyhedronModelName {
+    Volume,
+    Depth,
 }
 
 /// Per material pair overrides of the default contact.
