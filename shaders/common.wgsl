@@ -19,6 +19,8 @@ override TANGENTIAL: bool = true;
 override WALLS: bool = true;
 // Convex polyhedral particles (polyhedra.wgsl): orientations, the shape table, twisting friction.
 override POLYHEDRA: bool = false;
+// Polyhedra meet through the overlap-volume model (else the separating-axis depth).
+override VOLUME: bool = false;
 // Tangential springs with history and rolling resistance (history.wgsl).
 override HISTORY: bool = false;
 override ROLLING: bool = false;

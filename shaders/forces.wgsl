@@ -39,80 +39,101 @@ struct ContactForce {
     spring: vec4<f32>,
 }
 
-// `old_spring`: the contact's tangential spring from the last step and its stored energy (history only, else zero).
-fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_rel: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec4<f32>) -> ContactForce {
-    var out = ContactForce(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, vec4<f32>(0.0));
+// The normal law of material pair `pair` at overlap δ ≥ 0 with normal velocity vn (positive
+// separating): (elastic force, damping force, stored energy, tangent stiffness).
+fn normal_law(pair: u32, overlap: f32, vn: f32, m_star: f32, r_star: f32) -> vec4<f32> {
+    let t0 = tables[PAIR_ENTRY_WORDS * pair];
+    let normal_law = u32(t0.x);
+    var out = vec4<f32>(0.0);
+    if LINEAR && normal_law == NORMAL_LINEAR {
+        let stiffness = t0.y;
+        out = vec4<f32>(stiffness * overlap, -2.0 * t0.z * sqrt(m_star * stiffness) * vn, 0.5 * stiffness * overlap * overlap, stiffness);
+    }
+    if HERTZ && normal_law == NORMAL_HERTZ {
+        let root = sqrt(r_star * overlap);
+        let k = 4.0 / 3.0 * t0.y * root;
+        let stiffness = 2.0 * t0.y * root;
+        out = vec4<f32>(k * overlap, 2.0 * sqrt(5.0 / 6.0) * t0.z * sqrt(stiffness * m_star) * vn, 0.4 * k * overlap * overlap, stiffness);
+    }
+    return out;
+}
+
+// The force the law applies: elastic plus damping, never pulling with no_attraction.
+fn applied_normal(pair: u32, law: vec4<f32>) -> f32 {
+    if tables[PAIR_ENTRY_WORDS * pair + 2u].y != 0.0 {
+        return max(law.x + law.y, 0.0);
+    }
+    return law.x + law.y;
+}
+
+struct TangentialOut {
+    force: vec3<f32>,
+    // ξ and its stored energy (history; zero otherwise).
+    spring: vec4<f32>,
+    // Power lost to slip beyond the work −F_t · v_t (history: the spring's own book).
+    slip_loss: f32,
+}
+
+// The tangential law of `pair` for a contact pressed by `normal` (max(F_n, 0)) with tangent
+// slip vt; `stiffness` is the normal law's tangent stiffness (for laws timed by t_col).
+fn tangential_part(pair: u32, normal: f32, stiffness: f32, overlap: f32, r_star: f32, m_star: f32, n: vec3<f32>, vt: vec3<f32>, old_spring: vec4<f32>) -> TangentialOut {
+    var out = TangentialOut(vec3<f32>(0.0), vec4<f32>(0.0), 0.0);
     let t0 = tables[PAIR_ENTRY_WORDS * pair];
     let t1 = tables[PAIR_ENTRY_WORDS * pair + 1u];
     let t2 = tables[PAIR_ENTRY_WORDS * pair + 2u];
-    let normal_law = u32(t0.x);
     let tangential_law = u32(t1.x);
+    if HISTORY && (tangential_law == TANGENTIAL_HISTORY_LINEAR || tangential_law == TANGENTIAL_HISTORY_MINDLIN) {
+        let h = history_force(t1, t2, normal, overlap, r_star, m_star, old_spring, n, vt);
+        out.force = h.force;
+        out.spring = vec4<f32>(h.spring, h.energy);
+        out.slip_loss = h.dissipation + dot(h.force, vt);
+    } else if TANGENTIAL && (tangential_law == TANGENTIAL_VISCOUS_COULOMB || tangential_law == TANGENTIAL_STICK_LIMITED || tangential_law == TANGENTIAL_DYNAMIC_ONLY) {
+        let speed = length(vt);
+        if speed > 0.0 {
+            var magnitude = t1.y * normal;
+            switch tangential_law {
+                case TANGENTIAL_VISCOUS_COULOMB: {
+                    var c_t = t1.z;
+                    if t1.w != 0.0 {
+                        // c_t = k_f t_col of this contact.
+                        c_t = t1.z * sqrt(m_star / stiffness) * t0.w;
+                    }
+                    magnitude = min(magnitude, c_t * speed);
+                }
+                case TANGENTIAL_STICK_LIMITED: {
+                    magnitude = min(magnitude, m_star * speed / params.dt);
+                }
+                default: {
+                    // Dynamic-only: the Coulomb limit alone.
+                }
+            }
+            out.force = vt * (-magnitude / speed);
+        }
+    }
+    return out;
+}
+
+// `old_spring`: the contact's tangential spring from the last step and its stored energy (history only, else zero).
+fn contact_force(pair: u32, n: vec3<f32>, overlap: f32, effect_overlap: f32, v_rel: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec4<f32>) -> ContactForce {
+    var out = ContactForce(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, vec4<f32>(0.0));
+    let t2 = tables[PAIR_ENTRY_WORDS * pair + 2u];
     if COHESION && t2.x > 0.0 && effect_overlap > 0.0 {
         out.force = n * (-t2.x * effect_overlap);
         out.elastic = -0.5 * t2.x * effect_overlap * effect_overlap;
     }
     if overlap >= 0.0 {
         let vn = dot(v_rel, n);
-        var spring = 0.0;
-        var damping = 0.0;
-        var energy = 0.0;
-        var stiffness = 0.0;
-        if LINEAR && normal_law == NORMAL_LINEAR {
-            stiffness = t0.y;
-            spring = stiffness * overlap;
-            damping = -2.0 * t0.z * sqrt(m_star * stiffness) * vn;
-            energy = 0.5 * stiffness * overlap * overlap;
-        }
-        if HERTZ && normal_law == NORMAL_HERTZ {
-            let root = sqrt(r_star * overlap);
-            let k = 4.0 / 3.0 * t0.y * root;
-            stiffness = 2.0 * t0.y * root;
-            spring = k * overlap;
-            damping = 2.0 * sqrt(5.0 / 6.0) * t0.z * sqrt(stiffness * m_star) * vn;
-            energy = 0.4 * k * overlap * overlap;
-        }
-        var applied = spring + damping;
-        if t2.y != 0.0 {
-            applied = max(applied, 0.0);
-        }
+        let law = normal_law(pair, overlap, vn, m_star, r_star);
+        let applied = applied_normal(pair, law);
         let vt = v_rel - n * vn;
         // The friction capacity: a pulling dashpot gives none.
         out.normal = max(applied, 0.0);
-        var ft = vec3<f32>(0.0);
-        var slip_loss = 0.0;
-        if HISTORY && (tangential_law == TANGENTIAL_HISTORY_LINEAR || tangential_law == TANGENTIAL_HISTORY_MINDLIN) {
-            let h = history_force(t1, t2, out.normal, overlap, r_star, m_star, old_spring, n, vt);
-            ft = h.force;
-            out.spring = vec4<f32>(h.spring, h.energy);
-            energy += h.energy;
-            slip_loss = h.dissipation + dot(ft, vt);
-        } else if TANGENTIAL && (tangential_law == TANGENTIAL_VISCOUS_COULOMB || tangential_law == TANGENTIAL_STICK_LIMITED || tangential_law == TANGENTIAL_DYNAMIC_ONLY) {
-            let speed = length(vt);
-            if speed > 0.0 {
-                var magnitude = t1.y * out.normal;
-                switch tangential_law {
-                    case TANGENTIAL_VISCOUS_COULOMB: {
-                        var c_t = t1.z;
-                        if t1.w != 0.0 {
-                            // c_t = k_f t_col of this contact.
-                            c_t = t1.z * sqrt(m_star / stiffness) * t0.w;
-                        }
-                        magnitude = min(magnitude, c_t * speed);
-                    }
-                    case TANGENTIAL_STICK_LIMITED: {
-                        magnitude = min(magnitude, m_star * speed / params.dt);
-                    }
-                    default: {
-                        // Dynamic-only: the Coulomb limit alone.
-                    }
-                }
-                ft = vt * (-magnitude / speed);
-            }
-        }
-        out.force += n * applied + ft;
-        out.tangential = ft;
-        out.elastic += energy;
-        out.dissipation = slip_loss - ((applied - spring) * vn + dot(ft, vt));
+        let t = tangential_part(pair, out.normal, law.w, overlap, r_star, m_star, n, vt, old_spring);
+        out.spring = t.spring;
+        out.force += n * applied + t.force;
+        out.tangential = t.force;
+        out.elastic += law.z + t.spring.w;
+        out.dissipation = t.slip_loss - ((applied - law.x) * vn + dot(t.force, vt));
     }
     return out;
 }

@@ -45,6 +45,9 @@ fn twisting_torque(spread: f32, friction: f32, normal_force: f32, n: vec3<f32>, 
 // m* and R* from the volume-equivalent radii, the torque of the whole force about
 // each centre, twisting friction on the patch, and rolling resistance.
 fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
+    if VOLUME && shape_of(a) != SPHERE_SHAPE && shape_of(b) != SPHERE_SHAPE {
+        return volume_polyhedron_pair(a, b, d);
+    }
     var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec4<f32>(0.0));
     let sa = shape_of(a);
     let sb = shape_of(b);
@@ -107,6 +110,9 @@ fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
 // polyhedron_wall). Returns the power the wall delivers (MOVING): F · v_wall at the contact
 // point plus the twisting and rolling couples times the wall's spin.
 fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 {
+    if VOLUME {
+        return volume_wall_contact(s, i, k, base);
+    }
     let x = pos[i].xyz;
     let shape = shape_of(i);
     var hit = no_poly_hit();
@@ -153,6 +159,181 @@ fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> 
     var power = dot(f.force, v_wall) + dot(twist, wall_w);
     if ROLLING {
         // The volume-equivalent radius, as on the CPU.
+        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r, f.normal, spin, omega[i].w);
+        (*s).torque += roll;
+        (*s).dissipation -= dot(roll, spin);
+        power += dot(roll, wall_w);
+    }
+    (*s).contacts += 1u;
+    (*s).ratio = max((*s).ratio, hit.depth / r);
+    return power;
+}
+
+// ---- The overlap-volume model (VOLUME; tumble-cpu's volume_force) ----
+
+struct VolumeForce {
+    force: vec3<f32>,
+    torque_a: vec3<f32>,
+    torque_b: vec3<f32>,
+    // max(F_n, 0) along the normal: the friction capacity, the rolling and twisting torques'.
+    normal: f32,
+    elastic: f32,
+    dissipation: f32,
+    spring: vec4<f32>,
+}
+
+// The force of a volume contact `hit` on body A, A moving rigidly with (va, wa) about xa and B
+// with (vb, wb) about xb (a wall: its velocity at xb and its spin), all relative to the hit's
+// origin: VOLUME_SHARE of the normal law at δ_V = V / a_ref with the rate −V̇ / a_ref along the
+// volume's gradient; each corner (poly_a, poly_b) at its depth along its gradient with the share
+// (1 − VOLUME_SHARE) / corners of its body's largest face (corners.x of A, .y of B); the
+// tangential law at the contact point with the normal force's magnitude.
+fn volume_force(pair: u32, hit: VolumeHit, a_ref: f32, corners: vec2<f32>, va: vec3<f32>, wa: vec3<f32>, xa: vec3<f32>, vb: vec3<f32>, wb: vec3<f32>, xb: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec4<f32>) -> VolumeForce {
+    var out = VolumeForce(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, vec4<f32>(0.0));
+    let rate = -(dot(hit.push, va - vb - cross(wb, xa - xb)) + dot(hit.turn_a, wa - wb));
+    let depth = hit.volume / a_ref;
+    let vn = -rate / a_ref;
+    let law = normal_law(pair, depth, vn, m_star, r_star);
+    let applied = VOLUME_SHARE * applied_normal(pair, law);
+    let per_volume = applied / a_ref;
+    var normal_force = hit.push * per_volume;
+    out.torque_a = hit.turn_a * per_volume;
+    out.torque_b = hit.turn_b * per_volume;
+    out.elastic = VOLUME_SHARE * law.z;
+    out.dissipation = -(applied - VOLUME_SHARE * law.x) * vn;
+    for (var k = 0u; k < hit.corners; k++) {
+        let p = poly_a[k].xyz;
+        let g = poly_b[k].xyz;
+        let share = (1.0 - VOLUME_SHARE) / select(corners.y, corners.x, poly_b[k].w > 0.5);
+        let v = va + cross(wa, p - xa) - vb - cross(wb, p - xb);
+        let cvn = dot(g, v);
+        let corner = normal_law(pair, poly_a[k].w, cvn, m_star, r_star);
+        let pushed = share * applied_normal(pair, corner);
+        let f = g * pushed;
+        normal_force += f;
+        out.torque_a += cross(p - xa, f);
+        out.torque_b -= cross(p - xb, f);
+        out.elastic += share * corner.z;
+        out.dissipation -= (pushed - share * corner.x) * cvn;
+    }
+    let n = hit.normal;
+    out.normal = max(dot(normal_force, n), 0.0);
+    let v = va + cross(wa, hit.point - xa) - vb - cross(wb, hit.point - xb);
+    let vt = v - n * dot(v, n);
+    let gain = length(hit.push) / a_ref;
+    let t = tangential_part(pair, out.normal, law.w * gain * gain, depth, r_star, m_star, n, vt, old_spring);
+    out.force = normal_force + t.force;
+    out.torque_a += cross(hit.point - xa, t.force);
+    out.torque_b -= cross(hit.point - xb, t.force);
+    out.elastic += t.spring.w;
+    out.dissipation += t.slip_loss - dot(t.force, vt);
+    out.spring = t.spring;
+    return out;
+}
+
+// The patch radius of twisting friction on a volume contact of area `area`: (2/3)√(area/π).
+fn area_spread(area: f32) -> f32 {
+    return (2.0 / 3.0) * sqrt(area / 3.14159265);
+}
+
+// Two polyhedra a (lower id) and b, d = x_a − x_b, in the volume model.
+fn volume_polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
+    var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec4<f32>(0.0));
+    let sa = shape_of(a);
+    let sb = shape_of(b);
+    let hit = volume_pair(sa, orient[a], sb, orient[b], d);
+    if !hit.hit {
+        return out;
+    }
+    let ca = shape_contact(sa);
+    let cb = shape_contact(sb);
+    let spin_a = seen_spin(a);
+    let spin_b = seen_spin(b);
+    let m_star = 1.0 / (vel[a].w + vel[b].w);
+    let ra = equivalent_radius(a);
+    let rb = equivalent_radius(b);
+    let r_star = ra * rb / (ra + rb);
+    var old_spring = vec4<f32>(0.0);
+    if HISTORY {
+        old_spring = find_spring(props[a].z, props[b].z);
+    }
+    let pair = props[a].y * params.materials + props[b].y;
+    let f = volume_force(pair, hit, min(ca.x, cb.x), vec2<f32>(ca.y, cb.y), seen_velocity(a), spin_a, d, seen_velocity(b), spin_b, vec3<f32>(0.0), m_star, r_star, old_spring);
+    out.force = f.force;
+    out.spring = f.spring;
+    out.torque_a = f.torque_a;
+    out.torque_b = f.torque_b;
+    let spin = spin_a - spin_b;
+    let inv_n = inverse_inertia_about(a, hit.normal) + inverse_inertia_about(b, hit.normal);
+    let twist = twisting_torque(area_spread(hit.area), tables[PAIR_ENTRY_WORDS * pair + 1u].y, f.normal, hit.normal, spin, inv_n);
+    out.torque_a += twist;
+    out.torque_b -= twist;
+    out.dissipation = f.dissipation - dot(twist, spin);
+    if ROLLING {
+        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r_star, f.normal, spin, omega[a].w + omega[b].w);
+        out.torque_a += roll;
+        out.torque_b -= roll;
+        out.dissipation -= dot(roll, spin);
+    }
+    out.elastic = f.elastic;
+    out.ratio = hit.depth / min(ra, rb);
+    return out;
+}
+
+// A polyhedral particle i against wall k (entry at `base`) in the volume model, into the sum;
+// returns the power the wall delivers: F · v_wall(x_i) + Ω_wall · τ.
+fn volume_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 {
+    let x = pos[i].xyz;
+    let shape = shape_of(i);
+    var hit = no_volume_hit();
+    switch wall_kind(base) {
+        case WALL_PRISM: {
+            if PRISMS {
+                let hull = prism_data(base) + PRISM_HULL;
+                let centre = tables[hull];
+                hit = volume_pair(shape, orient[i], u32(centre.w), tables[hull + 1u], x - centre.xyz);
+                hit.point += centre.xyz;
+                for (var c = 0u; c < hit.corners; c++) {
+                    poly_a[c] = vec4<f32>(poly_a[c].xyz + centre.xyz, poly_a[c].w);
+                }
+                hit.turn_b = vec3<f32>(0.0);
+            }
+        }
+        default: {
+            let entry = array<vec4<f32>, WALL_ENTRY_WORDS>(tables[base], tables[base + 1u], tables[base + 2u], tables[base + 3u], tables[base + 4u], tables[base + 5u]);
+            hit = volume_wall(shape, orient[i], x, entry);
+        }
+    }
+    if !hit.hit {
+        return 0.0;
+    }
+    let w = seen_spin(i);
+    var v_wall = vec3<f32>(0.0);
+    var wall_w = vec3<f32>(0.0);
+    if MOVING {
+        v_wall = wall_velocity(base, x);
+        wall_w = wall_spin(base);
+    }
+    let pair = props[i].y * params.materials + wall_material(base);
+    let r = equivalent_radius(i);
+    var old_spring = vec4<f32>(0.0);
+    if HISTORY {
+        old_spring = find_spring(props[i].z, WALL_KEY | k);
+    }
+    let c = shape_contact(shape);
+    let f = volume_force(pair, hit, c.x, c.yy, seen_velocity(i), w, x, v_wall, wall_w, x, alpha[i].w, r, old_spring);
+    if HISTORY {
+        (*s).springs = keep_spring(props[i].z, (*s).springs, WALL_KEY | k, f.spring);
+    }
+    // Twisting friction and rolling resistance act against the spin relative to the wall.
+    let spin = w - wall_w;
+    let twist = twisting_torque(area_spread(hit.area), tables[PAIR_ENTRY_WORDS * pair + 1u].y, f.normal, hit.normal, spin, inverse_inertia_about(i, hit.normal));
+    (*s).force += f.force;
+    (*s).torque += f.torque_a + twist;
+    (*s).elastic += f.elastic;
+    (*s).dissipation += f.dissipation - dot(twist, spin);
+    var power = dot(f.force, v_wall) + dot(f.torque_a + twist, wall_w);
+    if ROLLING {
         let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r, f.normal, spin, omega[i].w);
         (*s).torque += roll;
         (*s).dissipation -= dot(roll, spin);

@@ -1,8 +1,9 @@
-// Test harness of polyhedra.wgsl (shapes::evaluate): one invocation per query,
-// the answer is tumble-geom's PolyContact (normal, depth, point) in f32.
+// Test harness of polyhedra.wgsl and volume_contact.wgsl (shapes::evaluate): one invocation per
+// query, the answer is tumble-geom's PolyContact (normal, depth, point) or VolumeContact in f32.
 
 struct Query {
-    // (kind: QUERY_POLYHEDRA, QUERY_SPHERE or QUERY_WALL; shape a; shape b; sphere radius)
+    // (kind: QUERY_POLYHEDRA, QUERY_SPHERE, QUERY_WALL, QUERY_VOLUME_PAIR or QUERY_VOLUME_WALL;
+    // shape a; shape b; sphere radius)
     head: vec4<f32>,
     pos_a: vec4<f32>,
     quat_a: vec4<f32>,
@@ -25,6 +26,27 @@ fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let c = queries[i];
     let kind = u32(c.head.x);
+    let base = ANSWER_WORDS * i;
+    if kind == QUERY_VOLUME_PAIR || kind == QUERY_VOLUME_WALL {
+        var v: VolumeHit;
+        var origin = vec3<f32>(0.0);
+        if kind == QUERY_VOLUME_PAIR {
+            v = volume_pair(u32(c.head.y), c.quat_a, u32(c.head.z), c.quat_b, c.pos_a.xyz - c.pos_b.xyz);
+            origin = c.pos_b.xyz;
+        } else {
+            v = volume_wall(u32(c.head.y), c.quat_a, c.pos_a.xyz, c.wall);
+        }
+        var corners = vec3<f32>(0.0);
+        for (var k = 0u; k < v.corners; k++) {
+            corners += poly_a[k].w * poly_b[k].xyz;
+        }
+        answers[base] = vec4<f32>(v.push, select(0.0, 1.0, v.hit));
+        answers[base + 1u] = vec4<f32>(origin + v.point, v.depth);
+        answers[base + 2u] = vec4<f32>(v.turn_a, v.volume);
+        answers[base + 3u] = vec4<f32>(v.turn_b, v.area);
+        answers[base + 4u] = vec4<f32>(corners, f32(v.corners));
+        return;
+    }
     var hit: PolyHit;
     var origin = vec3<f32>(0.0);
     switch kind {
@@ -43,7 +65,9 @@ fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
             hit = no_poly_hit();
         }
     }
-    answers[3u * i] = vec4<f32>(hit.normal, select(0.0, 1.0, hit.hit));
-    answers[3u * i + 1u] = vec4<f32>(origin + hit.point, hit.depth);
-    answers[3u * i + 2u] = vec4<f32>(hit.spread, 0.0, 0.0, 0.0);
+    answers[base] = vec4<f32>(hit.normal, select(0.0, 1.0, hit.hit));
+    answers[base + 1u] = vec4<f32>(origin + hit.point, hit.depth);
+    answers[base + 2u] = vec4<f32>(hit.spread, 0.0, 0.0, 0.0);
+    answers[base + 3u] = vec4<f32>(0.0);
+    answers[base + 4u] = vec4<f32>(0.0);
 }

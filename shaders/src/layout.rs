@@ -106,7 +106,7 @@ shared! {
 
     // ---- The shape table (polyhedra) ----
     /// Header words per shape.
-    SHAPE_HEADER_WORDS = 3;
+    SHAPE_HEADER_WORDS = 4;
     /// Face-loop vertex indices per word.
     LOOP_INDICES_PER_WORD = 4;
     /// Most vertices in one face loop on the device.
@@ -120,7 +120,20 @@ shared! {
     QUERY_POLYHEDRA = 0;
     QUERY_SPHERE = 1;
     QUERY_WALL = 2;
+    /// Overlap-volume contacts (volume_contact.wgsl): polyhedron against polyhedron, against a wall.
+    QUERY_VOLUME_PAIR = 3;
+    QUERY_VOLUME_WALL = 4;
+    /// 16-byte words of one answer.
+    ANSWER_WORDS = 5;
 }
 
 // A face clipped by a face has at most twice its vertices; a wall manifold holds every vertex.
 const _: () = assert!(2 * MAX_FACE_VERTICES <= MANIFOLD_POINTS && MAX_VERTICES <= MANIFOLD_POINTS);
+
+/// Real-valued model constants the kernels share with the host (the prelude declares each as
+/// `const NAME: f32`); tumble-gpu's tests hold them equal to tumble-geom's.
+pub const SHARED_F32: &[(&str, f32)] = &[("VOLUME_SHARE", VOLUME_SHARE), ("CORNER_SMOOTHING", CORNER_SMOOTHING)];
+/// The share of the normal law an overlap-volume contact gives its volume (tumble-geom's `VOLUME_SHARE`).
+pub const VOLUME_SHARE: f32 = 0.5;
+/// The corner depth's smoothing width over the smaller bounding radius (tumble-geom's `CORNER_SMOOTHING`).
+pub const CORNER_SMOOTHING: f32 = 0.01;

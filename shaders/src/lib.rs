@@ -40,6 +40,8 @@ pub const POLYHEDRON_POLYHEDRON: &str = include_str!("../polyhedron_polyhedron.w
 pub const SPHERE_POLYHEDRON: &str = include_str!("../sphere_polyhedron.wgsl");
 /// Polyhedron against plane, quad and cylinder walls.
 pub const POLYHEDRON_WALLS: &str = include_str!("../polyhedron_walls.wgsl");
+/// Overlap-volume contacts: polyhedron against polyhedron and against walls (needs POLYHEDRA).
+pub const VOLUME_CONTACT: &str = include_str!("../volume_contact.wgsl");
 /// The test harness of the polyhedra narrow phase.
 pub const POLYHEDRA_TEST: &str = include_str!("../polyhedra_test.wgsl");
 /// The output row's reductions (observables, wall groups, drums) and tracked-particle gather.
@@ -63,12 +65,13 @@ pub const FILES: &[(&str, &str)] = &[
     ("polyhedron_polyhedron.wgsl", POLYHEDRON_POLYHEDRON),
     ("sphere_polyhedron.wgsl", SPHERE_POLYHEDRON),
     ("polyhedron_walls.wgsl", POLYHEDRON_WALLS),
+    ("volume_contact.wgsl", VOLUME_CONTACT),
     ("polyhedra_test.wgsl", POLYHEDRA_TEST),
     ("integrate.wgsl", INTEGRATE),
     ("reduce.wgsl", REDUCE),
 ];
 
-const NARROW_PHASE: [&str; 5] = [QUATERNION, POLYHEDRA, POLYHEDRON_POLYHEDRON, SPHERE_POLYHEDRON, POLYHEDRON_WALLS];
+const NARROW_PHASE: [&str; 6] = [QUATERNION, POLYHEDRA, POLYHEDRON_POLYHEDRON, SPHERE_POLYHEDRON, POLYHEDRON_WALLS, VOLUME_CONTACT];
 
 /// One shader module: its files in order, its bindings and its entry points.
 #[derive(Clone, Copy, Debug)]
@@ -96,6 +99,7 @@ pub const MODULES: &[Module] = &[
             POLYHEDRON_POLYHEDRON,
             SPHERE_POLYHEDRON,
             POLYHEDRON_WALLS,
+            VOLUME_CONTACT,
             FORCES_POLYHEDRA,
             FORCES,
         ],
@@ -114,7 +118,7 @@ pub const MODULES: &[Module] = &[
 /// The polyhedra narrow phase with its test harness (entry point `evaluate`; no overrides).
 pub const POLYHEDRA_TEST_MODULE: Module = Module {
     name: "polyhedra test",
-    files: &[NARROW_PHASE[0], NARROW_PHASE[1], NARROW_PHASE[2], NARROW_PHASE[3], NARROW_PHASE[4], POLYHEDRA_TEST],
+    files: &[NARROW_PHASE[0], NARROW_PHASE[1], NARROW_PHASE[2], NARROW_PHASE[3], NARROW_PHASE[4], NARROW_PHASE[5], POLYHEDRA_TEST],
     bindings: bindings::POLYHEDRA_TEST,
     entry_points: &["evaluate"],
 };
@@ -145,6 +149,9 @@ pub fn prelude() -> String {
     let mut out = String::from("// The constants shared with the host (tumble-shaders' layout.rs), generated.\n");
     for (name, value) in layout::SHARED {
         out.push_str(&format!("const {name}: u32 = {value}u;\n"));
+    }
+    for (name, value) in layout::SHARED_F32 {
+        out.push_str(&format!("const {name}: f32 = {value:?};\n"));
     }
     out
 }

@@ -25,7 +25,7 @@ fn the_prelude_declares_every_shared_constant_with_its_host_value() {
     for (name, value) in SHARED {
         assert!(prelude.contains(&format!("const {name}: u32 = {value}u;\n")), "{name}");
     }
-    assert_eq!(module_constants(&prelude).len(), SHARED.len());
+    assert_eq!(module_constants(&prelude).len(), SHARED.len() + SHARED_F32.len());
     let names: BTreeSet<&str> = SHARED.iter().map(|(n, _)| *n).collect();
     assert_eq!(names.len(), SHARED.len(), "a shared constant is listed twice");
     assert_eq!((FLAG_FIXED, FLAG_DEAD, SHAPE_SHIFT, SPHERE_SHAPE, WALL_KEY), (1, 2, 16, 0xffff, 0x8000_0000));
@@ -36,7 +36,7 @@ fn the_prelude_declares_every_shared_constant_with_its_host_value() {
 fn wgsl_files_declare_only_their_own_sentinels_and_no_bindings() {
     // A constant the host shares belongs in layout.rs (the prelude declares it); one the host
     // does not know goes in SHADER_LOCAL, so adding a constant on one side only fails here.
-    let shared: BTreeSet<&str> = SHARED.iter().map(|(n, _)| *n).collect();
+    let shared: BTreeSet<&str> = SHARED.iter().map(|(n, _)| *n).chain(SHARED_F32.iter().map(|(n, _)| *n)).collect();
     for (file, text) in FILES {
         for name in module_constants(text) {
             assert!(!shared.contains(name), "{file} declares {name}, which the prelude declares from layout.rs");

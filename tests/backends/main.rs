@@ -22,6 +22,7 @@ mod restore;
 mod seams;
 mod support;
 /// The GPU against the CPU on the verification and example scenes; springs.
+mod volume_contact;
 mod vs_cpu;
 
 tumble_testkit::testgen!(cpu);
@@ -54,6 +55,7 @@ fn main() {
         polyhedra_contact::polyhedra_against_walls_match_tumble_geom,
         polyhedra_contact::polyhedra_against_lifter_prisms_as_table_shapes,
         polyhedra_contact::resting_and_crossed_configurations_are_exact_to_f32,
+        volume_contact::volume_contacts_match_tumble_geom,
         polyhedra_moving::a_drum_turning_a_cube_draws_torque_times_omega,
         polyhedra_moving::a_small_drum_of_cubes_with_lifters_agrees_with_the_cpu,
         polyhedra_moving::the_drum_of_cubes_scene_runs_on_the_gpu,

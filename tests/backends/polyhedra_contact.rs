@@ -17,17 +17,17 @@ use tumble_geom::{Cylinder, Plane, PolyContact, Polyhedron, Pose, Prism, Quad, S
 use tumble_gpu::shapes::{ContactAnswer, ContactQuery, evaluate};
 
 /// A small deterministic generator (PCG-style LCG).
-struct Rng(u64);
+pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
-    fn uniform(&mut self) -> f64 {
+    pub(crate) fn uniform(&mut self) -> f64 {
         self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+    pub(crate) fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.uniform()
     }
-    fn unit(&mut self) -> DVec3 {
+    pub(crate) fn unit(&mut self) -> DVec3 {
         loop {
             let v = DVec3::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0));
             let l = v.length();
@@ -36,15 +36,15 @@ impl Rng {
             }
         }
     }
-    fn quat(&mut self) -> DQuat {
+    pub(crate) fn quat(&mut self) -> DQuat {
         f32_quat(DQuat::from_axis_angle(self.unit(), self.range(0.0, std::f64::consts::PI)))
     }
-    fn index(&mut self, n: usize) -> usize {
+    pub(crate) fn index(&mut self, n: usize) -> usize {
         ((self.uniform() * n as f64) as usize).min(n - 1)
     }
 }
 
-fn f32_vec(v: DVec3) -> DVec3 {
+pub(crate) fn f32_vec(v: DVec3) -> DVec3 {
     v.as_vec3().as_dvec3()
 }
 
@@ -53,7 +53,7 @@ fn f32_quat(q: DQuat) -> DQuat {
 }
 
 /// The six test solids at a given scale (bounding radii about `scale`).
-fn solids(scale: f64) -> Vec<Polyhedron> {
+pub(crate) fn solids(scale: f64) -> Vec<Polyhedron> {
     vec![
         Polyhedron::cube(1.1 * scale),
         Polyhedron::cuboid(DVec3::new(0.3, 0.55, 0.85) * scale),

@@ -14,7 +14,9 @@
 use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
 use glam::DVec3;
 use tumble_contact::{normal_force, rolling_torque};
-use tumble_geom::{PolyContact, Polyhedron, Pose, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron};
+use tumble_geom::{
+    PolyContact, Polyhedron, Pose, VOLUME_SHARE, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron,
+};
 use tumble_integrate::world_inverse_inertia_times;
 use tumble_scene::{PairParams, PolyhedronContact};
 use tumble_scene::{SPHERE, Wall};
@@ -73,11 +75,6 @@ fn twisting_torque(spread: f64, n: DVec3, friction: f64, normal: f64, spin_rel: 
     rolling_torque(friction, spread, normal, n * spin_rel.dot(n), inv_inertia_sum, dt)
 }
 
-/// The share of the normal law a volume contact gives its overlap volume; the rest goes to the
-/// corners inside the other body, spread over the corners of the largest face (so a face lying on
-/// a larger face meets the whole law, and a corner meets (1 − share)/corners of it).
-pub const VOLUME_SHARE: f64 = 0.5;
-
 /// The overlap-volume force on body A (docs/polyhedra.md): the normal law at the depth
 /// δ_V = V / A_ref with the rate −V̇ / A_ref, times [`VOLUME_SHARE`], along the volume's gradient
 /// (force `push`, torques `turn_a`, `turn_b` per unit w'(V)); the law at each corner's depth,
@@ -127,8 +124,21 @@ fn volume_force<const HIST: bool>(
     let normal = normal_force.dot(n).max(0.0);
     let v = v_at(k.point);
     let gain = k.push.length() / a_ref;
-    let t = tangential_part::<HIST>(params, normal, stiffness * gain * gain / VOLUME_SHARE, depth, r_star, m_star, n, v - n * v.dot(n), dt, old_spring, spring);
-    let out = ContactForce { force: normal_force + t.force, tangential: t.force, normal, elastic: elastic + t.energy, dissipation: dissipation + t.loss };
+    let t = tangential_part::<HIST>(
+        params,
+        normal,
+        stiffness * gain * gain / VOLUME_SHARE,
+        depth,
+        r_star,
+        m_star,
+        n,
+        v - n * v.dot(n),
+        dt,
+        old_spring,
+        spring,
+    );
+    let out =
+        ContactForce { force: normal_force + t.force, tangential: t.force, normal, elastic: elastic + t.energy, dissipation: dissipation + t.loss };
     torque_a += (k.point - xa).cross(t.force);
     torque_b -= (k.point - xb).cross(t.force);
     (out, torque_a, torque_b)

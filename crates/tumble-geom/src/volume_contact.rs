@@ -91,6 +91,11 @@ impl VolumeContact {
     }
 }
 
+/// The share of the normal law an overlap-volume contact gives its overlap volume; the rest goes
+/// to the corners inside the other body, spread over the corners of the largest face (so a face
+/// lying on a larger face meets the whole law, and a corner meets (1 − share)/corners of it).
+pub const VOLUME_SHARE: f64 = 0.5;
+
 /// The width τ of the band in which a corner's push turns from one face to the next, as a
 /// fraction of the smaller body's bounding radius.
 pub const CORNER_SMOOTHING: f64 = 0.01;
@@ -155,7 +160,15 @@ impl Plane {
         let foot = pose.position - self.normal * h;
         let a = Region::of_polyhedron(poly, pose, foot);
         let (m, depth, solid) = behind_plane(&a, poly.bounding_radius(), self.normal)?;
-        VolumeContact::from_moments(&m, foot, pose.position, None, m.area, depth, corner_penetrations(&a, &solid, foot, CORNER_SMOOTHING * poly.bounding_radius()))
+        VolumeContact::from_moments(
+            &m,
+            foot,
+            pose.position,
+            None,
+            m.area,
+            depth,
+            corner_penetrations(&a, &solid, foot, CORNER_SMOOTHING * poly.bounding_radius()),
+        )
     }
 }
 
@@ -273,7 +286,8 @@ mod tests {
         for trial in 0..100 {
             let x = place(next(), next(), next());
             let q = DQuat::from_axis_angle(DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize(), 6.0 * next());
-            let vol = |x: DVec3, turn: DVec3| wall.polyhedron_volume(poly, &Pose::new(x, DQuat::from_scaled_axis(turn) * q)).map_or(0.0, |c| c.volume);
+            let vol =
+                |x: DVec3, turn: DVec3| wall.polyhedron_volume(poly, &Pose::new(x, DQuat::from_scaled_axis(turn) * q)).map_or(0.0, |c| c.volume);
             let Some(c) = wall.polyhedron_volume(poly, &Pose::new(x, q)) else { continue };
             if c.volume < 1e-4 * poly.volume() {
                 continue;
@@ -298,7 +312,8 @@ mod tests {
     fn a_plane_walls_push_and_turn_are_the_volumes_derivatives() {
         let wall = SurfaceShape::Plane(Plane::new(DVec3::new(0.1, 0.2, 0.3), DVec3::new(0.2, 0.3, 1.0)));
         let poly = Polyhedron::dodecahedron(0.5);
-        let n = check_derivatives(&wall, &poly, |a, b, c| DVec3::new(0.1 + a, 0.2 + b, 0.3) + DVec3::new(0.2, 0.3, 1.0).normalize() * (0.05 + 0.5 * c));
+        let n =
+            check_derivatives(&wall, &poly, |a, b, c| DVec3::new(0.1 + a, 0.2 + b, 0.3) + DVec3::new(0.2, 0.3, 1.0).normalize() * (0.05 + 0.5 * c));
         assert!(n > 40, "{n}");
     }
 

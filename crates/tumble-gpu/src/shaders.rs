@@ -77,6 +77,8 @@ pub struct Switches {
     /// Convex polyhedral particles (orientations, the shape table); always with rotation,
     /// never with cohesion or drag (the plan refuses those with polyhedra).
     pub polyhedra: bool,
+    /// Polyhedra meet through the overlap-volume model (else the separating-axis depth).
+    pub volume: bool,
     /// DRAG_NONE, DRAG_STOKES or DRAG_QUADRATIC (tumble-shaders' codes).
     pub drag: u32,
     pub taylor_green: bool,
@@ -111,6 +113,7 @@ impl Switches {
             moving: crate::upload::moving_walls(plan),
             prisms: plan.model.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))),
             polyhedra: plan.model.polyhedra,
+            volume: plan.model.polyhedra && plan.model.polyhedron_contact == tumble_scene::PolyhedronContact::Volume,
             drag: match plan.model.fluid.map(|f| f.drag) {
                 None => tumble_shaders::DRAG_NONE,
                 Some(Drag::Stokes { .. }) => tumble_shaders::DRAG_STOKES,
@@ -132,13 +135,14 @@ impl Switches {
             }
             use tumble_shaders::{DRAG_NONE, DRAG_QUADRATIC, DRAG_STOKES};
             let drags = [
-                (DRAG_NONE, false, false),
-                (DRAG_STOKES, false, false),
-                (DRAG_STOKES, true, false),
-                (DRAG_QUADRATIC, false, false),
-                (DRAG_NONE, false, true),
+                (DRAG_NONE, false, false, false),
+                (DRAG_STOKES, false, false, false),
+                (DRAG_STOKES, true, false, false),
+                (DRAG_QUADRATIC, false, false, false),
+                (DRAG_NONE, false, true, false),
+                (DRAG_NONE, false, true, true),
             ];
-            for (drag, taylor_green, polyhedra) in drags {
+            for (drag, taylor_green, polyhedra, volume) in drags {
                 // Polyhedra rotate and neither cohere nor feel drag.
                 if polyhedra && (!b(0) || b(1)) {
                     continue;
@@ -157,6 +161,7 @@ impl Switches {
                         moving: b(9),
                         prisms: b(10),
                         polyhedra,
+                        volume,
                         drag,
                         taylor_green,
                         integrator,
@@ -182,6 +187,7 @@ impl Switches {
             moving: true,
             prisms: true,
             polyhedra: true,
+            volume: true,
             drag: tumble_shaders::DRAG_STOKES,
             taylor_green: true,
             integrator: Integrator::Verlet,
@@ -201,7 +207,7 @@ impl Switches {
     }
 
     /// All override values by name.
-    pub fn constants(&self) -> [(&'static str, f64); 15] {
+    pub fn constants(&self) -> [(&'static str, f64); 16] {
         let f = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("ROTATION", f(self.rotation)),
@@ -216,6 +222,7 @@ impl Switches {
             ("MOVING", f(self.moving)),
             ("PRISMS", f(self.prisms)),
             ("POLYHEDRA", f(self.polyhedra)),
+            ("VOLUME", f(self.volume)),
             ("DRAG", self.drag as f64),
             ("TAYLOR_GREEN", f(self.taylor_green)),
             ("INTEGRATOR", integrator_code(self.integrator) as f64),

@@ -6,10 +6,11 @@
 //! pattern is ever reinterpreted. For `S` shapes:
 //!
 //! ```text
-//! word 3s     (vertex start, vertex count, face start, face count)      header of shape s
-//! word 3s + 1 (edge start, edge count, bounding radius, unused)
-//! word 3s + 2 (volume / principal unit inertia (x, y, z), equivalent radius)
+//! word 4s     (vertex start, vertex count, face start, face count)      header of shape s
+//! word 4s + 1 (edge start, edge count, bounding radius, unused)
+//! word 4s + 2 (volume / principal unit inertia (x, y, z), equivalent radius)
 //!             inverse principal inertia = inverse mass × xyz; radius of the sphere of equal volume
+//! word 4s + 3 (largest face area, corners of that face, 0, 0)   the overlap-volume contact's references
 //! vertices    (x, y, z, 0)                    body frame, one word each
 //! faces       (nx, ny, nz, offset)            plane n · p = offset, then
 //!             (list start, list length, 0, 0) where its vertex loop starts (a word index, see below)
@@ -92,6 +93,8 @@ pub fn shape_table(shapes: &[Polyhedron]) -> Result<Vec<[f32; 4]>, ShapeError> {
         words[HEADER_WORDS * s + 1] = [edge_start as f32, p.edges().len() as f32, p.bounding_radius() as f32, 0.0];
         let k = p.volume() / p.unit_inertia();
         words[HEADER_WORDS * s + 2] = [k.x as f32, k.y as f32, k.z as f32, equivalent_radius(p) as f32];
+        let largest = (0..p.faces().len()).max_by(|&f, &g| p.face_area(f).total_cmp(&p.face_area(g))).unwrap_or(0);
+        words[HEADER_WORDS * s + 3] = [p.largest_face_area() as f32, p.faces()[largest].vertices.len() as f32, 0.0, 0.0];
     }
     let loop_start = words.len();
     for (word, component) in loop_fixups {
@@ -113,6 +116,22 @@ pub fn shape_table(shapes: &[Polyhedron]) -> Result<Vec<[f32; 4]>, ShapeError> {
     Ok(words)
 }
 
+/// Refuses shapes whose faces, clipped by another shape's planes (or a wall's square by theirs),
+/// could outgrow the device's polygon buffer in the overlap-volume model: a convex polygon gains at
+/// most one vertex per clipping plane.
+pub fn check_volume_limits(shapes: &[Polyhedron]) -> Result<(), ShapeError> {
+    let points = tumble_shaders::MANIFOLD_POINTS as usize;
+    let widest = shapes.iter().map(|p| p.faces().iter().map(|f| f.vertices.len()).max().unwrap_or(0)).max().unwrap_or(0).max(4);
+    match shapes.iter().position(|p| widest + p.faces().len() > points) {
+        Some(s) => Err(ShapeError(format!(
+            "shape {s} has {} faces: clipped against it, a face of {widest} vertices could reach {} points, over the GPU's {points} (use contact.polyhedron_model = \"depth\" or the CPU)",
+            shapes[s].faces().len(),
+            widest + shapes[s].faces().len()
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// Kinds of [`ContactQuery`].
 pub mod query {
     /// Polyhedron `shape_a` against polyhedron `shape_b`.
@@ -121,6 +140,10 @@ pub mod query {
     pub const SPHERE: u32 = tumble_shaders::QUERY_SPHERE;
     /// Polyhedron `shape_a` against the wall in `wall` (6 words, the layout of geometry.wgsl).
     pub const WALL: u32 = tumble_shaders::QUERY_WALL;
+    /// The overlap-volume contact of polyhedron `shape_a` with polyhedron `shape_b`.
+    pub const VOLUME_PAIR: u32 = tumble_shaders::QUERY_VOLUME_PAIR;
+    /// The overlap-volume contact of polyhedron `shape_a` with the wall in `wall`.
+    pub const VOLUME_WALL: u32 = tumble_shaders::QUERY_VOLUME_WALL;
 }
 
 /// One narrow-phase query for [`evaluate`]: positions are relative to any common origin
@@ -170,19 +193,39 @@ impl ContactQuery {
         c.wall = crate::upload::wall_entry(wall, 0, DVec3::ZERO);
         c
     }
+
+    /// This query as its overlap-volume counterpart (pairs and walls; the answer's fields then
+    /// hold a volume contact, see [`ContactAnswer`]).
+    pub fn volume(mut self) -> Self {
+        self.head[0] = match self.head[0] as u32 {
+            query::POLYHEDRON => query::VOLUME_PAIR,
+            query::WALL => query::VOLUME_WALL,
+            k => panic!("query kind {k} has no volume counterpart"),
+        } as f32;
+        self
+    }
 }
 
-/// The answer to one [`ContactQuery`] (the tumble-geom `PolyContact` in f32).
+/// The answer to one [`ContactQuery`]: the tumble-geom `PolyContact` in f32, or for the volume
+/// kinds its `VolumeContact` (normal: the push; extra: turn_a and the volume; turn_b: turn_b and
+/// the area; corners: Σ depth × gradient over the corners and their count).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct ContactAnswer {
-    /// Unit normal from B (or the wall) to A; w: 1 in contact, 0 not.
+    /// Unit normal from B (or the wall) to A (volume: the push); w: 1 in contact, 0 not.
     pub normal: [f32; 4],
     /// The contact point relative to the query's origin; w: the depth.
     pub point: [f32; 4],
-    /// (spread: the depth-weighted mean distance of the manifold points from the point, 0, 0, 0).
+    /// (spread: the depth-weighted mean distance of the manifold points from the point, 0, 0, 0);
+    /// volume: (turn_a, volume).
     pub extra: [f32; 4],
+    /// Volume: (turn_b, area).
+    pub turn_b: [f32; 4],
+    /// Volume: (Σ depth × gradient of the corners inside, their count).
+    pub corners: [f32; 4],
 }
+
+const _: () = assert!(std::mem::size_of::<ContactAnswer>() == 16 * tumble_shaders::ANSWER_WORDS as usize);
 
 impl ContactAnswer {
     pub fn hit(&self) -> bool {
@@ -285,6 +328,21 @@ mod tests {
         let many: Vec<glam::DVec3> = (0..40).map(|k| glam::DVec3::new((k as f64).cos(), (k as f64).sin(), (k % 3) as f64)).collect();
         assert!(shape_table(&[Polyhedron::from_points(&many).unwrap()]).unwrap_err().0.contains("vertices"));
         assert!(shape_table(&[Polyhedron::dodecahedron(1.0), Polyhedron::icosahedron(1.0)]).is_ok());
+        // The volume model's polygon buffer: an icosahedron (20 faces) against 5-gons fits, a
+        // 12-gon prism's ends (12 vertices) against its 14 faces do too, 30 faces do not.
+        assert!(check_volume_limits(&[Polyhedron::dodecahedron(1.0), Polyhedron::icosahedron(1.0)]).is_ok());
+        assert!(check_volume_limits(&[Polyhedron::prism(12, 1.0, 1.0)]).is_ok());
+        // 20 points spread over a sphere hull into 36 triangles.
+        let ball: Vec<glam::DVec3> = (0..20)
+            .map(|k| {
+                let z = 1.0 - (2 * k + 1) as f64 / 20.0;
+                let phi = k as f64 * 2.399963;
+                glam::DVec3::new((1.0 - z * z).sqrt() * phi.cos(), (1.0 - z * z).sqrt() * phi.sin(), z)
+            })
+            .collect();
+        let big = Polyhedron::from_points(&ball).unwrap();
+        assert_eq!(big.faces().len(), 36);
+        assert!(check_volume_limits(&[big]).unwrap_err().0.contains("36 faces"));
     }
 
     #[test]
@@ -292,17 +350,19 @@ mod tests {
         let shapes = [Polyhedron::cube(1.0), Polyhedron::tetrahedron(1.0)];
         let t = shape_table(&shapes).unwrap();
         for (s, p) in shapes.iter().enumerate() {
-            let [vs, nv, fs, nf] = t[3 * s].map(|x| x as usize);
-            let [es, ne] = [t[3 * s + 1][0] as usize, t[3 * s + 1][1] as usize];
+            let [vs, nv, fs, nf] = t[HEADER_WORDS * s].map(|x| x as usize);
+            let [es, ne] = [t[HEADER_WORDS * s + 1][0] as usize, t[HEADER_WORDS * s + 1][1] as usize];
             assert_eq!((nv, nf, ne), (p.vertices().len(), p.faces().len(), p.edges().len()));
-            assert!((t[3 * s + 1][2] as f64 - p.bounding_radius()).abs() < 1e-6);
+            assert!((t[HEADER_WORDS * s + 1][2] as f64 - p.bounding_radius()).abs() < 1e-6);
             // Inverse inertia of a body of density 2: (1 / m) · V / I_unit = 1 / (2 I_unit).
             let m = p.mass(2.0);
             for (k, inertia) in p.principal_inertia(2.0).to_array().into_iter().enumerate() {
-                let inv = t[3 * s + 2][k] as f64 / m;
+                let inv = t[HEADER_WORDS * s + 2][k] as f64 / m;
                 assert!((inv * inertia - 1.0).abs() < 1e-6);
             }
-            assert!((4.0 / 3.0 * std::f64::consts::PI * (t[3 * s + 2][3] as f64).powi(3) / p.volume() - 1.0).abs() < 1e-6);
+            assert!((4.0 / 3.0 * std::f64::consts::PI * (t[HEADER_WORDS * s + 2][3] as f64).powi(3) / p.volume() - 1.0).abs() < 1e-6);
+            // The volume contact's references: the largest face and its corners.
+            assert_eq!(t[HEADER_WORDS * s + 3][..2], [p.largest_face_area() as f32, if s == 0 { 4.0 } else { 3.0 }]);
             for (k, v) in p.vertices().iter().enumerate() {
                 assert_eq!(t[vs + k][..3], [v.x as f32, v.y as f32, v.z as f32]);
             }

@@ -219,6 +219,9 @@ impl ParticleArrays {
 /// lifter bars' hulls (prisms.rs).
 pub fn plan_shapes(plan: &Plan, hulls: &PrismHulls) -> Result<Vec<[f32; 4]>, crate::GpuError> {
     let bodies: Vec<tumble_geom::Polyhedron> = plan.model.shapes.iter().map(|s| s.body.clone()).chain(hulls.shapes().cloned()).collect();
+    if plan.model.polyhedra && plan.model.polyhedron_contact == tumble_scene::PolyhedronContact::Volume {
+        crate::shapes::check_volume_limits(&bodies).map_err(|e| crate::GpuError::Feature(e.0))?;
+    }
     crate::shapes::shape_table(&bodies).map_err(|e| crate::GpuError::Feature(e.0))
 }
 
