@@ -95,7 +95,8 @@ fn polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
     out.torque_b -= twist;
     out.dissipation = f.dissipation - dot(twist, spin);
     if ROLLING {
-        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r_star, f.normal, spin, omega[a].w + omega[b].w);
+        // Rolling only: the spin about the normal is twisting friction's (two caps on one axis could reverse it).
+        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r_star, f.normal, spin - n * dot(spin, n), omega[a].w + omega[b].w);
         out.torque_a += roll;
         out.torque_b -= roll;
         out.dissipation -= dot(roll, spin);
@@ -159,7 +160,7 @@ fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> 
     var power = dot(f.force, v_wall) + dot(twist, wall_w);
     if ROLLING {
         // The volume-equivalent radius, as on the CPU.
-        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r, f.normal, spin, omega[i].w);
+        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r, f.normal, spin - hit.normal * dot(spin, hit.normal), omega[i].w);
         (*s).torque += roll;
         (*s).dissipation -= dot(roll, spin);
         power += dot(roll, wall_w);
@@ -182,43 +183,77 @@ struct VolumeForce {
     spring: vec4<f32>,
 }
 
-// The force of a volume contact `hit` on body A, A moving rigidly with (va, wa) about xa and B
-// with (vb, wb) about xb (a wall: its velocity at xb and its spin), all relative to the hit's
-// origin: VOLUME_SHARE of the normal law at δ_V = V / a_ref with the rate −V̇ / a_ref along the
-// volume's gradient; each corner (poly_a, poly_b) at its depth along its gradient with the share
-// (1 − VOLUME_SHARE) / corners of its body's largest face (corners.x of A, .y of B); the
-// tangential law at the contact point with the normal force's magnitude.
-fn volume_force(pair: u32, hit: VolumeHit, a_ref: f32, corners: vec2<f32>, va: vec3<f32>, wa: vec3<f32>, xa: vec3<f32>, vb: vec3<f32>, wb: vec3<f32>, xb: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec4<f32>) -> VolumeForce {
+// Where volume_points' loads go: the law of pair pl_pair at mass pl_mass, the bodies' rigid
+// motions (velocity, spin, about which point), and the sums.
+var<private> pl_pair: u32;
+var<private> pl_mass: f32;
+var<private> pl_r_star: f32;
+var<private> pl_va: vec3<f32>;
+var<private> pl_wa: vec3<f32>;
+var<private> pl_xa: vec3<f32>;
+var<private> pl_vb: vec3<f32>;
+var<private> pl_wb: vec3<f32>;
+var<private> pl_xb: vec3<f32>;
+var<private> pl_force: vec3<f32>;
+var<private> pl_torque_a: vec3<f32>;
+var<private> pl_torque_b: vec3<f32>;
+var<private> pl_elastic: f32;
+var<private> pl_dissipation: f32;
+
+// The velocity of A relative to B at p.
+fn relative_velocity(p: vec3<f32>) -> vec3<f32> {
+    return pl_va + cross(pl_wa, p - pl_xa) - pl_vb - cross(pl_wb, p - pl_xb);
+}
+
+// One corner or edge point of a volume contact: the law at its depth along its gradient, times its weight.
+fn point_load(p: vec3<f32>, depth: f32, g: vec3<f32>, weight: f32) {
+    let vn = dot(g, relative_velocity(p));
+    let law = normal_law(pl_pair, depth, vn, pl_mass, pl_r_star);
+    let pushed = weight * applied_normal(pl_pair, law);
+    let f = g * pushed;
+    pl_force += f;
+    pl_torque_a += cross(p - pl_xa, f);
+    pl_torque_b -= cross(p - pl_xb, f);
+    pl_elastic += weight * law.z;
+    pl_dissipation -= (pushed - weight * law.x) * vn;
+}
+
+// The force of the last volume contact `hit` on body A, A moving rigidly with (va, wa) about xa
+// and B with (vb, wb) about xb (a wall: its velocity at xb and its spin), all relative to the
+// hit's origin: the normal law at δ_V = V / a_ref with the rate −V̇ / a_ref along the volume's
+// gradient, each corner and edge point at its depth (volume_points), every part damped as the law
+// at m* / weight; the tangential law at the contact point with the normal force's magnitude.
+fn volume_force(pair: u32, hit: VolumeHit, a_ref: f32, weight: f32, va: vec3<f32>, wa: vec3<f32>, xa: vec3<f32>, vb: vec3<f32>, wb: vec3<f32>, xb: vec3<f32>, m_star: f32, r_star: f32, old_spring: vec4<f32>) -> VolumeForce {
     var out = VolumeForce(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, 0.0, vec4<f32>(0.0));
+    pl_pair = pair;
+    pl_mass = m_star / weight;
+    pl_r_star = r_star;
+    pl_va = va;
+    pl_wa = wa;
+    pl_xa = xa;
+    pl_vb = vb;
+    pl_wb = wb;
+    pl_xb = xb;
+    pl_force = vec3<f32>(0.0);
+    pl_torque_a = vec3<f32>(0.0);
+    pl_torque_b = vec3<f32>(0.0);
+    pl_elastic = 0.0;
+    pl_dissipation = 0.0;
+    volume_points();
     let rate = -(dot(hit.push, va - vb - cross(wb, xa - xb)) + dot(hit.turn_a, wa - wb));
     let depth = hit.volume / a_ref;
     let vn = -rate / a_ref;
-    let law = normal_law(pair, depth, vn, m_star, r_star);
-    let applied = VOLUME_SHARE * applied_normal(pair, law);
+    let law = normal_law(pair, depth, vn, pl_mass, r_star);
+    let applied = applied_normal(pair, law);
     let per_volume = applied / a_ref;
-    var normal_force = hit.push * per_volume;
-    out.torque_a = hit.turn_a * per_volume;
-    out.torque_b = hit.turn_b * per_volume;
-    out.elastic = VOLUME_SHARE * law.z;
-    out.dissipation = -(applied - VOLUME_SHARE * law.x) * vn;
-    for (var k = 0u; k < hit.corners; k++) {
-        let p = poly_a[k].xyz;
-        let g = poly_b[k].xyz;
-        let share = (1.0 - VOLUME_SHARE) / select(corners.y, corners.x, poly_b[k].w > 0.5);
-        let v = va + cross(wa, p - xa) - vb - cross(wb, p - xb);
-        let cvn = dot(g, v);
-        let corner = normal_law(pair, poly_a[k].w, cvn, m_star, r_star);
-        let pushed = share * applied_normal(pair, corner);
-        let f = g * pushed;
-        normal_force += f;
-        out.torque_a += cross(p - xa, f);
-        out.torque_b -= cross(p - xb, f);
-        out.elastic += share * corner.z;
-        out.dissipation -= (pushed - share * corner.x) * cvn;
-    }
+    let normal_force = hit.push * per_volume + pl_force;
+    out.torque_a = hit.turn_a * per_volume + pl_torque_a;
+    out.torque_b = hit.turn_b * per_volume + pl_torque_b;
+    out.elastic = law.z + pl_elastic;
+    out.dissipation = pl_dissipation - (applied - law.x) * vn;
     let n = hit.normal;
     out.normal = max(dot(normal_force, n), 0.0);
-    let v = va + cross(wa, hit.point - xa) - vb - cross(wb, hit.point - xb);
+    let v = relative_velocity(hit.point);
     let vt = v - n * dot(v, n);
     let gain = length(hit.push) / a_ref;
     let t = tangential_part(pair, out.normal, law.w * gain * gain, depth, r_star, m_star, n, vt, old_spring);
@@ -241,12 +276,13 @@ fn volume_polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
     var out = PairOut(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, -1.0, vec4<f32>(0.0));
     let sa = shape_of(a);
     let sb = shape_of(b);
-    let hit = volume_pair(sa, orient[a], sb, orient[b], d);
+    let hit = volume_pair(sa, orient[a], sb, orient[b], d, shape_edge_density(sb));
     if !hit.hit {
         return out;
     }
     let ca = shape_contact(sa);
     let cb = shape_contact(sb);
+    let weight = max(shape_face_on_weight(sa), shape_face_on_weight(sb));
     let spin_a = seen_spin(a);
     let spin_b = seen_spin(b);
     let m_star = 1.0 / (vel[a].w + vel[b].w);
@@ -258,7 +294,7 @@ fn volume_polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
         old_spring = find_spring(props[a].z, props[b].z);
     }
     let pair = props[a].y * params.materials + props[b].y;
-    let f = volume_force(pair, hit, min(ca.x, cb.x), vec2<f32>(ca.y, cb.y), seen_velocity(a), spin_a, d, seen_velocity(b), spin_b, vec3<f32>(0.0), m_star, r_star, old_spring);
+    let f = volume_force(pair, hit, min(ca.x, cb.x), weight, seen_velocity(a), spin_a, d, seen_velocity(b), spin_b, vec3<f32>(0.0), m_star, r_star, old_spring);
     out.force = f.force;
     out.spring = f.spring;
     out.torque_a = f.torque_a;
@@ -270,7 +306,8 @@ fn volume_polyhedron_pair(a: u32, b: u32, d: vec3<f32>) -> PairOut {
     out.torque_b -= twist;
     out.dissipation = f.dissipation - dot(twist, spin);
     if ROLLING {
-        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r_star, f.normal, spin, omega[a].w + omega[b].w);
+        // Rolling only: the spin about the normal is twisting friction's (two caps on one axis could reverse it).
+        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r_star, f.normal, spin - hit.normal * dot(spin, hit.normal), omega[a].w + omega[b].w);
         out.torque_a += roll;
         out.torque_b -= roll;
         out.dissipation -= dot(roll, spin);
@@ -291,11 +328,10 @@ fn volume_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 
             if PRISMS {
                 let hull = prism_data(base) + PRISM_HULL;
                 let centre = tables[hull];
-                hit = volume_pair(shape, orient[i], u32(centre.w), tables[hull + 1u], x - centre.xyz);
+                // The hull's edges weigh as the particle's, as on the CPU; loads relative to the walls' origin.
+                hit = volume_pair(shape, orient[i], u32(centre.w), tables[hull + 1u], x - centre.xyz, shape_edge_density(shape));
                 hit.point += centre.xyz;
-                for (var c = 0u; c < hit.corners; c++) {
-                    poly_a[c] = vec4<f32>(poly_a[c].xyz + centre.xyz, poly_a[c].w);
-                }
+                vc_out_shift += centre.xyz;
                 hit.turn_b = vec3<f32>(0.0);
             }
         }
@@ -320,8 +356,7 @@ fn volume_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 
     if HISTORY {
         old_spring = find_spring(props[i].z, WALL_KEY | k);
     }
-    let c = shape_contact(shape);
-    let f = volume_force(pair, hit, c.x, c.yy, seen_velocity(i), w, x, v_wall, wall_w, x, alpha[i].w, r, old_spring);
+    let f = volume_force(pair, hit, shape_contact(shape).x, shape_face_on_weight(shape), seen_velocity(i), w, x, v_wall, wall_w, x, alpha[i].w, r, old_spring);
     if HISTORY {
         (*s).springs = keep_spring(props[i].z, (*s).springs, WALL_KEY | k, f.spring);
     }
@@ -334,7 +369,7 @@ fn volume_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 
     (*s).dissipation += f.dissipation - dot(twist, spin);
     var power = dot(f.force, v_wall) + dot(f.torque_a + twist, wall_w);
     if ROLLING {
-        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r, f.normal, spin, omega[i].w);
+        let roll = rolling_torque(tables[PAIR_ENTRY_WORDS * pair + 2u].z, r, f.normal, spin - hit.normal * dot(spin, hit.normal), omega[i].w);
         (*s).torque += roll;
         (*s).dissipation -= dot(roll, spin);
         power += dot(roll, wall_w);

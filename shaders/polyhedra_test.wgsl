@@ -18,6 +18,13 @@ fn shape_word(i: u32) -> vec4<f32> {
     return shapes[i];
 }
 
+// volume_points' loads: Σ weight × depth × gradient and how many.
+var<private> harness_loads: vec4<f32>;
+
+fn point_load(p: vec3<f32>, depth: f32, g: vec3<f32>, weight: f32) {
+    harness_loads += vec4<f32>(weight * depth * g, 1.0);
+}
+
 @compute @workgroup_size(WORKGROUP)
 fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -31,20 +38,20 @@ fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
         var v: VolumeHit;
         var origin = vec3<f32>(0.0);
         if kind == QUERY_VOLUME_PAIR {
-            v = volume_pair(u32(c.head.y), c.quat_a, u32(c.head.z), c.quat_b, c.pos_a.xyz - c.pos_b.xyz);
+            v = volume_pair(u32(c.head.y), c.quat_a, u32(c.head.z), c.quat_b, c.pos_a.xyz - c.pos_b.xyz, shape_edge_density(u32(c.head.z)));
             origin = c.pos_b.xyz;
         } else {
             v = volume_wall(u32(c.head.y), c.quat_a, c.pos_a.xyz, c.wall);
         }
-        var corners = vec3<f32>(0.0);
-        for (var k = 0u; k < v.corners; k++) {
-            corners += poly_a[k].w * poly_b[k].xyz;
+        harness_loads = vec4<f32>(0.0);
+        if v.hit {
+            volume_points();
         }
         answers[base] = vec4<f32>(v.push, select(0.0, 1.0, v.hit));
         answers[base + 1u] = vec4<f32>(origin + v.point, v.depth);
         answers[base + 2u] = vec4<f32>(v.turn_a, v.volume);
         answers[base + 3u] = vec4<f32>(v.turn_b, v.area);
-        answers[base + 4u] = vec4<f32>(corners, f32(v.corners));
+        answers[base + 4u] = harness_loads;
         return;
     }
     var hit: PolyHit;

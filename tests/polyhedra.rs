@@ -212,26 +212,35 @@ fn a_run_with_polyhedra_writes_orientations_and_body_surfaces() {
 
 /// The plan's contact time sees a polyhedron's effective mass at its worst vertex: two cubes
 /// meeting corner-first act as m/5.5 each (1/m + m|v|²/I / m with |v|² = 3a²/4, I = m a²/6),
-/// so t_col shrinks by √5.5 against two spheres of the same mass and law.
+/// so t_col shrinks by √5.5 against two spheres of the same mass and law. The overlap-volume
+/// model meets a face lying on a face with the law 1 + 2 × 4 = 9 times (the volume, four corners,
+/// four edges), stiffer still: there t_col shrinks by 3.
 #[test]
-fn the_time_step_sees_the_mass_a_cube_has_at_its_corner() {
-    let collision_time = |shape: &str| {
+fn the_time_step_sees_the_mass_a_cube_has_at_its_corner_and_the_stiffness_of_its_face() {
+    let collision_time = |shape: &str, model: &str| {
         let text = spinning(shape, [0.0; 3], 1e-5, 0.01)
             .replace("dt = 0.00001", "dt = { collision_fraction = 50 }")
             .replace("positions = [[0.0, 0.0, 0.0]]", "positions = [[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0]]")
-            .replace("angular_velocity = [0, 0, 0]", "");
+            .replace("angular_velocity = [0, 0, 0]", "")
+            .replacen("[contact]\n", &format!("[contact]\npolyhedron_model = \"{model}\"\n"), 1);
         let plan = compile(&parse_scene(&text).unwrap()).unwrap_or_else(|e| panic!("{e}")).plan;
         (plan.report.timescales.collision_time.unwrap(), plan.model.dt)
     };
     // The sphere of the cube's volume: the same mass.
     let d = 0.1 * (6.0 / std::f64::consts::PI).cbrt();
-    let (sphere, sphere_dt) = collision_time(&format!("{{ sphere = {{ diameter = {d} }} }}"));
-    let (cube, cube_dt) = collision_time("{ cube = { edge = 0.1 } }");
-    let expected = 5.5f64.sqrt();
-    assert!((sphere / cube / expected - 1.0).abs() < 1e-9, "t_col sphere {sphere:e} / cube {cube:e} = {}, expected {expected}", sphere / cube);
-    // Δt = t_col / 50, then shortened to fit a whole number of steps into the duration.
-    assert!(cube_dt <= cube / 50.0 && cube_dt > 0.99 * cube / 50.0, "Δt {cube_dt:e} for t_col {cube:e}");
-    assert!(sphere_dt / cube_dt > 0.99 * expected, "Δt sphere {sphere_dt:e} cube {cube_dt:e}");
+    let (sphere, sphere_dt) = collision_time(&format!("{{ sphere = {{ diameter = {d} }} }}"), "depth");
+    for (model, ratio) in [("depth", 5.5f64), ("volume", 9.0)] {
+        let (cube, cube_dt) = collision_time("{ cube = { edge = 0.1 } }", model);
+        let expected = ratio.sqrt();
+        assert!(
+            (sphere / cube / expected - 1.0).abs() < 1e-9,
+            "{model}: t_col sphere {sphere:e} / cube {cube:e} = {}, expected {expected}",
+            sphere / cube
+        );
+        // Δt = t_col / 50, then shortened to fit a whole number of steps into the duration.
+        assert!(cube_dt <= cube / 50.0 && cube_dt > 0.99 * cube / 50.0, "Δt {cube_dt:e} for t_col {cube:e}");
+        assert!(sphere_dt / cube_dt > 0.99 * expected, "Δt sphere {sphere_dt:e} cube {cube_dt:e}");
+    }
 }
 
 /// (E + dissipated) / E0 at the end of the scene.

@@ -169,27 +169,34 @@ pub fn turning_lifters_sweep_into_cubes_as_on_the_cpu() {
     );
     // Random orientations can put a corner a hair into its bar: deliberate, so the check is told.
     let text = text.replacen("[run]\n", "[run]\nstart = { allow_overlap = true }\n", 1);
-    let s = scene(&text);
-    // The bars' faces move at ω r ≈ 0.29 m/s: 2.4 mm in 8 ms.
-    let steps = (0.008 / s.plan.model.dt).round() as u64;
-    let mut cpu = Simulation::new(s.clone(), 1);
-    let mut gpu = GpuSimulation::new(s).unwrap();
-    cpu.advance(steps);
-    gpu.advance(steps);
-    let st = gpu.state();
-    let (mut worst, mut touching) = (0.0f64, 0);
-    for (k, &id) in st.id.iter().enumerate() {
-        let i = cpu.cpu().index_of(id).unwrap();
-        let c = cpu.contact_force(id).unwrap();
-        let g = gpu.contact_force(id).unwrap();
-        let (vc, vg) = (cpu.state().vel[i], st.vel[k]);
-        println!("  cube {id}: force cpu {c:.5} gpu {g:.5}; velocity cpu {vc:.5} gpu {vg:.5}");
-        assert!(vc.length() > 0.01, "cube {id} should have been struck by its bar");
-        worst = worst.max((vc - vg).length() / vc.length());
-        assert!((vc - vg).length() < 1e-3 * vc.length(), "cube {id}: velocity cpu {vc} gpu {vg}");
-        assert!((c - g).length() < 1e-3 * c.length().max(1e-3), "cube {id}: force cpu {c} gpu {g}");
-        touching += (c.length() > 0.0) as usize;
+    for model in ["depth", "volume"] {
+        let s = scene(&text.replacen("[contact]\n", &format!("[contact]\npolyhedron_model = \"{model}\"\n"), 1));
+        // The bars' faces move at ω r ≈ 0.29 m/s: 2.4 mm in 8 ms.
+        let steps = (0.008 / s.plan.model.dt).round() as u64;
+        let mut cpu = Simulation::new(s.clone(), 1);
+        let mut gpu = GpuSimulation::new(s).unwrap();
+        cpu.advance(steps);
+        gpu.advance(steps);
+        let st = gpu.state();
+        let (mut worst, mut touching, mut struck) = (0.0f64, 0, 0);
+        for (k, &id) in st.id.iter().enumerate() {
+            let i = cpu.cpu().index_of(id).unwrap();
+            let c = cpu.contact_force(id).unwrap();
+            let g = gpu.contact_force(id).unwrap();
+            let (vc, vg) = (cpu.state().vel[i], st.vel[k]);
+            println!("  {model}: cube {id}: force cpu {c:.5} gpu {g:.5}; velocity cpu {vc:.5} gpu {vg:.5}");
+            struck += (vc.length() > 0.01) as usize;
+            worst = worst.max((vc - vg).length() / vc.length().max(1e-12));
+            assert!((vc - vg).length() < 1e-3 * vc.length().max(1e-4), "{model}: cube {id}: velocity cpu {vc} gpu {vg}");
+            assert!((c - g).length() < 1e-3 * c.length().max(1e-3), "{model}: cube {id}: force cpu {c} gpu {g}");
+            touching += (c.length() > 0.0) as usize;
+        }
+        // Every bar strikes its cube in the depth model; in the volume model a bar meeting a cube
+        // edge across its own edge pushes softly (no corner inside, docs/polyhedra.md), so such a
+        // cube has only started to move.
+        let expected = if model == "depth" { st.id.len() } else { st.id.len() / 2 };
+        assert!(struck >= expected, "{model}: only {struck} cubes struck");
+        assert!(touching >= 2, "some cubes should still touch their bars");
+        println!("lifters sweeping cubes ({model}), {steps} steps: {struck} struck, worst relative velocity difference {worst:.1e}");
     }
-    assert!(touching >= 2, "some cubes should still touch their bars");
-    println!("lifters sweeping cubes, {steps} steps: worst relative velocity difference {worst:.1e}");
 }

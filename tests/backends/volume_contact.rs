@@ -3,8 +3,9 @@
 //! quads, drum shells, pipes and a lifter bar's hull.
 //!
 //! Compared: the volume (of size³), the push (of size²), the turns (of size³), the contact point
-//! (of size, when the area is not tiny), the penetration depth and Σ depth × gradient over the
-//! corners inside (of size; continuous where a corner enters or leaves, unlike their count).
+//! (of size, when the area is not tiny), the penetration depth and Σ weight × depth × gradient over
+//! the corners and edge points inside (of size; continuous where a point enters or leaves, unlike
+//! their count).
 //! Excluded as the f32 band: grazing contacts (the push jumps by a face's area when a face
 //! touches a parallel face, so f32 and f64 may differ on whether it has), at most 3 %.
 
@@ -17,7 +18,7 @@ use tumble_gpu::shapes::{ContactAnswer, ContactQuery, evaluate};
 type Volume = (f64, DVec3, DVec3, DVec3, DVec3, f64, DVec3);
 
 fn of_geom(c: &VolumeContact) -> Volume {
-    let corners = c.vertices.iter().map(|v| v.normal * v.depth).sum();
+    let corners = c.points.iter().map(|v| v.normal * (v.depth * v.weight)).sum();
     (c.volume, c.push, c.turn_a, c.turn_b, c.point, c.depth, corners)
 }
 
@@ -184,7 +185,9 @@ pub fn volume_contacts_match_tumble_geom() {
     for _ in 0..800 {
         let ia = rng.index(lifter as usize);
         let a = &shapes[ia];
-        let x = f32_vec(DVec3::new(rng.range(-0.6, 0.6), rng.range(-1.9, -1.5), rng.range(-1.2, 1.2)) + rng.unit() * a.bounding_radius() * rng.range(0.0, 1.2));
+        let x = f32_vec(
+            DVec3::new(rng.range(-0.6, 0.6), rng.range(-1.9, -1.5), rng.range(-1.2, 1.2)) + rng.unit() * a.bounding_radius() * rng.range(0.0, 1.2),
+        );
         let q = rng.quat();
         queries.push(ContactQuery::polyhedra(ia as u32, x, q, lifter, hull_pose.position, hull_pose.rotation).volume());
         sizes.push(a.size());

@@ -26,8 +26,8 @@ pub use drag::{FlowField, quadratic_drag, stokes_drag, stokes_relaxation_time};
 pub use history::{SpringForce, SpringLaw, history_force, rolling_torque};
 pub use normal::{NormalForce, NormalLaw, normal_force};
 pub use params::{
-    MIN_CLIPPED_RESTITUTION, clipped_damping_ratio, clipped_hertz_beta, collision_time, damping_ratio, hertz_beta, hertz_contact_time, hertz_effective_moduli, hertz_max_force, hertz_max_overlap, linear_damping,
-    rayleigh_time,
+    MIN_CLIPPED_RESTITUTION, clipped_damping_ratio, clipped_hertz_beta, collision_time, damping_ratio, hertz_beta, hertz_contact_time,
+    hertz_effective_moduli, hertz_max_force, hertz_max_overlap, linear_damping, rayleigh_time,
 };
 pub use rolling::{RollingModel, RollingSpring, epsd2_torque, rolling_stiffness};
 pub use tangential::{TangentialLaw, ViscousParameter, tangential_force};

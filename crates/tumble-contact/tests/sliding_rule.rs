@@ -88,7 +88,10 @@ fn gross_sliding_delivers_mu_times_the_normal_capacity_and_never_pushes_along_th
             let v_st = 3.5 * FRICTION * (1.0 + e) * v_n / chi;
             let i = impact(e, clipped, v_n, v_st, 2000.0);
             let ratio = i.tangential_impulse / (FRICTION * i.normal_capacity_impulse);
-            println!("χ = {chi}, clipped {clipped}: J_t/μ∫max(F_n,0)dt = {ratio:.6}, e = {:.5}, β = {:.5}, {} sliding steps", i.restitution, i.beta, i.sliding_steps);
+            println!(
+                "χ = {chi}, clipped {clipped}: J_t/μ∫max(F_n,0)dt = {ratio:.6}, e = {:.5}, β = {:.5}, {} sliding steps",
+                i.restitution, i.beta, i.sliding_steps
+            );
             assert!((ratio - 1.0).abs() < 1e-2, "χ = {chi}, clipped {clipped}: J_t / μ∫max(F_n,0)dt = {ratio}");
             assert!(i.sliding_steps > 0 && i.worst_sliding_power <= 0.0, "χ = {chi}: friction pushed along the slip ({})", i.worst_sliding_power);
             if clipped {

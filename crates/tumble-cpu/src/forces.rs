@@ -292,14 +292,17 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         let key = WALL_KEY | wall;
         let params = model.pair(s.material[i], w.material);
         let mut spring = Spring::default();
-        // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the rolling couple)
+        // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the
+        // rolling couple); a polyhedron's spin about the normal meets twisting friction, not rolling.
         let mut power = 0.0;
+        let mut twist_axis = None;
         let (v_wall, overlap, f, torque, r_roll) = if POLY && s.shape[i] != SPHERE {
             if HIST {
                 spring = s.history.find(i, key);
             }
             let Some(k) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
             power = k.spin_power;
+            twist_axis = Some(k.normal);
             (w.velocity_at(k.point), k.depth, k.force, k.torque, equivalent_radius(c, i))
         } else {
             let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
@@ -329,6 +332,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
                 // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
                 let spin = w.angular_velocity();
                 let relative = c.omega[i] - spin;
+                let relative = twist_axis.map_or(relative, |n| crate::polyhedra::rolling_part(relative, n));
                 let roll = if HIST && params.rolling_model == RollingModel::Epsd2 && !(POLY && s.shape[i] != SPHERE) {
                     let normal = w.shape.sphere_proximity(xi, r, extra).map_or(DVec3::ZERO, |k| k.normal);
                     let e = epsd2_couple(params, overlap, r_roll, f.normal, normal, relative, model.dt, &mut spring);

@@ -14,9 +14,7 @@
 use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
 use glam::DVec3;
 use tumble_contact::{normal_force, rolling_torque};
-use tumble_geom::{
-    PolyContact, Polyhedron, Pose, VOLUME_SHARE, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron,
-};
+use tumble_geom::{PolyContact, Polyhedron, Pose, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron};
 use tumble_integrate::world_inverse_inertia_times;
 use tumble_scene::{PairParams, PolyhedronContact};
 use tumble_scene::{SPHERE, Wall};
@@ -65,6 +63,13 @@ pub(crate) fn area_spread(area: f64) -> f64 {
     (2.0 / 3.0) * (area / std::f64::consts::PI).sqrt()
 }
 
+/// The rolling part of a relative spin: its component across the normal `n` (a polyhedron's spin
+/// about the normal meets twisting friction instead).
+#[inline(always)]
+pub(crate) fn rolling_part(spin: DVec3, n: DVec3) -> DVec3 {
+    spin - n * spin.dot(n)
+}
+
 /// Coulomb friction against the relative spin about the normal `n` on a contact patch of radius
 /// `spread`: μ |F_n| r̄, capped so that it never reverses the relative spin within a step.
 #[inline(always)]
@@ -76,19 +81,19 @@ fn twisting_torque(spread: f64, n: DVec3, friction: f64, normal: f64, spin_rel: 
 }
 
 /// The overlap-volume force on body A (docs/polyhedra.md): the normal law at the depth
-/// δ_V = V / A_ref with the rate −V̇ / A_ref, times [`VOLUME_SHARE`], along the volume's gradient
-/// (force `push`, torques `turn_a`, `turn_b` per unit w'(V)); the law at each corner's depth,
-/// times its share, along that corner's normal at the corner; and the tangential law at the
-/// contact point with the normal force's magnitude along the normal. `corners` = the corner
-/// counts of A's and B's largest faces. Returns the force on A and the torques about A's and
-/// B's centres.
+/// δ_V = V / A_ref with the rate −V̇ / A_ref along the volume's gradient (force `push`, torques
+/// `turn_a`, `turn_b` per unit w'(V)); the law at each corner's and edge point's depth, times its
+/// weight, along its gradient at the point; every part damped as the law at m* / `weight` (the
+/// pair's face-on weight, so a face-on impact keeps the restitution); and the tangential law at
+/// the contact point with the normal force's magnitude along the normal. Returns the force on A
+/// and the torques about A's and B's centres.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn volume_force<const HIST: bool>(
     params: &PairParams,
     k: &VolumeContact,
     a_ref: f64,
-    corners: (f64, f64),
+    weight: f64,
     volume_rate: f64,
     v_at: impl Fn(DVec3) -> DVec3,
     xa: DVec3,
@@ -100,19 +105,18 @@ fn volume_force<const HIST: bool>(
 ) -> (ContactForce, DVec3, DVec3) {
     let old_spring = if HIST { std::mem::take(spring) } else { Spring::default() };
     let law = |depth: f64, vn: f64, share: f64| {
-        let nf = normal_force(&params.normal, depth, vn, m_star, r_star);
+        let nf = normal_force(&params.normal, depth, vn, m_star / weight, r_star);
         let applied = share * if params.no_attraction { nf.total().max(0.0) } else { nf.total() };
-        (applied, share * nf.energy, -(applied - share * nf.elastic) * vn, share * nf.stiffness)
+        (applied, share * nf.energy, -(applied - share * nf.elastic) * vn, nf.stiffness)
     };
     let depth = k.volume / a_ref;
     let vn = -volume_rate / a_ref;
-    let (applied, mut elastic, mut dissipation, stiffness) = law(depth, vn, VOLUME_SHARE);
+    let (applied, mut elastic, mut dissipation, stiffness) = law(depth, vn, 1.0);
     let per_volume = applied / a_ref;
     let mut normal_force = k.push * per_volume;
     let (mut torque_a, mut torque_b) = (k.turn_a * per_volume, k.turn_b * per_volume);
-    for c in &k.vertices {
-        let share = (1.0 - VOLUME_SHARE) / if c.of_a { corners.0 } else { corners.1 };
-        let (applied, energy, loss, _) = law(c.depth, c.normal.dot(v_at(c.point)), share);
+    for c in &k.points {
+        let (applied, energy, loss, _) = law(c.depth, c.normal.dot(v_at(c.point)), c.weight);
         let f = c.normal * applied;
         normal_force += f;
         torque_a += (c.point - xa).cross(f);
@@ -124,19 +128,7 @@ fn volume_force<const HIST: bool>(
     let normal = normal_force.dot(n).max(0.0);
     let v = v_at(k.point);
     let gain = k.push.length() / a_ref;
-    let t = tangential_part::<HIST>(
-        params,
-        normal,
-        stiffness * gain * gain / VOLUME_SHARE,
-        depth,
-        r_star,
-        m_star,
-        n,
-        v - n * v.dot(n),
-        dt,
-        old_spring,
-        spring,
-    );
+    let t = tangential_part::<HIST>(params, normal, stiffness * gain * gain, depth, r_star, m_star, n, v - n * v.dot(n), dt, old_spring, spring);
     let out =
         ContactForce { force: normal_force + t.force, tangential: t.force, normal, elastic: elastic + t.energy, dissipation: dissipation + t.loss };
     torque_a += (k.point - xa).cross(t.force);
@@ -192,10 +184,13 @@ fn contact_area(c: &ContactInputs, i: usize) -> f64 {
     }
 }
 
-/// The corner count of particle `i`'s largest face.
+/// The face-on weight of particle `i` (`tumble_geom::face_on_weight`; a sphere has none).
 #[inline(always)]
-fn contact_corners(c: &ContactInputs, i: usize) -> f64 {
-    c.model.shapes[c.state.shape[i] as usize].contact_corners as f64
+fn face_on_weight(c: &ContactInputs, i: usize) -> f64 {
+    match c.state.shape[i] {
+        SPHERE => 1.0,
+        k => c.model.shapes[k as usize].face_on_weight,
+    }
 }
 
 /// Pair (a, b), a with the lower id, at least one a polyhedron; `d` = x_a − x_b (minimum image).
@@ -217,8 +212,8 @@ pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: 
             }
             let rate = k.volume_rate(c.vel[a] - c.vel[b], c.omega[a], c.omega[b]);
             let a_ref = contact_area(c, a).min(contact_area(c, b));
-            let corners = (contact_corners(c, a), contact_corners(c, b));
-            let (f, ta, tb) = volume_force::<HIST>(params, &k, a_ref, corners, rate, v_at, xa, xb, m_star, r_star, c.model.dt, spring);
+            let weight = face_on_weight(c, a).max(face_on_weight(c, b));
+            let (f, ta, tb) = volume_force::<HIST>(params, &k, a_ref, weight, rate, v_at, xa, xb, m_star, r_star, c.model.dt, spring);
             (f, ta, tb, k.normal, area_spread(k.area), k.depth)
         }
         bodies => {
@@ -246,7 +241,8 @@ pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: 
     out.torque_b -= twist;
     out.dissipation -= twist.dot(spin);
     if params.rolling > 0.0 {
-        let relative = c.omega[a] - c.omega[b];
+        // Rolling only: the spin about the normal is twisting friction's (two caps on one axis could reverse it).
+        let relative = rolling_part(c.omega[a] - c.omega[b], n);
         let roll = rolling_torque(params.rolling, r_star, f.normal, relative, s.inv_inertia[a] + s.inv_inertia[b], c.model.dt);
         out.torque_a += roll;
         out.torque_b -= roll;
@@ -266,6 +262,8 @@ pub(crate) struct PolyhedronWallContact {
     pub force: ContactForce,
     /// About the particle's centre, twisting friction included.
     pub torque: DVec3,
+    /// The contact normal (from the wall to the particle).
+    pub normal: DVec3,
     /// Power the wall's spin Ω delivers through the part of the torque that F at `point` does
     /// not explain: Ω · (τ − (point − x) × F); the caller adds F · v_wall(point).
     pub spin_power: f64,
@@ -286,8 +284,7 @@ pub(crate) fn polyhedron_wall<const HIST: bool>(c: &ContactInputs, i: usize, w: 
     let (point, depth, mut f, torque, n, spread) = if c.model.polyhedron_contact == PolyhedronContact::Volume {
         let k = w.shape.polyhedron_volume(poly, &pose)?;
         let rate = k.volume_rate(c.vel[i] - w.velocity_at(xi), spin, DVec3::ZERO);
-        let corners = contact_corners(c, i);
-        let (f, torque, _) = volume_force::<HIST>(params, &k, contact_area(c, i), (corners, corners), rate, v_at, xi, xi, m, r, c.model.dt, spring);
+        let (f, torque, _) = volume_force::<HIST>(params, &k, contact_area(c, i), face_on_weight(c, i), rate, v_at, xi, xi, m, r, c.model.dt, spring);
         (k.point, k.depth, f, torque, k.normal, area_spread(k.area))
     } else {
         let k = w.shape.polyhedron_contact(poly, &pose)?;
@@ -298,5 +295,5 @@ pub(crate) fn polyhedron_wall<const HIST: bool>(c: &ContactInputs, i: usize, w: 
     f.dissipation -= twist.dot(spin);
     let torque = torque + twist;
     let spin_power = wall_spin.dot(torque - (point - xi).cross(f.force));
-    Some(PolyhedronWallContact { point, depth, force: f, torque, spin_power })
+    Some(PolyhedronWallContact { point, depth, force: f, torque, normal: n, spin_power })
 }

@@ -54,4 +54,6 @@ pub use sphere_prism::Prism;
 pub use sphere_quad::Quad;
 pub use sphere_sphere::{SpherePair, sphere_sphere};
 pub use surface::{SurfaceContact, SurfaceShape};
-pub use volume_contact::{CORNER_SMOOTHING, VOLUME_SHARE, VertexPenetration, VolumeContact, polyhedron_polyhedron_volume};
+pub use volume_contact::{
+    CORNER_SMOOTHING, PenetratingPoint, VolumeContact, edge_density, face_on_weight, polyhedron_polyhedron_volume, wall_hull_volume,
+};

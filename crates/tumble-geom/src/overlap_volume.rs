@@ -55,26 +55,82 @@ pub(crate) const PLANE_TOLERANCE: f64 = 1e-12;
 /// A convex body as the clipper sees it, relative to the origin of the computation: its bounding
 /// planes m · p ≤ offset (m the outward unit normal) and the faces of its boundary that can lie
 /// inside the other body (convex polygons, counter-clockwise seen from outside).
+#[derive(Default)]
 pub(crate) struct Region {
-    pub planes: Buf<(DVec3, f64)>,
-    pub faces: Vec<(DVec3, Buf<DVec3>)>,
+    pub planes: Vec<(DVec3, f64)>,
+    /// Each face's outward normal and where its corners lie in `loops` (start, count).
+    pub faces: Vec<(DVec3, u32, u32)>,
+    pub loops: Vec<DVec3>,
     /// Corners that can poke into the other body.
-    pub vertices: Buf<DVec3>,
+    pub vertices: Vec<DVec3>,
+    /// Edges that can cross into the other body.
+    pub edges: Vec<[DVec3; 2]>,
+}
+
+/// Per-thread buffers the contact routines refill on every call (nothing allocated per contact).
+#[derive(Default)]
+pub(crate) struct Scratch {
+    pub a: Region,
+    pub b: Region,
+    pub clip: ClipBuffers,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+}
+
+/// Runs `f` with this thread's scratch buffers.
+pub(crate) fn with_scratch<T>(f: impl FnOnce(&mut Scratch) -> T) -> T {
+    SCRATCH.with(|s| f(&mut s.borrow_mut()))
 }
 
 impl Region {
     /// A polyhedron at `pose`, relative to `origin`.
+    #[cfg(test)]
     pub fn of_polyhedron(p: &Polyhedron, pose: &Pose, origin: DVec3) -> Region {
-        let verts: Buf<DVec3> = p.vertices().iter().map(|v| pose.to_world(*v) - origin).collect();
-        let mut planes = Buf::new();
-        let mut faces = Vec::with_capacity(p.faces().len());
+        let mut region = Region::default();
+        region.set_polyhedron(p, pose, origin);
+        region
+    }
+
+    /// Empties the region, keeping its buffers.
+    pub fn clear(&mut self) {
+        self.planes.clear();
+        self.faces.clear();
+        self.loops.clear();
+        self.vertices.clear();
+        self.edges.clear();
+    }
+
+    /// Makes this region the polyhedron `p` at `pose`, relative to `origin`.
+    pub fn set_polyhedron(&mut self, p: &Polyhedron, pose: &Pose, origin: DVec3) {
+        self.clear();
+        self.vertices.extend(p.vertices().iter().map(|v| pose.to_world(*v) - origin));
         for f in p.faces() {
             let n = pose.rotate(f.normal);
-            let points: Buf<DVec3> = f.vertices.iter().map(|&v| verts[v as usize]).collect();
-            planes.push((n, n.dot(points[0])));
-            faces.push((n, points));
+            self.planes.push((n, n.dot(self.vertices[f.vertices[0] as usize])));
+            let start = self.loops.len() as u32;
+            for &v in &f.vertices {
+                self.loops.push(self.vertices[v as usize]);
+            }
+            self.faces.push((n, start, f.vertices.len() as u32));
         }
-        Region { planes, faces, vertices: verts }
+        for e in p.edges() {
+            self.edges.push([self.vertices[e.vertices[0] as usize], self.vertices[e.vertices[1] as usize]]);
+        }
+    }
+
+    /// Adds a face: its outward normal and corners (counter-clockwise seen from outside).
+    pub fn add_face(&mut self, normal: DVec3, corners: impl IntoIterator<Item = DVec3>) {
+        let start = self.loops.len() as u32;
+        self.loops.extend(corners);
+        self.faces.push((normal, start, self.loops.len() as u32 - start));
+    }
+
+    /// Face k: its outward normal and corners.
+    pub fn face(&self, k: usize) -> (DVec3, &[DVec3]) {
+        let (n, start, count) = self.faces[k];
+        (n, &self.loops[start as usize..(start + count) as usize])
     }
 
     /// How deep `p` lies inside this region and the gradient of that depth, or `None` outside.
@@ -103,6 +159,54 @@ impl Region {
         let depth = nearest - tau * sum.ln();
         (depth > 0.0).then(|| (depth, out / sum))
     }
+}
+
+/// The part of the segment p0 + s (p1 − p0), s ∈ [0, 1], inside a region, as the pieces on which
+/// one plane is the nearest: (s from, s to, plane index). On each piece the distance to the
+/// region's surface is linear in s.
+pub(crate) fn segment_pieces(planes: &[(DVec3, f64)], p0: DVec3, p1: DVec3) -> Buf<(f64, f64, usize)> {
+    let e = p1 - p0;
+    // h_f(s) = a_f − s b_f: the distance inside plane f.
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let ab: Buf<(f64, f64)> = planes.iter().map(|&(m, o)| (o - m.dot(p0), m.dot(e))).collect();
+    for &(a, b) in &ab {
+        if b > 0.0 {
+            hi = hi.min(a / b);
+        } else if b < 0.0 {
+            lo = lo.max(a / b);
+        } else if a <= 0.0 {
+            return Buf::new();
+        }
+    }
+    let mut out = Buf::new();
+    if hi <= lo {
+        return out;
+    }
+    let nearest = |s: f64| {
+        (0..ab.len()).min_by(|&f, &g| (ab[f].0 - s * ab[f].1).total_cmp(&(ab[g].0 - s * ab[g].1)).then(ab[g].1.total_cmp(&ab[f].1))).unwrap()
+    };
+    let mut s = lo;
+    let mut f = nearest(lo);
+    for _ in 0..=ab.len() {
+        // The next plane to become nearer: one that falls faster along s.
+        let (mut next, mut g_next) = (hi, f);
+        for (g, &(a, b)) in ab.iter().enumerate() {
+            if b > ab[f].1 {
+                let x = (a - ab[f].0) / (b - ab[f].1);
+                if x > s && x < next {
+                    next = x;
+                    g_next = g;
+                }
+            }
+        }
+        out.push((s, next, f));
+        if next >= hi || g_next == f {
+            break;
+        }
+        s = next;
+        f = g_next;
+    }
+    out
 }
 
 /// Sums over the overlap's boundary, relative to the computation's origin.
@@ -134,65 +238,100 @@ impl Moments {
     }
 }
 
-/// The part of the convex polygon `points` (outward normal `normal`) inside every plane of
-/// `planes`, and whether it lies in one of those planes facing the same way (shared); `None`
-/// when nothing of positive area is left (or it lies in a plane facing the other way: a touch).
-pub(crate) fn clip_polygon(points: &[DVec3], normal: DVec3, planes: &[(DVec3, f64)], eps: f64) -> Option<(Buf<DVec3>, bool)> {
-    let mut poly: Buf<DVec3> = points.iter().copied().collect();
+/// Two polygon buffers the clipper passes back and forth (one pair per overlap, so no polygon is
+/// allocated or moved per plane).
+#[derive(Default)]
+pub(crate) struct ClipBuffers {
+    pub poly: Buf<DVec3>,
+    next: Buf<DVec3>,
+    h: Buf<f64>,
+}
+
+/// Clips the convex polygon `points` (outward normal `normal`) to every plane of `planes` into
+/// `buf.poly`; returns whether it lies in one of those planes facing the same way (shared), or
+/// `None` when nothing of positive area is left (or it lies in a plane facing the other way: a
+/// touch).
+pub(crate) fn clip_polygon(points: &[DVec3], normal: DVec3, planes: &[(DVec3, f64)], eps: f64, buf: &mut ClipBuffers) -> Option<bool> {
+    buf.poly.clear();
+    buf.poly.extend_from_slice(points);
     let mut shared = false;
-    let mut h: Buf<f64> = Buf::new();
     for &(m, offset) in planes {
-        h.clear();
-        h.extend(poly.iter().map(|p| m.dot(*p) - offset));
-        if h.iter().all(|x| x.abs() <= eps) {
+        buf.h.clear();
+        let (mut inside, mut outside, mut flat) = (true, true, true);
+        for p in &buf.poly {
+            let x = m.dot(*p) - offset;
+            inside &= x <= eps;
+            outside &= x >= -eps;
+            flat &= x.abs() <= eps;
+            buf.h.push(x);
+        }
+        if flat {
             if normal.dot(m) > 0.0 {
                 shared = true;
                 continue;
             }
             return None;
         }
-        if h.iter().all(|&x| x <= eps) {
+        if inside {
             continue;
         }
-        if h.iter().all(|&x| x >= -eps) {
+        if outside {
             return None;
         }
-        let mut out: Buf<DVec3> = Buf::new();
-        for k in 0..poly.len() {
-            let j = (k + 1) % poly.len();
-            let (p, hp, q, hq) = (poly[k], h[k], poly[j], h[j]);
+        buf.next.clear();
+        let n = buf.poly.len();
+        for k in 0..n {
+            let j = if k + 1 == n { 0 } else { k + 1 };
+            let (p, hp, q, hq) = (buf.poly[k], buf.h[k], buf.poly[j], buf.h[j]);
             if hp <= eps {
-                out.push(p);
+                buf.next.push(p);
             }
             if (hp < -eps && hq > eps) || (hp > eps && hq < -eps) {
-                out.push(p + (q - p) * (hp / (hp - hq)));
+                buf.next.push(p + (q - p) * (hp / (hp - hq)));
             }
         }
-        if out.len() < 3 {
+        if buf.next.len() < 3 {
             return None;
         }
-        poly = out;
+        std::mem::swap(&mut buf.poly, &mut buf.next);
     }
-    Some((poly, shared))
+    Some(shared)
+}
+
+/// A slab the overlap lies in: (unit n, lo, hi) with lo ≤ n · x ≤ hi for every point x of A ∩ B.
+pub(crate) type Slab = Option<(DVec3, f64, f64)>;
+
+/// Whether points (all of them) lie outside the slab, by more than `eps`.
+pub(crate) fn outside_slab(slab: Slab, points: &[DVec3], eps: f64) -> bool {
+    slab.is_some_and(|(n, lo, hi)| points.iter().all(|p| n.dot(*p) > hi + eps) || points.iter().all(|p| n.dot(*p) < lo - eps))
 }
 
 /// The overlap's sums: A's faces clipped by B's planes (volume only) and B's faces clipped by
-/// A's planes (volume, area and moment); also the largest depth of the overlap below B's first
-/// plane (for walls, whose first plane is the surface itself). `None` without a positive volume.
-pub(crate) fn overlap_moments(a: &Region, b: &Region, eps: f64) -> Option<(Moments, f64)> {
+/// A's planes (volume, area and moment), skipping the faces outside `slab` (they cannot touch
+/// the overlap); also the largest depth of the overlap below B's first plane (for walls, whose
+/// first plane is the surface itself). `None` without a positive volume.
+pub(crate) fn overlap_moments_in(a: &Region, b: &Region, eps: f64, slab: Slab, buf: &mut ClipBuffers) -> Option<(Moments, f64)> {
     let mut m = Moments::default();
     let (m0, o0) = b.planes[0];
     let mut depth = 0.0f64;
-    for (n, face) in &a.faces {
-        if let Some((poly, shared)) = clip_polygon(face, *n, &b.planes, eps) {
-            m.add(&poly, if shared { 0.5 } else { 1.0 }, 0.0);
-            depth = poly.iter().map(|p| o0 - m0.dot(*p)).fold(depth, f64::max);
+    for k in 0..a.faces.len() {
+        let (n, face) = a.face(k);
+        if outside_slab(slab, face, eps) {
+            continue;
+        }
+        if let Some(shared) = clip_polygon(face, n, &b.planes, eps, buf) {
+            m.add(&buf.poly, if shared { 0.5 } else { 1.0 }, 0.0);
+            depth = buf.poly.iter().map(|p| o0 - m0.dot(*p)).fold(depth, f64::max);
         }
     }
-    for (n, face) in &b.faces {
-        if let Some((poly, shared)) = clip_polygon(face, *n, &a.planes, eps) {
+    for k in 0..b.faces.len() {
+        let (n, face) = b.face(k);
+        if outside_slab(slab, face, eps) {
+            continue;
+        }
+        if let Some(shared) = clip_polygon(face, n, &a.planes, eps, buf) {
             let w = if shared { 0.5 } else { 1.0 };
-            m.add(&poly, w, w);
+            m.add(&buf.poly, w, w);
         }
     }
     (m.volume > 0.0).then_some((m, depth))
@@ -220,9 +359,12 @@ pub fn overlap_volume_about(a: &Polyhedron, pose_a: &Pose, b: &Polyhedron, pose_
         return None;
     }
     let eps = PLANE_TOLERANCE * a.bounding_radius().max(b.bounding_radius());
-    let (ra, rb) = (Region::of_polyhedron(a, pose_a, origin), Region::of_polyhedron(b, pose_b, origin));
-    let (m, _) = overlap_moments(&ra, &rb, eps)?;
-    Some(m.world(origin))
+    with_scratch(|s| {
+        s.a.set_polyhedron(a, pose_a, origin);
+        s.b.set_polyhedron(b, pose_b, origin);
+        let (m, _) = overlap_moments_in(&s.a, &s.b, eps, None, &mut s.clip)?;
+        Some(m.world(origin))
+    })
 }
 
 impl Moments {
@@ -282,10 +424,12 @@ mod tests {
         let (pa, pb) = (pose(DVec3::new(0.4, 0.3, 0.5), DVec3::new(1.0, 2.0, 0.5), 0.7), pose(DVec3::ZERO, DVec3::new(0.3, -1.0, 0.2), 0.4));
         let (ra, rb) = (Region::of_polyhedron(&a, &pa, DVec3::ZERO), Region::of_polyhedron(&b, &pb, DVec3::ZERO));
         let mut a_side = DVec3::ZERO;
-        for (n, face) in &ra.faces {
-            if let Some((poly, _)) = clip_polygon(face, *n, &rb.planes, 1e-12) {
+        let mut buf = ClipBuffers::default();
+        for k in 0..ra.faces.len() {
+            let (n, face) = ra.face(k);
+            if clip_polygon(face, n, &rb.planes, 1e-12, &mut buf).is_some() {
                 let mut m = Moments::default();
-                m.add(&poly, 0.0, 1.0);
+                m.add(&buf.poly, 0.0, 1.0);
                 a_side += m.area;
             }
         }

@@ -56,6 +56,8 @@ pub struct Polyhedron {
     input_to_body: Pose,
     /// parry3d's copy of the shape (body frame), for the GJK/EPA path of large shapes.
     parry: ConvexPolyhedron,
+    /// The face of largest area (the first of equals).
+    largest_face: usize,
 }
 
 /// Relative tolerance (of the size) for coplanarity and collinearity when building faces.
@@ -93,7 +95,9 @@ impl Polyhedron {
         // input_to_body maps input coordinates to body coordinates.
         let input_to_body = Pose { position: -rotation.inverse().mul_vec3(com), rotation: rotation.inverse() };
         let parry = ConvexPolyhedron::from_convex_hull(&vertices)?;
-        Some(Polyhedron { vertices, faces, edges, bounding_radius, volume, unit_inertia, input_to_body, parry })
+        let mut p = Polyhedron { vertices, faces, edges, bounding_radius, volume, unit_inertia, input_to_body, parry, largest_face: 0 };
+        p.largest_face = (0..p.faces.len()).fold(0, |best, f| if p.face_area(f) > p.face_area(best) { f } else { best });
+        Some(p)
     }
 
     /// A cube of edge length `edge`.
@@ -233,7 +237,18 @@ impl Polyhedron {
 
     /// The largest face area: the contact area of a face lying on a flat wall.
     pub fn largest_face_area(&self) -> f64 {
-        (0..self.faces.len()).map(|f| self.face_area(f)).fold(0.0, f64::max)
+        self.face_area(self.largest_face())
+    }
+
+    /// The face of largest area (the first of equals).
+    pub fn largest_face(&self) -> usize {
+        self.largest_face
+    }
+
+    /// The length of face `f`'s boundary.
+    pub fn face_perimeter(&self, f: usize) -> f64 {
+        let v = &self.faces[f].vertices;
+        (0..v.len()).map(|k| (self.vertices[v[(k + 1) % v.len()] as usize] - self.vertices[v[k] as usize]).length()).sum()
     }
 
     /// Largest vertex distance from the centre of mass.

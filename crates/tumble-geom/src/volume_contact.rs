@@ -1,6 +1,15 @@
 //! Overlap-volume contacts of a convex polyhedron with another one or with a wall: the volume V
-//! of the overlap and its derivatives with respect to A's pose, everything an energy-conserving
-//! normal force w'(V) needs (docs/polyhedra.md, "The overlap-volume contact").
+//! of the overlap and its derivatives with respect to A's pose, the corners of each body inside
+//! the other and the parts of their edges inside the other, everything an energy-conserving
+//! normal force needs (docs/polyhedra.md, "The overlap-volume contact"). The force is a sum of
+//! potentials, each the normal law at a depth: the law at V / A_ref (V spread over a reference
+//! area) along V's gradient, the law at each corner inside the other body (its smoothed depth),
+//! and the law along the edges inside, per unit length [`edge_density`] (so the edges of a face
+//! lying flat weigh as much as its corners). A corner meets the law once, as the separating-axis
+//! depth model has it; a face lying on a larger face meets it [`face_on_weight`] times (the
+//! volume, its corners, its edges); crossed edges, which no corner enters, meet it along the
+//! edges as a cone would (force ∝ δ²). The volume alone would leave corners (∝ δ⁵) and crossed
+//! edges soft, the corners alone would let edges pass through edges.
 //!
 //! A wall is the solid behind its surface: a plane's half-space, a quad's semi-infinite prism
 //! (the quad and its four side planes, so a box of quads is closed), and for a cylinder the
@@ -8,27 +17,49 @@
 //! centre, so V depends on the centre's azimuth too, and the force carries the term that
 //! derivative gives: w'(V) (S − T_u (u × r)/|r|²) with T_u the overlap's moment about the axis.
 //! It makes the shell's normal force exert no torque about its own axis, as a cylinder's must.
+//! Corners and edges meet the true cylinder.
 
-use crate::overlap_volume::{Moments, PLANE_TOLERANCE, Region, overlap_moments};
+use crate::overlap_volume::{Moments, PLANE_TOLERANCE, Region, Slab, outside_slab, overlap_moments_in, segment_pieces, with_scratch};
 use crate::polyhedron_polyhedron::Buf;
 use crate::{Cylinder, DVec3, Plane, Polyhedron, Pose, Quad, SurfaceShape, polyhedron_polyhedron};
 
-/// A corner of one body inside the other (or inside a wall's solid): how deep, and the outward
-/// normal of the nearest surface it has to leave through. A potential of that depth per corner
-/// stiffens corner and edge contacts, which the volume alone leaves soft.
+/// The corner count of a polyhedron's largest face over its perimeter: the multiple of the normal
+/// law an edge carries per unit length inside the other body.
+pub fn edge_density(p: &Polyhedron) -> f64 {
+    let f = p.largest_face();
+    p.faces()[f].vertices.len() as f64 / p.face_perimeter(f)
+}
+
+/// How many times a face of the largest area lying on a larger face meets the normal law: once for
+/// the volume, once per corner, once more for its edges together. The damping of every part is
+/// that of the law at m* / this weight, so a face-on impact rebounds at the restitution asked for.
+pub fn face_on_weight(p: &Polyhedron) -> f64 {
+    1.0 + 2.0 * p.faces()[p.largest_face()].vertices.len() as f64
+}
+
+/// The width τ of the band in which a corner's push turns from one face to the next, as a
+/// fraction of the smaller body's bounding radius.
+pub const CORNER_SMOOTHING: f64 = 0.01;
+
+/// Three-point Gauss–Legendre nodes and weights on [−1, 1]: exact for the linear law's energy,
+/// force and moment along an edge piece (polynomials of degree 2 in the position).
+const GAUSS: [(f64, f64); 3] = [(-0.774_596_669_241_483_4, 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.774_596_669_241_483_4, 5.0 / 9.0)];
+
+/// One point load of a volume contact: a corner inside the other body (or a wall's solid), or a
+/// quadrature point of an edge's part inside it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct VertexPenetration {
-    /// The corner (world).
+pub struct PenetratingPoint {
+    /// Where the load acts (world).
     pub point: DVec3,
-    /// Distance to the nearest surface of the body it is inside (> 0), smoothed where two
-    /// surfaces are nearly as near (see [`CORNER_SMOOTHING`]).
+    /// How deep the point is inside: for a corner the smoothed distance to the surface (see
+    /// [`CORNER_SMOOTHING`]), for an edge point the distance to the nearest face.
     pub depth: f64,
-    /// The depth's gradient, from B (or the wall) to A: the force on A along it pushes the corner
-    /// out. A unit vector except within ~τ of an edge, where it turns from one face's normal to
-    /// the next.
+    /// The depth's gradient, from B (or the wall) to A: the force on A along it pushes the point
+    /// out. A unit vector except for a corner within ~τ of an edge of the body it is in.
     pub normal: DVec3,
-    /// The corner belongs to A (else to B or the wall).
-    pub of_a: bool,
+    /// The multiple of the normal law this point carries: 1 for a corner, quadrature weight ×
+    /// length × [`edge_density`] for an edge point.
+    pub weight: f64,
 }
 
 /// An overlap-volume contact of body A with body B or a wall (world frame).
@@ -51,8 +82,8 @@ pub struct VolumeContact {
     pub area: f64,
     /// Penetration depth: the SAT depth for pairs, the deepest point below the surface for walls.
     pub depth: f64,
-    /// Corners of either body inside the other.
-    pub vertices: Buf<VertexPenetration>,
+    /// The corners and edge points of either body inside the other.
+    pub points: Vec<PenetratingPoint>,
 }
 
 impl VolumeContact {
@@ -70,7 +101,7 @@ impl VolumeContact {
         xb: Option<DVec3>,
         push: DVec3,
         depth: f64,
-        vertices: Buf<VertexPenetration>,
+        points: Vec<PenetratingPoint>,
     ) -> Option<VolumeContact> {
         let o = m.world(origin);
         let area = o.area.length();
@@ -86,34 +117,63 @@ impl VolumeContact {
             point: o.action_point(),
             area,
             depth,
-            vertices,
+            points,
         })
     }
 }
 
-/// The share of the normal law an overlap-volume contact gives its overlap volume; the rest goes
-/// to the corners inside the other body, spread over the corners of the largest face (so a face
-/// lying on a larger face meets the whole law, and a corner meets (1 − share)/corners of it).
-pub const VOLUME_SHARE: f64 = 0.5;
-
-/// The width τ of the band in which a corner's push turns from one face to the next, as a
-/// fraction of the smaller body's bounding radius.
-pub const CORNER_SMOOTHING: f64 = 0.01;
-
-/// The corners of A inside B and of B inside A (both relative to `origin`), depths smoothed over `tau`.
-fn corner_penetrations(a: &Region, b: &Region, origin: DVec3, tau: f64) -> Buf<VertexPenetration> {
-    let mut out = Buf::new();
+/// The corners of `a` inside `b` (pushing A out along +gradient when `sign` = 1; B's corners
+/// inside A take sign −1), depths smoothed over `tau`, into `out` (points relative to `origin`).
+fn corners_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, origin: DVec3, tau: f64, sign: f64, slab: Slab) {
     for &v in &a.vertices {
+        if outside_slab(slab, &[v], 0.0) {
+            continue;
+        }
         if let Some((depth, normal)) = b.penetration(v, tau) {
-            out.push(VertexPenetration { point: v + origin, depth, normal, of_a: true });
+            out.push(PenetratingPoint { point: v + origin, depth, normal: sign * normal, weight: 1.0 });
         }
     }
-    for &v in &b.vertices {
-        if let Some((depth, normal)) = a.penetration(v, tau) {
-            out.push(VertexPenetration { point: v + origin, depth, normal: -normal, of_a: false });
+}
+
+/// The parts of `a`'s edges inside `b`: three Gauss points per piece on which one face of `b` is
+/// the nearest, each carrying its quadrature weight × length × `density`.
+fn edges_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, origin: DVec3, sign: f64, density: f64, slab: Slab) {
+    for &[p0, p1] in &a.edges {
+        if outside_slab(slab, &[p0, p1], 0.0) {
+            continue;
+        }
+        let length = (p1 - p0).length();
+        for (s0, s1, f) in segment_pieces(&b.planes, p0, p1) {
+            let (m, offset) = b.planes[f];
+            let (mid, half) = (0.5 * (s0 + s1), 0.5 * (s1 - s0));
+            for (x, w) in GAUSS {
+                let p = p0 + (p1 - p0) * (mid + half * x);
+                let depth = offset - m.dot(p);
+                if depth > 0.0 {
+                    out.push(PenetratingPoint { point: p + origin, depth, normal: sign * m, weight: w * half * length * density });
+                }
+            }
         }
     }
+}
+
+/// Every corner and edge point of A inside B and of B inside A, the edges weighed by their body's
+/// [`edge_density`] (a wall's edges by the polyhedron's).
+fn penetrating_points(a: &Region, b: &Region, origin: DVec3, tau: f64, a_density: f64, b_density: f64, slab: Slab) -> Vec<PenetratingPoint> {
+    let mut out = Vec::new();
+    corners_inside(&mut out, a, b, origin, tau, 1.0, slab);
+    corners_inside(&mut out, b, a, origin, tau, -1.0, slab);
+    edges_inside(&mut out, a, b, origin, 1.0, a_density, slab);
+    edges_inside(&mut out, b, a, origin, -1.0, b_density, slab);
     out
+}
+
+/// The slab between the deepest points of two regions along the separating-axis normal `n` (B to
+/// A): the overlap lies in it.
+fn pair_slab(a: &Region, b: &Region, n: DVec3) -> Slab {
+    let lo = a.vertices.iter().map(|v| n.dot(*v)).fold(f64::INFINITY, f64::min);
+    let hi = b.vertices.iter().map(|v| n.dot(*v)).fold(f64::NEG_INFINITY, f64::max);
+    Some((n, lo, hi))
 }
 
 /// The overlap-volume contact of polyhedron A with polyhedron B, gated by the separating-axis
@@ -127,12 +187,32 @@ fn corner_penetrations(a: &Region, b: &Region, origin: DVec3, tau: f64) -> Buf<V
 /// ```
 pub fn polyhedron_polyhedron_volume(a: &Polyhedron, pose_a: &Pose, b: &Polyhedron, pose_b: &Pose) -> Option<VolumeContact> {
     let k = polyhedron_polyhedron(a, pose_a, b, pose_b)?;
+    pair_volume(a, pose_a, b, pose_b, k.point, k.normal, k.depth, edge_density(b))
+}
+
+/// The volume contact of a pair whose separating-axis contact is (point, normal, depth); B's edges
+/// carry `b_density` per unit length.
+#[allow(clippy::too_many_arguments)]
+fn pair_volume(
+    a: &Polyhedron,
+    pose_a: &Pose,
+    b: &Polyhedron,
+    pose_b: &Pose,
+    origin: DVec3,
+    normal: DVec3,
+    depth: f64,
+    b_density: f64,
+) -> Option<VolumeContact> {
     let eps = PLANE_TOLERANCE * a.bounding_radius().max(b.bounding_radius());
-    let (ra, rb) = (Region::of_polyhedron(a, pose_a, k.point), Region::of_polyhedron(b, pose_b, k.point));
-    let (m, _) = overlap_moments(&ra, &rb, eps)?;
     let tau = CORNER_SMOOTHING * a.bounding_radius().min(b.bounding_radius());
-    let corners = corner_penetrations(&ra, &rb, k.point, tau);
-    VolumeContact::from_moments(&m, k.point, pose_a.position, Some(pose_b.position), m.area, k.depth, corners)
+    with_scratch(|s| {
+        s.a.set_polyhedron(a, pose_a, origin);
+        s.b.set_polyhedron(b, pose_b, origin);
+        let slab = pair_slab(&s.a, &s.b, normal);
+        let (m, _) = overlap_moments_in(&s.a, &s.b, eps, slab, &mut s.clip)?;
+        let points = penetrating_points(&s.a, &s.b, origin, tau, edge_density(a), b_density, slab);
+        VolumeContact::from_moments(&m, origin, pose_a.position, Some(pose_b.position), m.area, depth, points)
+    })
 }
 
 /// A square of half-size `half` about `centre` in the plane with unit normal `n`, counter-clockwise about n.
@@ -142,40 +222,37 @@ fn square(centre: DVec3, n: DVec3, half: f64) -> Buf<DVec3> {
     [centre - u - v, centre + u - v, centre + u + v, centre - u + v].into_iter().collect()
 }
 
-/// The overlap of A (as a region about `surface`) with the solid behind a plane through `surface`
-/// with outward unit normal `m` (pointing out of the solid).
-fn behind_plane(a: &Region, rb: f64, m: DVec3) -> Option<(Moments, f64, Region)> {
-    let solid = Region { planes: [(m, 0.0)].into_iter().collect(), faces: vec![(m, square(DVec3::ZERO, m, 2.0 * rb))], vertices: Buf::new() };
-    let (mo, depth) = overlap_moments(a, &solid, PLANE_TOLERANCE * rb)?;
-    Some((mo, depth, solid))
+/// Makes `r` the solid behind a plane through the origin with outward unit normal `m` (pointing
+/// out of the solid), big enough for a body of bounding radius `rb` about the origin.
+fn set_half_space(r: &mut Region, m: DVec3, rb: f64) {
+    r.clear();
+    r.planes.push((m, 0.0));
+    r.add_face(m, square(DVec3::ZERO, m, 2.0 * rb));
 }
 
 impl Plane {
     /// The overlap-volume contact of a polyhedron with the half-space behind this plane.
     pub fn polyhedron_volume(&self, poly: &Polyhedron, pose: &Pose) -> Option<VolumeContact> {
-        let h = self.signed_distance(pose.position);
-        if h >= poly.bounding_radius() {
+        let (h, rb) = (self.signed_distance(pose.position), poly.bounding_radius());
+        if h >= rb {
             return None;
         }
         let foot = pose.position - self.normal * h;
-        let a = Region::of_polyhedron(poly, pose, foot);
-        let (m, depth, solid) = behind_plane(&a, poly.bounding_radius(), self.normal)?;
-        VolumeContact::from_moments(
-            &m,
-            foot,
-            pose.position,
-            None,
-            m.area,
-            depth,
-            corner_penetrations(&a, &solid, foot, CORNER_SMOOTHING * poly.bounding_radius()),
-        )
+        with_scratch(|s| {
+            s.a.set_polyhedron(poly, pose, foot);
+            set_half_space(&mut s.b, self.normal, rb);
+            let (m, depth) = overlap_moments_in(&s.a, &s.b, PLANE_TOLERANCE * rb, None, &mut s.clip)?;
+            let density = edge_density(poly);
+            let points = penetrating_points(&s.a, &s.b, foot, CORNER_SMOOTHING * rb, density, density, None);
+            VolumeContact::from_moments(&m, foot, pose.position, None, m.area, depth, points)
+        })
     }
 }
 
 impl Quad {
     /// The overlap-volume contact of a polyhedron with the semi-infinite prism behind this quad
     /// (on the side away from the polyhedron's centre for a two-sided quad; none once the centre
-    /// is behind a one-sided quad).
+    /// is behind a one-sided quad). The quad's corners and rim are the solid's corners and edges.
     pub fn polyhedron_volume(&self, poly: &Polyhedron, pose: &Pose) -> Option<VolumeContact> {
         let rb = poly.bounding_radius();
         let h = self.normal.dot(pose.position - self.corners[0]);
@@ -193,20 +270,28 @@ impl Quad {
             p
         };
         let depth_behind = 2.0 * rb;
-        let mut planes: Buf<(DVec3, f64)> = [(m, m.dot(c[0]))].into_iter().collect();
-        let mut faces = vec![(m, ccw(c.into_iter().collect(), m))];
-        for k in 0..4 {
-            let (p, q) = (c[k], c[(k + 1) % 4]);
-            let mut s = (q - p).cross(m).normalize();
-            if s.dot(middle - p) > 0.0 {
-                s = -s;
+        with_scratch(|sc| {
+            let solid = &mut sc.b;
+            solid.clear();
+            solid.planes.push((m, m.dot(c[0])));
+            solid.vertices.extend_from_slice(&c);
+            solid.edges.extend((0..4).map(|k| [c[k], c[(k + 1) % 4]]));
+            solid.add_face(m, ccw(c.into_iter().collect(), m));
+            for k in 0..4 {
+                let (p, q) = (c[k], c[(k + 1) % 4]);
+                let mut s = (q - p).cross(m).normalize();
+                if s.dot(middle - p) > 0.0 {
+                    s = -s;
+                }
+                solid.planes.push((s, s.dot(p)));
+                solid.add_face(s, ccw([p, q, q - m * depth_behind, p - m * depth_behind].into_iter().collect(), s));
             }
-            planes.push((s, s.dot(p)));
-            faces.push((s, ccw([p, q, q - m * depth_behind, p - m * depth_behind].into_iter().collect(), s)));
-        }
-        let (a, solid) = (Region::of_polyhedron(poly, pose, origin), Region { planes, faces, vertices: c.into_iter().collect() });
-        let (mo, depth) = overlap_moments(&a, &solid, PLANE_TOLERANCE * rb)?;
-        VolumeContact::from_moments(&mo, origin, pose.position, None, mo.area, depth, corner_penetrations(&a, &solid, origin, CORNER_SMOOTHING * rb))
+            sc.a.set_polyhedron(poly, pose, origin);
+            let (mo, depth) = overlap_moments_in(&sc.a, &sc.b, PLANE_TOLERANCE * rb, None, &mut sc.clip)?;
+            let density = edge_density(poly);
+            let points = penetrating_points(&sc.a, &sc.b, origin, CORNER_SMOOTHING * rb, density, density, None);
+            VolumeContact::from_moments(&mo, origin, pose.position, None, mo.area, depth, points)
+        })
     }
 }
 
@@ -229,29 +314,77 @@ impl Cylinder {
         let out = radial / rho;
         let m = if self.inside { -out } else { out };
         let surface = self.point + self.axis * s + out * self.radius;
-        let a = Region::of_polyhedron(poly, pose, surface);
-        let (mo, depth, _) = behind_plane(&a, rb, m)?;
-        // ∂V/∂φ of the tangent plane's azimuth: the overlap's moment about the axis.
-        let t_u = (mo.moment - (self.point - surface).cross(mo.area)).dot(self.axis);
-        let push = mo.area - self.axis.cross(radial) * (t_u / (rho * rho));
-        // Corners against the true cylinder: radially beyond the shell (drum) or within it (pipe).
-        let mut corners = Buf::new();
+        with_scratch(|sc| {
+            sc.a.set_polyhedron(poly, pose, surface);
+            set_half_space(&mut sc.b, m, rb);
+            let (mo, depth) = overlap_moments_in(&sc.a, &sc.b, PLANE_TOLERANCE * rb, None, &mut sc.clip)?;
+            // ∂V/∂φ of the tangent plane's azimuth: the overlap's moment about the axis.
+            let t_u = (mo.moment - (self.point - surface).cross(mo.area)).dot(self.axis);
+            let push = mo.area - self.axis.cross(radial) * (t_u / (rho * rho));
+            let points = self.penetrating_points(&sc.a, surface, edge_density(poly));
+            VolumeContact::from_moments(&mo, surface, pose.position, None, push, depth, points)
+        })
+    }
+
+    /// The depth of `p` beyond the shell (drum) or within it (pipe), with its gradient (towards
+    /// the inside of the drum, away from the pipe's axis).
+    fn penetration(&self, p: DVec3) -> Option<(f64, DVec3)> {
+        let r = p - self.point;
+        let across = r - self.axis * r.dot(self.axis);
+        let len = across.length();
+        let (depth, normal) = if self.inside { (len - self.radius, -across / len) } else { (self.radius - len, across / len) };
+        (depth > 0.0 && len > 0.0).then_some((depth, normal))
+    }
+
+    /// Corners and edge points of A (a region about `origin`) against the true cylinder; edges by
+    /// three Gauss points over the part of each edge that penetrates (the depth is not linear
+    /// along an edge here, so the quadrature is close, not exact).
+    fn penetrating_points(&self, a: &Region, origin: DVec3, density: f64) -> Vec<PenetratingPoint> {
+        let mut out = Vec::new();
         for &v in &a.vertices {
-            let r = v + surface - self.point;
-            let across = r - self.axis * r.dot(self.axis);
-            let len = across.length();
-            let (depth, normal) = if self.inside { (len - self.radius, -across / len) } else { (self.radius - len, across / len) };
-            if depth > 0.0 && len > 0.0 {
-                corners.push(VertexPenetration { point: v + surface, depth, normal, of_a: true });
+            if let Some((depth, normal)) = self.penetration(v + origin) {
+                out.push(PenetratingPoint { point: v + origin, depth, normal, weight: 1.0 });
             }
         }
-        VolumeContact::from_moments(&mo, surface, pose.position, None, push, depth, corners)
+        for &[p0, p1] in &a.edges {
+            let (p0, p1) = (p0 + origin, p1 + origin);
+            // ρ(s)² = |w + s e|² with w, e across the axis: where it crosses R².
+            let across = |v: DVec3| v - self.axis * v.dot(self.axis);
+            let (w, e) = (across(p0 - self.point), across(p1 - p0));
+            let (qa, qb, qc) = (e.length_squared(), 2.0 * w.dot(e), w.length_squared() - self.radius * self.radius);
+            let disc = qb * qb - 4.0 * qa * qc;
+            if qa <= 0.0 || disc <= 0.0 {
+                continue;
+            }
+            let (r0, r1) = ((-qb - disc.sqrt()) / (2.0 * qa), (-qb + disc.sqrt()) / (2.0 * qa));
+            // Beyond the shell (drum) is outside the roots; within it (pipe) between them.
+            let pieces: Buf<(f64, f64)> = if self.inside {
+                [(0.0, r0.min(1.0)), (r1.max(0.0), 1.0)].into_iter().collect()
+            } else {
+                [(r0.max(0.0), r1.min(1.0))].into_iter().collect()
+            };
+            let length = (p1 - p0).length();
+            for (s0, s1) in pieces {
+                if s1 <= s0 {
+                    continue;
+                }
+                let (mid, half) = (0.5 * (s0 + s1), 0.5 * (s1 - s0));
+                for (x, wt) in GAUSS {
+                    let p = p0 + (p1 - p0) * (mid + half * x);
+                    if let Some((depth, normal)) = self.penetration(p) {
+                        out.push(PenetratingPoint { point: p, depth, normal, weight: wt * half * length * density });
+                    }
+                }
+            }
+        }
+        out
     }
 }
 
 impl SurfaceShape {
     /// The overlap-volume contact of a convex polyhedron (at `pose`) with this wall; a lifter
-    /// bar is its hull, met as a polyhedron.
+    /// bar is its hull, met as a polyhedron (its edges weighed by the polyhedron's edge density,
+    /// as every wall's are).
     pub fn polyhedron_volume(&self, poly: &Polyhedron, pose: &Pose) -> Option<VolumeContact> {
         match self {
             SurfaceShape::Plane(p) => p.polyhedron_volume(poly, pose),
@@ -261,11 +394,18 @@ impl SurfaceShape {
                 if (pose.position - p.centre).length() > p.bound + poly.bounding_radius() {
                     return None;
                 }
-                let c = polyhedron_polyhedron_volume(poly, pose, p.hull.as_deref()?, &p.hull_pose)?;
+                let c = wall_hull_volume(poly, pose, p.hull.as_deref()?, &p.hull_pose)?;
                 Some(VolumeContact { turn_b: DVec3::ZERO, ..c })
             }
         }
     }
+}
+
+/// A polyhedron against a wall's hull (a lifter bar): the pair's contact with the hull's edges
+/// weighed by the polyhedron's edge density.
+pub fn wall_hull_volume(poly: &Polyhedron, pose: &Pose, hull: &Polyhedron, hull_pose: &Pose) -> Option<VolumeContact> {
+    let k = polyhedron_polyhedron(poly, pose, hull, hull_pose)?;
+    pair_volume(poly, pose, hull, hull_pose, k.point, k.normal, k.depth, edge_density(poly))
 }
 
 #[cfg(test)]
@@ -306,6 +446,91 @@ mod tests {
             checked += 1;
         }
         checked
+    }
+
+    /// The linear law's potential of a contact (k = 1, reference area `a_ref`): ½ (V / A)² plus
+    /// Σ weight × ½ depth² over its points, and the force and torque about `x` that the contact
+    /// applies for it.
+    fn potential(c: &VolumeContact, a_ref: f64, x: DVec3) -> (f64, DVec3, DVec3) {
+        let w = c.volume / (a_ref * a_ref);
+        let mut u = 0.5 * (c.volume / a_ref).powi(2);
+        let (mut f, mut t) = (c.push * w, c.turn_a * w);
+        for p in &c.points {
+            u += p.weight * 0.5 * p.depth * p.depth;
+            f += p.normal * (p.weight * p.depth);
+            t += (p.point - x).cross(p.normal * (p.weight * p.depth));
+        }
+        (u, f, t)
+    }
+
+    /// The whole normal force (volume, corners, edges) is the gradient of one potential: central
+    /// differences of it under translations and rotations of A agree with the force and torque,
+    /// for pairs of the test solids and against a plane and a quad (face, edge and corner regions).
+    #[test]
+    fn the_normal_force_is_the_gradient_of_its_potential() {
+        let shapes = [Polyhedron::cube(1.0), Polyhedron::dodecahedron(0.6), Polyhedron::octahedron(1.2), Polyhedron::tetrahedron(1.3)];
+        let quad = Quad::new([DVec3::new(-1.0, -1.0, 0.0), DVec3::new(1.0, -1.0, 0.1), DVec3::new(1.0, 1.0, 0.1), DVec3::new(-1.0, 1.0, 0.0)], false);
+        let floor = Plane::new(DVec3::ZERO, DVec3::new(0.1, 0.2, 1.0));
+        let mut seed = 0x1234_5678_9abc_def1u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut checked, mut with_edges) = (0, 0);
+        for trial in 0..240 {
+            let a = &shapes[trial % 4];
+            let q = DQuat::from_axis_angle(DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize(), 6.0 * next());
+            let dir = DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize();
+            let (contact, x): (Box<dyn Fn(&Pose) -> Option<VolumeContact>>, DVec3) = match trial % 3 {
+                0 => {
+                    let b = &shapes[(trial / 3) % 4];
+                    let pb = Pose::new(DVec3::ZERO, DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.3 * trial as f64));
+                    let reach = a.bounding_radius() + b.bounding_radius();
+                    (Box::new(move |p: &Pose| polyhedron_polyhedron_volume(a, p, b, &pb)), dir * reach * (0.6 + 0.3 * next()))
+                }
+                1 => (Box::new(|p: &Pose| floor.polyhedron_volume(a, p)), floor.normal * a.bounding_radius() * (0.5 + 0.45 * next()) + dir * 0.2),
+                _ => (
+                    Box::new(|p: &Pose| quad.polyhedron_volume(a, p)),
+                    DVec3::new(2.4 * next() - 1.2, 2.4 * next() - 1.2, a.bounding_radius() * (0.5 + 0.45 * next())),
+                ),
+            };
+            let a_ref = a.largest_face_area();
+            let u = |x: DVec3, turn: DVec3| contact(&Pose::new(x, DQuat::from_scaled_axis(turn) * q)).map_or(0.0, |c| potential(&c, a_ref, x).0);
+            let Some(c) = contact(&Pose::new(x, q)) else { continue };
+            let (_, force, torque) = potential(&c, a_ref, x);
+            if force.length() < 1e-4 {
+                continue;
+            }
+            let h = 1e-6;
+            let (mut grad, mut rot) = (DVec3::ZERO, DVec3::ZERO);
+            for k in 0..3 {
+                let e = DVec3::AXES[k] * h;
+                grad[k] = (u(x + e, DVec3::ZERO) - u(x - e, DVec3::ZERO)) / (2.0 * h);
+                rot[k] = (u(x, e) - u(x, -e)) / (2.0 * h);
+            }
+            let scale = force.length();
+            assert!((grad + force).length() < 1e-5 * scale, "trial {trial}: −∂U/∂x {:?} against the force {force:?}", -grad);
+            assert!((rot + torque).length() < 1e-5 * scale * a.size(), "trial {trial}: −∂U/∂θ {:?} against the torque {torque:?}", -rot);
+            checked += 1;
+            with_edges += c.points.iter().any(|p| p.weight != 1.0) as usize;
+        }
+        assert!(checked > 120 && with_edges > 100, "{checked} checked, {with_edges} with edge points");
+    }
+
+    #[test]
+    fn segment_pieces_follow_the_nearest_face() {
+        // A unit cube about the origin; a segment through it along x at y = 0.3, z = 0: the nearest
+        // face is −x, then +y, then +x.
+        let cube = Polyhedron::cube(1.0);
+        let r = crate::overlap_volume::Region::of_polyhedron(&cube, &Pose::IDENTITY, DVec3::ZERO);
+        let pieces = segment_pieces(&r.planes, DVec3::new(-1.0, 0.3, 0.0), DVec3::new(1.0, 0.3, 0.0));
+        let normals: Vec<DVec3> = pieces.iter().map(|p| r.planes[p.2].0).collect();
+        assert_eq!(normals, vec![-DVec3::X, DVec3::Y, DVec3::X]);
+        let ends: Vec<(f64, f64)> = pieces.iter().map(|p| (p.0, p.1)).collect();
+        let expected = [(0.25, 0.35), (0.35, 0.65), (0.65, 0.75)];
+        assert!(ends.iter().zip(expected).all(|(a, b)| (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12), "{ends:?}");
     }
 
     #[test]

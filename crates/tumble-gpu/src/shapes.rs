@@ -10,7 +10,7 @@
 //! word 4s + 1 (edge start, edge count, bounding radius, unused)
 //! word 4s + 2 (volume / principal unit inertia (x, y, z), equivalent radius)
 //!             inverse principal inertia = inverse mass × xyz; radius of the sphere of equal volume
-//! word 4s + 3 (largest face area, corners of that face, 0, 0)   the overlap-volume contact's references
+//! word 4s + 3 (largest face area, its corners, its perimeter, 0)   the overlap-volume contact's references
 //! vertices    (x, y, z, 0)                    body frame, one word each
 //! faces       (nx, ny, nz, offset)            plane n · p = offset, then
 //!             (list start, list length, 0, 0) where its vertex loop starts (a word index, see below)
@@ -93,8 +93,8 @@ pub fn shape_table(shapes: &[Polyhedron]) -> Result<Vec<[f32; 4]>, ShapeError> {
         words[HEADER_WORDS * s + 1] = [edge_start as f32, p.edges().len() as f32, p.bounding_radius() as f32, 0.0];
         let k = p.volume() / p.unit_inertia();
         words[HEADER_WORDS * s + 2] = [k.x as f32, k.y as f32, k.z as f32, equivalent_radius(p) as f32];
-        let largest = (0..p.faces().len()).max_by(|&f, &g| p.face_area(f).total_cmp(&p.face_area(g))).unwrap_or(0);
-        words[HEADER_WORDS * s + 3] = [p.largest_face_area() as f32, p.faces()[largest].vertices.len() as f32, 0.0, 0.0];
+        let largest = p.largest_face();
+        words[HEADER_WORDS * s + 3] = [p.largest_face_area() as f32, p.faces()[largest].vertices.len() as f32, p.face_perimeter(largest) as f32, 0.0];
     }
     let loop_start = words.len();
     for (word, component) in loop_fixups {
@@ -208,7 +208,7 @@ impl ContactQuery {
 
 /// The answer to one [`ContactQuery`]: the tumble-geom `PolyContact` in f32, or for the volume
 /// kinds its `VolumeContact` (normal: the push; extra: turn_a and the volume; turn_b: turn_b and
-/// the area; corners: Σ depth × gradient over the corners and their count).
+/// the area; corners: Σ weight × depth × gradient over the corners and edge points, their count).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct ContactAnswer {
@@ -221,7 +221,7 @@ pub struct ContactAnswer {
     pub extra: [f32; 4],
     /// Volume: (turn_b, area).
     pub turn_b: [f32; 4],
-    /// Volume: (Σ depth × gradient of the corners inside, their count).
+    /// Volume: (Σ weight × depth × gradient over the corners and edge points inside, their count).
     pub corners: [f32; 4],
 }
 
@@ -362,7 +362,10 @@ mod tests {
             }
             assert!((4.0 / 3.0 * std::f64::consts::PI * (t[HEADER_WORDS * s + 2][3] as f64).powi(3) / p.volume() - 1.0).abs() < 1e-6);
             // The volume contact's references: the largest face and its corners.
-            assert_eq!(t[HEADER_WORDS * s + 3][..2], [p.largest_face_area() as f32, if s == 0 { 4.0 } else { 3.0 }]);
+            assert_eq!(
+                t[HEADER_WORDS * s + 3][..3],
+                [p.largest_face_area() as f32, if s == 0 { 4.0 } else { 3.0 }, p.face_perimeter(p.largest_face()) as f32]
+            );
             for (k, v) in p.vertices().iter().enumerate() {
                 assert_eq!(t[vs + k][..3], [v.x as f32, v.y as f32, v.z as f32]);
             }

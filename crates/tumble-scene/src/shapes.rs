@@ -35,8 +35,9 @@ pub struct ParticleShape {
     /// The largest face area: the overlap-volume contact's reference area (a face lying flat on
     /// another body or a wall meets the normal law's stiffness at this area).
     pub contact_area: f64,
-    /// How many corners that largest face has: a face lying flat presses that many corners.
-    pub contact_corners: u32,
+    /// How many times a face lying on a larger face meets the normal law in that model
+    /// (`tumble_geom::face_on_weight`): its parts are damped at m* over it.
+    pub face_on_weight: f64,
     /// Orientation of the body frame in the frame the shape was given in (a particle with this
     /// orientation shows the shape as written in the scene).
     pub as_given: DQuat,
@@ -47,9 +48,8 @@ impl ParticleShape {
         let equivalent_radius = equivalent_radius(body.volume());
         let as_given = body.input_to_body().rotation.inverse();
         let contact_area = body.largest_face_area();
-        let largest = (0..body.faces().len()).max_by(|&f, &g| body.face_area(f).total_cmp(&body.face_area(g))).unwrap_or(0);
-        let contact_corners = body.faces().get(largest).map_or(1, |f| f.vertices.len() as u32);
-        ParticleShape { name, body, equivalent_radius, contact_area, contact_corners, as_given }
+        let face_on_weight = tumble_geom::face_on_weight(&body);
+        ParticleShape { name, body, equivalent_radius, contact_area, face_on_weight, as_given }
     }
 }
 

@@ -65,7 +65,10 @@ fn check_scales(scene: &Scene, p: &InitialParticles, domain: &PeriodicBox) -> Re
         if !(speed <= MAX_INITIAL_SPEED) {
             return Err(SceneError::field(
                 format!("particles[{}].velocity", p.group[i]),
-                format!("a particle of {} starts at {speed:.3e} m/s (centre plus spin at its surface); speeds are in m/s and at most {MAX_INITIAL_SPEED:.0e} m/s are accepted", group_label(scene, p.group[i])),
+                format!(
+                    "a particle of {} starts at {speed:.3e} m/s (centre plus spin at its surface); speeds are in m/s and at most {MAX_INITIAL_SPEED:.0e} m/s are accepted",
+                    group_label(scene, p.group[i])
+                ),
             ));
         }
     }
@@ -103,7 +106,13 @@ fn check_walls_near_domain(walls: &[Wall], groups: &[WallGroup], domain: &Period
                     .map(|x| pl.normal.dot(x - pl.point))
                     .collect();
                 let (min, max) = d.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-                if min > 0.0 { min } else if max < 0.0 { -max } else { 0.0 }
+                if min > 0.0 {
+                    min
+                } else if max < 0.0 {
+                    -max
+                } else {
+                    0.0
+                }
             }
             SurfaceShape::Quad(q) => q.corners.iter().map(|&c| to_box(c)).fold(f64::INFINITY, f64::min),
             SurfaceShape::Prism(pr) => (to_box(pr.centre) - pr.bound).max(0.0),
@@ -170,7 +179,13 @@ fn overlap_advice(start: &StartSection) -> String {
     )
 }
 
-fn check_pair_overlaps(scene: &Scene, p: &InitialParticles, shapes: &[ParticleShape], domain: &PeriodicBox, start: &StartSection) -> Result<(), SceneError> {
+fn check_pair_overlaps(
+    scene: &Scene,
+    p: &InitialParticles,
+    shapes: &[ParticleShape],
+    domain: &PeriodicBox,
+    start: &StartSection,
+) -> Result<(), SceneError> {
     let n = p.len();
     let r_max = p.radius.iter().fold(0.0f64, |a, &r| a.max(r));
     // The grid spans the particles (a large domain around a small bed would put them all in a
@@ -222,7 +237,11 @@ fn check_pair_overlaps(scene: &Scene, p: &InitialParticles, shapes: &[ParticleSh
     }
     let Some((ratio, depth, i, j)) = found.worst else { return Ok(()) };
     let (gi, gj) = (p.group[i].min(p.group[j]), p.group[i].max(p.group[j]));
-    let between = if gi == gj { format!("within {}", group_label(scene, gi)) } else { format!("between {} and {}", group_label(scene, gi), group_label(scene, gj)) };
+    let between = if gi == gj {
+        format!("within {}", group_label(scene, gi))
+    } else {
+        format!("between {} and {}", group_label(scene, gi), group_label(scene, gj))
+    };
     let how_many = match found.count {
         1 => "a pair of particles overlaps at the start".to_string(),
         n if n >= MAX_COUNTED => format!("at least {n} pairs of particles overlap at the start; the worst of those"),

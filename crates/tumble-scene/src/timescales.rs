@@ -2,7 +2,7 @@
 //! (docs/physics.md, "Time step").
 
 use crate::particles::InitialParticles;
-use crate::plan::{Fluid, Material, PairParams, Wall};
+use crate::plan::{Fluid, Material, PairParams, PolyhedronContact, Wall};
 use crate::{Drag, ParticleShape, SPHERE};
 use glam::DVec3;
 use tumble_contact::{NormalLaw, SpringLaw, TangentialLaw, ViscousParameter, collision_time, rayleigh_time, stokes_relaxation_time};
@@ -67,10 +67,19 @@ pub(crate) fn timescales(
     domain: &PeriodicBox,
     rotation: bool,
     wall_step_limit: Option<f64>,
+    polyhedron_contact: PolyhedronContact,
 ) -> Timescales {
     let n_mat = materials.len();
     let mass = |i: usize| materials[p.material[i] as usize].density * p.volume[i];
-    let fractions: Vec<f64> = shapes.iter().map(|s| s.body.contact_mass_fraction()).collect();
+    // The overlap-volume model meets a face lying on a face with the law face_on_weight times at
+    // the full mass: as stiff as the law at that fraction of it.
+    let fractions: Vec<f64> = shapes
+        .iter()
+        .map(|s| match polyhedron_contact {
+            PolyhedronContact::Volume => s.body.contact_mass_fraction().min(1.0 / s.face_on_weight),
+            PolyhedronContact::Depth => s.body.contact_mass_fraction(),
+        })
+        .collect();
     let contact_mass = |i: usize| if p.shape[i] == SPHERE { mass(i) } else { mass(i) * fractions[p.shape[i] as usize] };
     // Lightest movable particle and smallest radius per material; materials that only fixed particles or walls use.
     let mut lightest = vec![f64::INFINITY; n_mat];

@@ -43,6 +43,10 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
 
     positive("run.duration", scene.run.duration)?;
     let integrator = model::integrator(scene);
+    let polyhedron_contact = match scene.contact.polyhedron_model {
+        Some(PolyhedronModelName::Depth) => PolyhedronContact::Depth,
+        _ => PolyhedronContact::Volume,
+    };
     let wall_step_limit = run::wall_step_limit(&walls, &wall_groups, &particles);
     let timescales = crate::timescales::timescales(
         &particles,
@@ -56,6 +60,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         &domain,
         mechanics.rotation,
         wall_step_limit.as_ref().map(|w| w.dt),
+        polyhedron_contact,
     );
     let dt = run::step(scene, &timescales, wall_step_limit.as_ref())?;
     let schedule = run::schedule(scene, dt)?;
@@ -68,10 +73,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         rotation: mechanics.rotation,
         polyhedra: mechanics.polyhedra,
         shapes,
-        polyhedron_contact: match scene.contact.polyhedron_model {
-            Some(PolyhedronModelName::Depth) => PolyhedronContact::Depth,
-            _ => PolyhedronContact::Volume,
-        },
+        polyhedron_contact,
         cohesion: mechanics.cohesion,
         history: mechanics.history,
         rolling: mechanics.rolling,

@@ -206,7 +206,9 @@ fn pair_law(
     if no_attraction && e < MIN_CLIPPED_RESTITUTION {
         return Err(SceneError::field(
             format!("{root}.restitution"),
-            format!("with no_attraction the restitution must be at least {MIN_CLIPPED_RESTITUTION:e} (a clipped dashpot cannot absorb more), got {e}"),
+            format!(
+                "with no_attraction the restitution must be at least {MIN_CLIPPED_RESTITUTION:e} (a clipped dashpot cannot absorb more), got {e}"
+            ),
         ));
     }
     // A clipped dashpot loses less than a pulling one: its coefficient is recomputed to keep e.
