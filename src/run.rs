@@ -346,7 +346,10 @@ fn too_many_lost(plan: &Plan, removed: usize, initial: usize, t: f64) -> Option<
 /// The warning of a finished run that lost particles.
 fn lost_warning(removed: usize, initial: usize) -> Option<String> {
     (removed > 0).then(|| {
-        format!("{removed} of {initial} particles ({:.2} %) left the domain through its non-periodic sides and were removed", 100.0 * removed as f64 / initial.max(1) as f64)
+        format!(
+            "{removed} of {initial} particles ({:.2} %) left the domain through its non-periodic sides and were removed",
+            100.0 * removed as f64 / initial.max(1) as f64
+        )
     })
 }
 

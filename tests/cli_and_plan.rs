@@ -96,7 +96,9 @@ fn tumble_run_writes_summary_observables_and_tracks() {
     assert_eq!(summary["particles"], 2);
     assert_eq!(summary["backend"], "cpu");
     let obs = std::fs::read_to_string(out.join("observables.csv")).unwrap();
-    assert!(obs.starts_with("t,kinetic_energy,rotational_energy,potential_energy,elastic_energy,dissipated_energy,contacts,max_overlap_ratio,removed\n"));
+    assert!(
+        obs.starts_with("t,kinetic_energy,rotational_energy,potential_energy,elastic_energy,dissipated_energy,contacts,max_overlap_ratio,removed\n")
+    );
     let steps = summary["steps"].as_u64().unwrap();
     let every = (1e-5 / summary["dt"].as_f64().unwrap()).round().max(1.0) as u64;
     assert_eq!(obs.lines().count() as u64, 1 + 1 + steps.div_ceil(every), "a header, a row at t = 0 and one per output interval");

@@ -124,8 +124,9 @@ fn following_the_monitors_advice_makes_an_unstable_run_pass() {
     assert!(advice < 0.5 * limit);
     scene.run.dt = Some(DtSpec::Seconds(advice));
     scene.run.allow_unstable_dt = false;
-    let summary = run_compiled(compile(&scene).unwrap(), &RunOptions { out_dir: Some(out.clone()), threads: 1, overwrite: true, ..Default::default() })
-        .unwrap_or_else(|e| panic!("following \"{message}\" still fails: {e}"));
+    let summary =
+        run_compiled(compile(&scene).unwrap(), &RunOptions { out_dir: Some(out.clone()), threads: 1, overwrite: true, ..Default::default() })
+            .unwrap_or_else(|e| panic!("following \"{message}\" still fails: {e}"));
     assert!(summary.final_observables.finite);
     let _ = std::fs::remove_dir_all(&out);
 }

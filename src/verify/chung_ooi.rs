@@ -129,7 +129,10 @@ impl ImpactSetup {
     fn toml(&self) -> String {
         let v = |x: DVec3| format!("[{:e}, {:e}, {:e}]", x.x, x.y, x.z);
         let mat = |m: Material, name: &str| {
-            format!("[[materials]]\nname = \"{name}\"\ndensity = {:e}\nyoungs_modulus = {:e}\npoisson_ratio = {}\n", m.density, m.youngs_modulus, m.poisson_ratio)
+            format!(
+                "[[materials]]\nname = \"{name}\"\ndensity = {:e}\nyoungs_modulus = {:e}\npoisson_ratio = {}\n",
+                m.density, m.youngs_modulus, m.poisson_ratio
+            )
         };
         let (t_h, _, _) = self.hertz();
         let gap = 0.2 * self.approach_speed() * t_h;
@@ -144,7 +147,12 @@ impl ImpactSetup {
         let span = 4.0 * self.a.radius + self.b.map_or(0.0, |b| 4.0 * b.radius);
         let mut text = format!(
             "name = \"chung-ooi\"\n[run]\nduration = 1.0\nintegrator = \"verlet\"\n[domain]\nmin = [{:e}, {:e}, {:e}]\nmax = [{:e}, {:e}, {:e}]\n{}",
-            -span, -span, -span, span, span, span,
+            -span,
+            -span,
+            -span,
+            span,
+            span,
+            span,
             mat(self.a.material, "a"),
         );
         let a_z = gap + self.a.radius;

@@ -5,8 +5,8 @@
 //! time steps and integrators, and compares with the closed form.
 
 mod cases;
-mod expect;
 pub mod chung_ooi;
+mod expect;
 mod friction;
 mod report;
 

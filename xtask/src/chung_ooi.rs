@@ -86,9 +86,7 @@ fn normal_tests() -> (String, String) {
         }
     }
     let mut csv = String::from("test,case,contact_time,hertz_time,max_overlap,hertz_overlap,max_force,hertz_force,restitution,set_restitution\n");
-    let mut md = String::from(
-        "| test | case | t_c / t_H − 1 | δ_max / δ_H − 1 | F_max / F_H − 1 | e measured (set) |\n|---|---|---|---|---|---|\n",
-    );
+    let mut md = String::from("| test | case | t_c / t_H − 1 | δ_max / δ_H − 1 | F_max / F_H − 1 | e measured (set) |\n|---|---|---|---|---|---|\n");
     for (test, what, s) in cases {
         let r = s.run();
         let (t, d, f) = s.hertz();
@@ -220,7 +218,8 @@ fn test4_curves() -> (String, String) {
         let y = LinearAxis { lo, hi, step, p0: h - 90.0, p1: 60.0 };
         svg::linear_frame(&mut doc, x, YAxis::Linear(y), "impact angle from the wall normal (degrees)", label);
         let clamp = |v: f64| y.px(v.clamp(lo, hi));
-        let pts: Vec<(f64, f64)> = (10..=890).map(|a| a as f64 / 10.0).map(|a| (x.px(a), clamp(theory(coulomb_impact(a, OXIDE_FRICTION, 0.98))))).collect();
+        let pts: Vec<(f64, f64)> =
+            (10..=890).map(|a| a as f64 / 10.0).map(|a| (x.px(a), clamp(theory(coulomb_impact(a, OXIDE_FRICTION, 0.98))))).collect();
         doc.polyline(&pts, "#222222", 1.5, Some("6,4"), 1.0);
         for (m, rows) in &data {
             let s = style(*m, false);

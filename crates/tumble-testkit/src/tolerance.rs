@@ -154,9 +154,11 @@ impl Tolerance {
             (DampedRebound, _) => 1e-2,
             // Measured 3e-3 to 4.5e-3 at 0.2 Δt_R; Hertz's 4/3 E* √R missing its 4/3 would be 19 % in δ_max.
             (HertzImpact, _) => 1e-2,
-            // f32 positions resolve the 5e-7 m overlap of the light sphere to 0.7 %.
+            // f32 positions (relative to the domain's centre, 0.19 m from the floor in the cube's scene:
+            // one ulp is 1.5e-8 m) resolve the 5e-7 m overlap of the light sphere to 0.7 % and the
+            // 6.8e-7 m of a cube's face (nine times the law in the volume model) to 4.8 %, measured.
             (RestOverlap, F64) => 1e-6,
-            (RestOverlap, F32) => 2e-2,
+            (RestOverlap, F32) => 6e-2,
             // The three samples around the peak fitted with a parabola: O((π/50)⁴); a wrong damping (e → 1) is 11 %.
             (PeakOverlap, F64) => 2e-3,
             (PeakOverlap, F32) => 2e-2,
