@@ -199,6 +199,9 @@ var<private> pl_torque_a: vec3<f32>;
 var<private> pl_torque_b: vec3<f32>;
 var<private> pl_elastic: f32;
 var<private> pl_dissipation: f32;
+// The loads' normal stiffness (for tangential laws timed by t_col) and the deepest load.
+var<private> pl_stiffness: f32;
+var<private> pl_deepest: f32;
 
 // The velocity of A relative to B at p.
 fn relative_velocity(p: vec3<f32>) -> vec3<f32> {
@@ -216,6 +219,8 @@ fn point_load(p: vec3<f32>, depth: f32, g: vec3<f32>, weight: f32) {
     pl_torque_b -= cross(p - pl_xb, f);
     pl_elastic += weight * law.z;
     pl_dissipation -= (pushed - weight * law.x) * vn;
+    pl_stiffness += weight * law.w * dot(g, g);
+    pl_deepest = max(pl_deepest, depth);
 }
 
 // The force of the last volume contact `hit` on body A, A moving rigidly with (va, wa) about xa
@@ -239,6 +244,8 @@ fn volume_force(pair: u32, hit: VolumeHit, a_ref: f32, weight: f32, va: vec3<f32
     pl_torque_b = vec3<f32>(0.0);
     pl_elastic = 0.0;
     pl_dissipation = 0.0;
+    pl_stiffness = 0.0;
+    pl_deepest = 0.0;
     volume_points();
     let rate = -(dot(hit.push, va - vb - cross(wb, xa - xb)) + dot(hit.turn_a, wa - wb));
     let depth = hit.volume / a_ref;
@@ -256,7 +263,7 @@ fn volume_force(pair: u32, hit: VolumeHit, a_ref: f32, weight: f32, va: vec3<f32
     let v = relative_velocity(hit.point);
     let vt = v - n * dot(v, n);
     let gain = length(hit.push) / a_ref;
-    let t = tangential_part(pair, out.normal, law.w * gain * gain, depth, r_star, m_star, n, vt, old_spring);
+    let t = tangential_part(pair, out.normal, law.w * gain * gain + pl_stiffness, depth, r_star, m_star, n, vt, old_spring);
     out.force = normal_force + t.force;
     out.torque_a += cross(hit.point - xa, t.force);
     out.torque_b -= cross(hit.point - xb, t.force);
@@ -357,6 +364,9 @@ fn volume_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 
         old_spring = find_spring(props[i].z, WALL_KEY | k);
     }
     let f = volume_force(pair, hit, shape_contact(shape).x, shape_face_on_weight(shape), seen_velocity(i), w, x, v_wall, wall_w, x, alpha[i].w, r, old_spring);
+    if hit.volume <= 0.0 && pl_deepest <= 0.0 {
+        return 0.0;
+    }
     if HISTORY {
         (*s).springs = keep_spring(props[i].z, (*s).springs, WALL_KEY | k, f.spring);
     }
@@ -375,6 +385,6 @@ fn volume_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 
         power += dot(roll, wall_w);
     }
     (*s).contacts += 1u;
-    (*s).ratio = max((*s).ratio, hit.depth / r);
+    (*s).ratio = max((*s).ratio, max(hit.depth, pl_deepest) / r);
     return power;
 }

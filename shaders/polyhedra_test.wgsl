@@ -47,7 +47,8 @@ fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
         if v.hit {
             volume_points();
         }
-        answers[base] = vec4<f32>(v.push, select(0.0, 1.0, v.hit));
+        // A cylinder's point-loads-only contact without loads is no contact.
+        answers[base] = vec4<f32>(v.push, select(0.0, 1.0, v.hit && (v.volume > 0.0 || harness_loads.w > 0.0)));
         answers[base + 1u] = vec4<f32>(origin + v.point, v.depth);
         answers[base + 2u] = vec4<f32>(v.turn_a, v.volume);
         answers[base + 3u] = vec4<f32>(v.turn_b, v.area);

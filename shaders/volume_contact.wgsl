@@ -13,7 +13,7 @@
 // half-size 2 R_A), a quad's semi-infinite prism (the quad and four side rectangles 2 R_A deep;
 // its corners and rim are the solid's), a cylinder's half-space behind its tangent plane at the
 // azimuth of A's centre, with the azimuth term in the push (corners and edges meet the true
-// cylinder).
+// cylinder, edges as material points).
 //
 // volume_pair / volume_wall return the moments and leave the frame in private variables;
 // volume_points then calls `point_load(point, depth, gradient, weight)` for every corner and
@@ -434,6 +434,12 @@ fn volume_wall(s: u32, q: vec4<f32>, x: vec3<f32>, w: array<vec4<f32>, WALL_ENTR
         push -= push_term * t_u;
     }
     var hit = volume_finish(push, vc_t, vec3<f32>(0.0), vol_depth);
+    if !hit.hit && vc_kind == VC_CYLINDER {
+        // Corners can cross the shell away from the centre's azimuth before anything crosses the
+        // tangent plane: a contact of point loads alone (the caller drops it when none load).
+        hit.hit = true;
+        hit.normal = vc_planes_b[0].xyz;
+    }
     hit.turn_b = vec3<f32>(0.0);
     return volume_out(hit);
 }
@@ -561,40 +567,17 @@ fn cylinder_penetration(p: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(select(across / len, -across / len, vc_cyl_inside), depth);
 }
 
-// The part of the edge p0 → p1 beyond the true cylinder (drum) or within it (pipe), by three
-// Gauss points per piece (tumble-geom's Cylinder::penetrating_points).
+// The edge p0 → p1 against the true cylinder as CYLINDER_EDGE_POINTS material points at the
+// middles of equal parts (tumble-geom's Cylinder::penetrating_points: the depth is not linear
+// along an edge here, and points fixed on the body keep the potential exact).
 fn cylinder_edge_loads(p0: vec3<f32>, p1: vec3<f32>) {
-    let e3 = p1 - p0;
-    let w = (p0 - vc_cyl_point) - vc_cyl_axis * dot(p0 - vc_cyl_point, vc_cyl_axis);
-    let e = e3 - vc_cyl_axis * dot(e3, vc_cyl_axis);
-    let qa = dot(e, e);
-    let qb = 2.0 * dot(w, e);
-    let qc = dot(w, w) - vc_cyl_radius * vc_cyl_radius;
-    let disc = qb * qb - 4.0 * qa * qc;
-    if qa <= 0.0 || disc <= 0.0 {
-        return;
-    }
-    let r0 = (-qb - sqrt(disc)) / (2.0 * qa);
-    let r1 = (-qb + sqrt(disc)) / (2.0 * qa);
-    var pieces = array<vec2<f32>, 2>(vec2<f32>(max(r0, 0.0), min(r1, 1.0)), vec2<f32>(1.0, 0.0));
-    if vc_cyl_inside {
-        pieces = array<vec2<f32>, 2>(vec2<f32>(0.0, min(r0, 1.0)), vec2<f32>(max(r1, 0.0), 1.0));
-    }
-    let nodes = array<vec2<f32>, 3>(vec2<f32>(-0.7745966692, 5.0 / 9.0), vec2<f32>(0.0, 8.0 / 9.0), vec2<f32>(0.7745966692, 5.0 / 9.0));
-    for (var j = 0u; j < 2u; j++) {
-        let s0 = pieces[j].x;
-        let s1 = pieces[j].y;
-        if s1 <= s0 {
-            continue;
-        }
-        let mid = 0.5 * (s0 + s1);
-        let half = 0.5 * (s1 - s0);
-        for (var k = 0u; k < 3u; k++) {
-            let p = p0 + e3 * (mid + half * nodes[k].x);
-            let c = cylinder_penetration(p);
-            if c.w > 0.0 {
-                point_load(p + vc_out_shift, c.w, c.xyz, nodes[k].y * half * length(e3) * vc_density_a);
-            }
+    let n = f32(CYLINDER_EDGE_POINTS);
+    let weight = length(p1 - p0) / n * vc_density_a;
+    for (var k = 0u; k < CYLINDER_EDGE_POINTS; k++) {
+        let p = p0 + (p1 - p0) * ((f32(k) + 0.5) / n);
+        let c = cylinder_penetration(p);
+        if c.w > 0.0 {
+            point_load(p + vc_out_shift, c.w, c.xyz, weight);
         }
     }
 }

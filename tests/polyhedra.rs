@@ -134,18 +134,18 @@ fn a_frictional_bed_of_cubes_balances_its_energy() {
     let (n, balance, o) = energy_balance(&cube_bed(0.2));
     eprintln!("cube bed: {n} cubes, |ΔE|/E0 = {balance:.3e}, dissipated {:.3e} J, contacts {}", o.dissipated_energy, o.contacts);
     assert!(o.contacts > 40 && o.dissipated_energy > 0.0, "the cubes should have landed");
-    assert!(balance < 2e-2, "energy balance off by {balance:e} of E0");
+    assert!(balance < 2e-3, "energy balance off by {balance:e} of E0");
 }
 
-/// Known gap (issue 6 notes): the manifold's normal springs jump when the contact feature changes
-/// (an edge–edge point becomes a two- or four-point face contact), which creates energy in
-/// elastic collisions and in beds of dodecahedra; this measures it.
+/// A frictional bed of cubes, dodecahedra and spheres over 0.4 s (slow in a debug build: about a
+/// minute in release). Measured: 4.6e-4 in the volume model; the depth model's contacts, which
+/// are not a potential, left 17 %.
 #[test]
-#[ignore = "known gap: polyhedra contacts are not energy-conserving across feature changes (~17 % here)"]
+#[ignore = "slow: a minute in a release build (cargo test --release --test polyhedra -- --ignored)"]
 fn a_mixed_bed_of_polyhedra_and_spheres_balances_its_energy() {
     let (n, balance, o) = energy_balance(&mixed_bed(0.4));
     eprintln!("mixed bed: {n} particles, |ΔE|/E0 = {balance:.3e}, contacts {}", o.contacts);
-    assert!(balance < 1e-2, "energy balance off by {balance:e} of E0");
+    assert!(balance < 2e-3, "energy balance off by {balance:e} of E0");
 }
 
 #[test]
@@ -263,10 +263,12 @@ fn random_rotation(seed: &mut u64) -> DQuat {
     DQuat::from_xyzw((1.0 - u1).sqrt() * (t * u2).sin(), (1.0 - u1).sqrt() * (t * u2).cos(), u1.sqrt() * (t * u3).sin(), u1.sqrt() * (t * u3).cos())
 }
 
-/// Known gap (docs/polyhedral-particles.md): the contact force is not the gradient of a potential
-/// across feature changes, so elastic collisions gain or lose energy; held to what was measured.
+/// Elastic, frictionless collisions of randomly turned cubes and dodecahedra (1 m/s, offsets up to
+/// 12 mm, so faces, edges and corners meet): the volume model's force is a gradient, so
+/// (E + dissipated) / E0 stays at 1 to Verlet's error. Measured: worst 1.0e-4 at the plan's step
+/// (2.5e-5 with the volume and corners alone; the depth model: 0.9996–1.0096).
 #[test]
-fn random_elastic_collisions_of_polyhedra_keep_their_energy_within_the_measured_gap() {
+fn random_elastic_collisions_of_polyhedra_keep_their_energy() {
     let mut seed = 7u64;
     let mut ratios = Vec::new();
     for shape in ["{ cube = { edge = 0.03 } }", "{ platonic = { kind = \"dodecahedron\", radius = 0.02 } }"] {
@@ -279,18 +281,19 @@ fn random_elastic_collisions_of_polyhedra_keep_their_energy_within_the_measured_
         }
     }
     let worst = ratios.iter().map(|r| (r - 1.0).abs()).fold(0.0, f64::max);
-    eprintln!("elastic collisions (E + dissipated) / E0: {ratios:.4?}, worst {worst:.3e}");
-    // Measured: 0.9996–1.0096, most within 2e-4.
-    assert!(worst < 1.5e-2, "an elastic collision changed the energy by {worst:e}");
+    eprintln!("elastic collisions (E + dissipated) / E0: {ratios:.6?}, worst {worst:.3e}");
+    assert!(worst < 1e-3, "an elastic collision changed the energy by {worst:e}");
 }
 
-/// The same gap in a bed: 72 frictionless, elastic cubes poured into a box.
+/// The same in a bed: 72 frictionless, elastic cubes poured into a box for 0.2 s. Measured: 1.0000
+/// in the volume model, 1.047 in the depth model (so it is checked too: the gap is real).
 #[test]
-fn a_frictionless_elastic_bed_of_cubes_keeps_its_energy_within_the_measured_gap() {
+fn a_frictionless_elastic_bed_of_cubes_keeps_its_energy() {
     let text = cube_bed(0.2).replace("restitution = 0.5", "restitution = 1.0").replace("tangential = { model = \"history\", friction = 0.4 }\n", "");
     assert!(!text.contains("tangential") && text.contains("restitution = 1.0"));
     let r = energy_ratio(&text);
-    eprintln!("frictionless elastic cube bed: (E + dissipated) / E0 = {r:.4}");
-    // Measured: 1.047 (1.049 with the longer step that ignored the corner mass).
-    assert!((r - 1.0).abs() < 0.07, "the elastic bed's energy changed by {:e}", r - 1.0);
+    let depth = energy_ratio(&text.replacen("[contact]\n", "[contact]\npolyhedron_model = \"depth\"\n", 1));
+    eprintln!("frictionless elastic cube bed: (E + dissipated) / E0 = {r:.6} (volume), {depth:.4} (depth)");
+    assert!((r - 1.0).abs() < 5e-3, "the elastic bed's energy changed by {:e}", r - 1.0);
+    assert!((depth - 1.0).abs() > 1e-2, "the depth model should show its known gap, got {depth}");
 }

@@ -53,7 +53,10 @@ fn the_drum_of_cubes_turns_its_charge_stably() {
     sim.advance(sim.plan().run.steps);
     let o = sim.observables();
     assert!(o.finite && o.particles == 380);
-    assert!(o.max_overlap_ratio < 0.1, "overlap δ/r {}", o.max_overlap_ratio);
+    // Cubes dropped 0.22 m onto soft contacts (k_n = 2500 N/m): crossed edges, which the volume
+    // model meets with a force growing as δ² (docs/polyhedra.md), sink deepest (measured 0.24;
+    // 0.07 with the depth model, whose corners and edges all meet k_n).
+    assert!(o.max_overlap_ratio < 0.35, "overlap δ/r {}", o.max_overlap_ratio);
     // Dropped from the lattice, the charge has fallen below the axis and the walls did positive work.
     let p = sim.cpu().drum_profiles()[0];
     eprintln!("after {} s: COM {:.1}° at {:.4} m, wall work {:.3e} J", sim.time(), p.com_angle, p.com_radius, o.wall_work);

@@ -125,6 +125,10 @@ shared! {
     QUERY_VOLUME_WALL = 4;
     /// 16-byte words of one answer.
     ANSWER_WORDS = 5;
+
+    // ---- The overlap-volume contact ----
+    /// Material points per edge against a cylinder (tumble-geom's `CYLINDER_EDGE_POINTS`).
+    CYLINDER_EDGE_POINTS = 8;
 }
 
 // A face clipped by a face has at most twice its vertices; a wall manifold holds every vertex.
@@ -132,8 +136,6 @@ const _: () = assert!(2 * MAX_FACE_VERTICES <= MANIFOLD_POINTS && MAX_VERTICES <
 
 /// Real-valued model constants the kernels share with the host (the prelude declares each as
 /// `const NAME: f32`); tumble-gpu's tests hold them equal to tumble-geom's.
-pub const SHARED_F32: &[(&str, f32)] = &[("VOLUME_SHARE", VOLUME_SHARE), ("CORNER_SMOOTHING", CORNER_SMOOTHING)];
-/// The share of the normal law an overlap-volume contact gives its volume (tumble-geom's `VOLUME_SHARE`).
-pub const VOLUME_SHARE: f32 = 0.5;
+pub const SHARED_F32: &[(&str, f32)] = &[("CORNER_SMOOTHING", CORNER_SMOOTHING)];
 /// The corner depth's smoothing width over the smaller bounding radius (tumble-geom's `CORNER_SMOOTHING`).
 pub const CORNER_SMOOTHING: f32 = 0.01;

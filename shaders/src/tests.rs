@@ -12,6 +12,9 @@ const SHADER_LOCAL: &[&str] = &[
     "REDUCE_ELASTIC",
     "REDUCE_DISSIPATED",
     "REDUCE_FLUID",
+    "VC_SHAPE",
+    "VC_PLANES",
+    "VC_CYLINDER",
 ];
 
 /// Names of the module-scope `const` declarations of a WGSL text (function-scope ones are indented).

@@ -124,13 +124,13 @@ pub fn a_small_drum_of_cubes_with_lifters_agrees_with_the_cpu() {
     }
     assert!(c.power[1] > 0.1 * scale && g.power[1] > 0.1 * scale, "the lifters lift: cpu {:?} gpu {:?}", c.power, g.power);
     assert!((c.work - g.work).abs() < 0.05 * c.work, "wall work: cpu {} gpu {}", c.work, g.work);
-    // The GPU books the walls' work as the CPU does. Neither closes it exactly: polyhedron
-    // contacts gain energy the books do not hold (docs/drum.md, "Energy bookkeeping with
-    // cubes"; measured −14 % of the work on the CPU, −11 % on the GPU, −7 % each over the
-    // second half), so the GPU's residual is held to the CPU's.
-    assert!(residual(&g).abs() < 0.2, "gpu: work {} vs Δ mechanical {} + dissipated {}", g.work, g.gain, g.dissipated);
-    assert!((residual(&g) - residual(&c)).abs() < 0.05, "energy residual: cpu {} gpu {}", residual(&c), residual(&g));
-    assert!((late(&g) - late(&c)).abs() < 0.03, "second-half residual: cpu {} gpu {}", late(&c), late(&g));
+    // The books close on both backends: the volume model's contacts are potentials, so the walls'
+    // work goes into mechanical energy and dissipation (the depth model left −14 % of the work
+    // on the CPU, −11 % on the GPU). What remains is Verlet's error at t_col/20 (−0.07 % at t_col/50).
+    for (name, r) in [("cpu", &c), ("gpu", &g)] {
+        assert!(residual(r).abs() < 0.01, "{name}: work {} vs Δ mechanical {} + dissipated {}", r.work, r.gain, r.dissipated);
+        assert!(late(r).abs() < 0.01, "{name}: second-half residual {}", late(r));
+    }
 }
 
 pub fn the_drum_of_cubes_scene_runs_on_the_gpu() {

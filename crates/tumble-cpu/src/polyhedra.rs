@@ -112,11 +112,15 @@ fn volume_force<const HIST: bool>(
     let depth = k.volume / a_ref;
     let vn = -volume_rate / a_ref;
     let (applied, mut elastic, mut dissipation, stiffness) = law(depth, vn, 1.0);
+    let gain = k.push.length() / a_ref;
+    // The contact's normal stiffness (for tangential laws timed by t_col): every part's.
+    let mut stiffness = stiffness * gain * gain;
     let per_volume = applied / a_ref;
     let mut normal_force = k.push * per_volume;
     let (mut torque_a, mut torque_b) = (k.turn_a * per_volume, k.turn_b * per_volume);
     for c in &k.points {
-        let (applied, energy, loss, _) = law(c.depth, c.normal.dot(v_at(c.point)), c.weight);
+        let (applied, energy, loss, point_stiffness) = law(c.depth, c.normal.dot(v_at(c.point)), c.weight);
+        stiffness += c.weight * point_stiffness * c.normal.length_squared();
         let f = c.normal * applied;
         normal_force += f;
         torque_a += (c.point - xa).cross(f);
@@ -127,8 +131,7 @@ fn volume_force<const HIST: bool>(
     let n = k.normal;
     let normal = normal_force.dot(n).max(0.0);
     let v = v_at(k.point);
-    let gain = k.push.length() / a_ref;
-    let t = tangential_part::<HIST>(params, normal, stiffness * gain * gain, depth, r_star, m_star, n, v - n * v.dot(n), dt, old_spring, spring);
+    let t = tangential_part::<HIST>(params, normal, stiffness, depth, r_star, m_star, n, v - n * v.dot(n), dt, old_spring, spring);
     let out =
         ContactForce { force: normal_force + t.force, tangential: t.force, normal, elastic: elastic + t.energy, dissipation: dissipation + t.loss };
     torque_a += (k.point - xa).cross(t.force);

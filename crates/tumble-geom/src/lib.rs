@@ -37,6 +37,7 @@ mod sphere_quad;
 mod sphere_sphere;
 mod surface;
 mod volume_contact;
+mod volume_walls;
 
 pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosing_sphere_of_spheres, tangent_balls};
 pub use overlap_volume::{OverlapVolume, overlap_volume, overlap_volume_about};
@@ -57,3 +58,4 @@ pub use surface::{SurfaceContact, SurfaceShape};
 pub use volume_contact::{
     CORNER_SMOOTHING, PenetratingPoint, VolumeContact, edge_density, face_on_weight, polyhedron_polyhedron_volume, wall_hull_volume,
 };
+pub use volume_walls::CYLINDER_EDGE_POINTS;

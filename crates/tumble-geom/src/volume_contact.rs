@@ -11,17 +11,10 @@
 //! edges as a cone would (force ∝ δ²). The volume alone would leave corners (∝ δ⁵) and crossed
 //! edges soft, the corners alone would let edges pass through edges.
 //!
-//! A wall is the solid behind its surface: a plane's half-space, a quad's semi-infinite prism
-//! (the quad and its four side planes, so a box of quads is closed), and for a cylinder the
-//! half-space behind its tangent plane at the azimuth of A's centre. That plane turns with A's
-//! centre, so V depends on the centre's azimuth too, and the force carries the term that
-//! derivative gives: w'(V) (S − T_u (u × r)/|r|²) with T_u the overlap's moment about the axis.
-//! It makes the shell's normal force exert no torque about its own axis, as a cylinder's must.
-//! Corners and edges meet the true cylinder.
+//! Walls are in `volume_walls.rs`.
 
 use crate::overlap_volume::{Moments, PLANE_TOLERANCE, Region, Slab, outside_slab, overlap_moments_in, segment_pieces, with_scratch};
-use crate::polyhedron_polyhedron::Buf;
-use crate::{Cylinder, DVec3, Plane, Polyhedron, Pose, Quad, SurfaceShape, polyhedron_polyhedron};
+use crate::{DVec3, Polyhedron, Pose, polyhedron_polyhedron};
 
 /// The corner count of a polyhedron's largest face over its perimeter: the multiple of the normal
 /// law an edge carries per unit length inside the other body.
@@ -94,7 +87,24 @@ impl VolumeContact {
         -(self.push.dot(v_rel) + self.turn_a.dot(omega_a) + self.turn_b.dot(omega_b))
     }
 
-    fn from_moments(
+    /// A contact of corner and edge loads alone (no volume yet), normal `normal` at `point`;
+    /// `None` without loads.
+    pub(crate) fn points_only(normal: DVec3, point: DVec3, points: Vec<PenetratingPoint>) -> Option<VolumeContact> {
+        let depth = points.iter().map(|p| p.depth).fold(0.0, f64::max);
+        (depth > 0.0).then_some(VolumeContact {
+            volume: 0.0,
+            push: DVec3::ZERO,
+            turn_a: DVec3::ZERO,
+            turn_b: DVec3::ZERO,
+            normal,
+            point,
+            area: 0.0,
+            depth,
+            points,
+        })
+    }
+
+    pub(crate) fn from_moments(
         m: &Moments,
         origin: DVec3,
         xa: DVec3,
@@ -159,7 +169,15 @@ fn edges_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, origin:
 
 /// Every corner and edge point of A inside B and of B inside A, the edges weighed by their body's
 /// [`edge_density`] (a wall's edges by the polyhedron's).
-fn penetrating_points(a: &Region, b: &Region, origin: DVec3, tau: f64, a_density: f64, b_density: f64, slab: Slab) -> Vec<PenetratingPoint> {
+pub(crate) fn penetrating_points(
+    a: &Region,
+    b: &Region,
+    origin: DVec3,
+    tau: f64,
+    a_density: f64,
+    b_density: f64,
+    slab: Slab,
+) -> Vec<PenetratingPoint> {
     let mut out = Vec::new();
     corners_inside(&mut out, a, b, origin, tau, 1.0, slab);
     corners_inside(&mut out, b, a, origin, tau, -1.0, slab);
@@ -193,7 +211,7 @@ pub fn polyhedron_polyhedron_volume(a: &Polyhedron, pose_a: &Pose, b: &Polyhedro
 /// The volume contact of a pair whose separating-axis contact is (point, normal, depth); B's edges
 /// carry `b_density` per unit length.
 #[allow(clippy::too_many_arguments)]
-fn pair_volume(
+pub(crate) fn pair_volume(
     a: &Polyhedron,
     pose_a: &Pose,
     b: &Polyhedron,
@@ -215,192 +233,6 @@ fn pair_volume(
     })
 }
 
-/// A square of half-size `half` about `centre` in the plane with unit normal `n`, counter-clockwise about n.
-fn square(centre: DVec3, n: DVec3, half: f64) -> Buf<DVec3> {
-    let u = n.any_orthonormal_vector() * half;
-    let v = n.cross(u);
-    [centre - u - v, centre + u - v, centre + u + v, centre - u + v].into_iter().collect()
-}
-
-/// Makes `r` the solid behind a plane through the origin with outward unit normal `m` (pointing
-/// out of the solid), big enough for a body of bounding radius `rb` about the origin.
-fn set_half_space(r: &mut Region, m: DVec3, rb: f64) {
-    r.clear();
-    r.planes.push((m, 0.0));
-    r.add_face(m, square(DVec3::ZERO, m, 2.0 * rb));
-}
-
-impl Plane {
-    /// The overlap-volume contact of a polyhedron with the half-space behind this plane.
-    pub fn polyhedron_volume(&self, poly: &Polyhedron, pose: &Pose) -> Option<VolumeContact> {
-        let (h, rb) = (self.signed_distance(pose.position), poly.bounding_radius());
-        if h >= rb {
-            return None;
-        }
-        let foot = pose.position - self.normal * h;
-        with_scratch(|s| {
-            s.a.set_polyhedron(poly, pose, foot);
-            set_half_space(&mut s.b, self.normal, rb);
-            let (m, depth) = overlap_moments_in(&s.a, &s.b, PLANE_TOLERANCE * rb, None, &mut s.clip)?;
-            let density = edge_density(poly);
-            let points = penetrating_points(&s.a, &s.b, foot, CORNER_SMOOTHING * rb, density, density, None);
-            VolumeContact::from_moments(&m, foot, pose.position, None, m.area, depth, points)
-        })
-    }
-}
-
-impl Quad {
-    /// The overlap-volume contact of a polyhedron with the semi-infinite prism behind this quad
-    /// (on the side away from the polyhedron's centre for a two-sided quad; none once the centre
-    /// is behind a one-sided quad). The quad's corners and rim are the solid's corners and edges.
-    pub fn polyhedron_volume(&self, poly: &Polyhedron, pose: &Pose) -> Option<VolumeContact> {
-        let rb = poly.bounding_radius();
-        let h = self.normal.dot(pose.position - self.corners[0]);
-        if h.abs() >= rb || (!self.two_sided && h <= 0.0) {
-            return None;
-        }
-        let m = if h > 0.0 { self.normal } else { -self.normal };
-        let origin = pose.position - m * h.abs();
-        let c: [DVec3; 4] = self.corners.map(|p| p - origin);
-        let middle = c.iter().copied().sum::<DVec3>() / 4.0;
-        let ccw = |mut p: Buf<DVec3>, n: DVec3| {
-            if (p[1] - p[0]).cross(p[2] - p[0]).dot(n) < 0.0 {
-                p.reverse();
-            }
-            p
-        };
-        let depth_behind = 2.0 * rb;
-        with_scratch(|sc| {
-            let solid = &mut sc.b;
-            solid.clear();
-            solid.planes.push((m, m.dot(c[0])));
-            solid.vertices.extend_from_slice(&c);
-            solid.edges.extend((0..4).map(|k| [c[k], c[(k + 1) % 4]]));
-            solid.add_face(m, ccw(c.into_iter().collect(), m));
-            for k in 0..4 {
-                let (p, q) = (c[k], c[(k + 1) % 4]);
-                let mut s = (q - p).cross(m).normalize();
-                if s.dot(middle - p) > 0.0 {
-                    s = -s;
-                }
-                solid.planes.push((s, s.dot(p)));
-                solid.add_face(s, ccw([p, q, q - m * depth_behind, p - m * depth_behind].into_iter().collect(), s));
-            }
-            sc.a.set_polyhedron(poly, pose, origin);
-            let (mo, depth) = overlap_moments_in(&sc.a, &sc.b, PLANE_TOLERANCE * rb, None, &mut sc.clip)?;
-            let density = edge_density(poly);
-            let points = penetrating_points(&sc.a, &sc.b, origin, CORNER_SMOOTHING * rb, density, density, None);
-            VolumeContact::from_moments(&mo, origin, pose.position, None, mo.area, depth, points)
-        })
-    }
-}
-
-impl Cylinder {
-    /// The overlap-volume contact of a polyhedron with the solid beyond the shell (inside: a
-    /// drum) or within it (outside: a pipe), taken behind the tangent plane at the azimuth of the
-    /// polyhedron's centre (module docs); only while the centre projects within the length.
-    pub fn polyhedron_volume(&self, poly: &Polyhedron, pose: &Pose) -> Option<VolumeContact> {
-        let rel = pose.position - self.point;
-        let s = rel.dot(self.axis);
-        if s < 0.0 || s > self.length {
-            return None;
-        }
-        let radial = rel - self.axis * s;
-        let rho = radial.length();
-        let rb = poly.bounding_radius();
-        if rho < 1e-12 * self.radius || (self.inside && rho + rb <= self.radius) || (!self.inside && rho - rb >= self.radius) {
-            return None;
-        }
-        let out = radial / rho;
-        let m = if self.inside { -out } else { out };
-        let surface = self.point + self.axis * s + out * self.radius;
-        with_scratch(|sc| {
-            sc.a.set_polyhedron(poly, pose, surface);
-            set_half_space(&mut sc.b, m, rb);
-            let (mo, depth) = overlap_moments_in(&sc.a, &sc.b, PLANE_TOLERANCE * rb, None, &mut sc.clip)?;
-            // ∂V/∂φ of the tangent plane's azimuth: the overlap's moment about the axis.
-            let t_u = (mo.moment - (self.point - surface).cross(mo.area)).dot(self.axis);
-            let push = mo.area - self.axis.cross(radial) * (t_u / (rho * rho));
-            let points = self.penetrating_points(&sc.a, surface, edge_density(poly));
-            VolumeContact::from_moments(&mo, surface, pose.position, None, push, depth, points)
-        })
-    }
-
-    /// The depth of `p` beyond the shell (drum) or within it (pipe), with its gradient (towards
-    /// the inside of the drum, away from the pipe's axis).
-    fn penetration(&self, p: DVec3) -> Option<(f64, DVec3)> {
-        let r = p - self.point;
-        let across = r - self.axis * r.dot(self.axis);
-        let len = across.length();
-        let (depth, normal) = if self.inside { (len - self.radius, -across / len) } else { (self.radius - len, across / len) };
-        (depth > 0.0 && len > 0.0).then_some((depth, normal))
-    }
-
-    /// Corners and edge points of A (a region about `origin`) against the true cylinder; edges by
-    /// three Gauss points over the part of each edge that penetrates (the depth is not linear
-    /// along an edge here, so the quadrature is close, not exact).
-    fn penetrating_points(&self, a: &Region, origin: DVec3, density: f64) -> Vec<PenetratingPoint> {
-        let mut out = Vec::new();
-        for &v in &a.vertices {
-            if let Some((depth, normal)) = self.penetration(v + origin) {
-                out.push(PenetratingPoint { point: v + origin, depth, normal, weight: 1.0 });
-            }
-        }
-        for &[p0, p1] in &a.edges {
-            let (p0, p1) = (p0 + origin, p1 + origin);
-            // ρ(s)² = |w + s e|² with w, e across the axis: where it crosses R².
-            let across = |v: DVec3| v - self.axis * v.dot(self.axis);
-            let (w, e) = (across(p0 - self.point), across(p1 - p0));
-            let (qa, qb, qc) = (e.length_squared(), 2.0 * w.dot(e), w.length_squared() - self.radius * self.radius);
-            let disc = qb * qb - 4.0 * qa * qc;
-            if qa <= 0.0 || disc <= 0.0 {
-                continue;
-            }
-            let (r0, r1) = ((-qb - disc.sqrt()) / (2.0 * qa), (-qb + disc.sqrt()) / (2.0 * qa));
-            // Beyond the shell (drum) is outside the roots; within it (pipe) between them.
-            let pieces: Buf<(f64, f64)> = if self.inside {
-                [(0.0, r0.min(1.0)), (r1.max(0.0), 1.0)].into_iter().collect()
-            } else {
-                [(r0.max(0.0), r1.min(1.0))].into_iter().collect()
-            };
-            let length = (p1 - p0).length();
-            for (s0, s1) in pieces {
-                if s1 <= s0 {
-                    continue;
-                }
-                let (mid, half) = (0.5 * (s0 + s1), 0.5 * (s1 - s0));
-                for (x, wt) in GAUSS {
-                    let p = p0 + (p1 - p0) * (mid + half * x);
-                    if let Some((depth, normal)) = self.penetration(p) {
-                        out.push(PenetratingPoint { point: p, depth, normal, weight: wt * half * length * density });
-                    }
-                }
-            }
-        }
-        out
-    }
-}
-
-impl SurfaceShape {
-    /// The overlap-volume contact of a convex polyhedron (at `pose`) with this wall; a lifter
-    /// bar is its hull, met as a polyhedron (its edges weighed by the polyhedron's edge density,
-    /// as every wall's are).
-    pub fn polyhedron_volume(&self, poly: &Polyhedron, pose: &Pose) -> Option<VolumeContact> {
-        match self {
-            SurfaceShape::Plane(p) => p.polyhedron_volume(poly, pose),
-            SurfaceShape::Quad(q) => q.polyhedron_volume(poly, pose),
-            SurfaceShape::Cylinder(c) => c.polyhedron_volume(poly, pose),
-            SurfaceShape::Prism(p) => {
-                if (pose.position - p.centre).length() > p.bound + poly.bounding_radius() {
-                    return None;
-                }
-                let c = wall_hull_volume(poly, pose, p.hull.as_deref()?, &p.hull_pose)?;
-                Some(VolumeContact { turn_b: DVec3::ZERO, ..c })
-            }
-        }
-    }
-}
-
 /// A polyhedron against a wall's hull (a lifter bar): the pair's contact with the hull's edges
 /// weighed by the polyhedron's edge density.
 pub fn wall_hull_volume(poly: &Polyhedron, pose: &Pose, hull: &Polyhedron, hull_pose: &Pose) -> Option<VolumeContact> {
@@ -411,6 +243,7 @@ pub fn wall_hull_volume(poly: &Polyhedron, pose: &Pose, hull: &Polyhedron, hull_
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Cylinder, Plane, Quad, SurfaceShape};
     use glam::DQuat;
 
     /// Central differences of V(x, q) against push and turn_a at `trials` random poses near the wall.
@@ -471,6 +304,7 @@ mod tests {
         let shapes = [Polyhedron::cube(1.0), Polyhedron::dodecahedron(0.6), Polyhedron::octahedron(1.2), Polyhedron::tetrahedron(1.3)];
         let quad = Quad::new([DVec3::new(-1.0, -1.0, 0.0), DVec3::new(1.0, -1.0, 0.1), DVec3::new(1.0, 1.0, 0.1), DVec3::new(-1.0, 1.0, 0.0)], false);
         let floor = Plane::new(DVec3::ZERO, DVec3::new(0.1, 0.2, 1.0));
+        let drum = Cylinder::new(DVec3::ZERO, DVec3::Z, 1.0, 1.0, true);
         let mut seed = 0x1234_5678_9abc_def1u64;
         let mut next = || {
             seed ^= seed << 13;
@@ -479,11 +313,16 @@ mod tests {
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
         let (mut checked, mut with_edges) = (0, 0);
-        for trial in 0..240 {
-            let a = &shapes[trial % 4];
+        for trial in 0..320 {
+            let a = &shapes[(trial / 4) % 4];
             let q = DQuat::from_axis_angle(DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize(), 6.0 * next());
             let dir = DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize();
-            let (contact, x): (Box<dyn Fn(&Pose) -> Option<VolumeContact>>, DVec3) = match trial % 3 {
+            let (contact, x): (Box<dyn Fn(&Pose) -> Option<VolumeContact>>, DVec3) = match trial % 4 {
+                3 => (Box::new(|p: &Pose| drum.polyhedron_volume(a, p)), {
+                    let phi = 6.0 * next();
+                    let r = 1.0 - a.bounding_radius() * (0.3 + 0.6 * next());
+                    DVec3::new(r * phi.cos(), r * phi.sin(), 0.5)
+                }),
                 0 => {
                     let b = &shapes[(trial / 3) % 4];
                     let pb = Pose::new(DVec3::ZERO, DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.3 * trial as f64));

@@ -346,6 +346,12 @@ mod tests {
     }
 
     #[test]
+    fn the_volume_contacts_constants_are_tumble_geoms() {
+        assert_eq!(tumble_shaders::CORNER_SMOOTHING as f64, tumble_geom::CORNER_SMOOTHING as f32 as f64);
+        assert_eq!(tumble_shaders::CYLINDER_EDGE_POINTS as usize, tumble_geom::CYLINDER_EDGE_POINTS);
+    }
+
+    #[test]
     fn table_layout_of_a_cube_and_a_tetrahedron() {
         let shapes = [Polyhedron::cube(1.0), Polyhedron::tetrahedron(1.0)];
         let t = shape_table(&shapes).unwrap();

@@ -28,6 +28,7 @@ pub(super) fn features(scene: &Scene, model: &PhysicsModel, mechanics: &Mechanic
                 "every particle is a sphere: no orientation or shape is carried".into()
             },
         },
+        Feature { name: "polyhedron contact", active: polyhedra, reason: polyhedron_contact_reason(model) },
         Feature {
             name: "cohesion",
             active: cohesion,
@@ -175,6 +176,42 @@ fn describe_tangential(law: &TangentialLaw) -> String {
         }
         TangentialLaw::History { friction, spring: SpringLaw::Mindlin { g_star, .. } } => {
             format!("history (Hertz–Mindlin), μ = {friction}, k_t = 8 G* √(R* δ) with G* = {g_star:e} Pa: a spring per contact holds static loads")
+        }
+    }
+}
+
+/// How polyhedra meet, with the stiffness of each contact configuration per shape in the volume
+/// model (multiples of the law's k, docs/polyhedra.md): a face on a larger face, an edge on a face,
+/// a corner, and crossed edges (cone-like: the force grows as δ², its secant stiffness ρ δ k per
+/// edge inside the other body, given at δ = 1 % of the volume-equivalent radius).
+fn polyhedron_contact_reason(model: &PhysicsModel) -> String {
+    if !model.polyhedra {
+        return "no polyhedra".into();
+    }
+    match model.polyhedron_contact {
+        crate::PolyhedronContact::Depth => {
+            "\"depth\": the law at the separating-axis depth at the manifold's depth-weighted point, k in every configuration; not a potential (elastic contacts gain or lose energy)".into()
+        }
+        crate::PolyhedronContact::Volume => {
+            let per_shape: Vec<String> = model
+                .shapes
+                .iter()
+                .map(|s| {
+                    let density = tumble_geom::edge_density(&s.body);
+                    let longest = s.body.edges().iter().map(|e| (s.body.vertices()[e.vertices[1] as usize] - s.body.vertices()[e.vertices[0] as usize]).length()).fold(0.0, f64::max);
+                    format!(
+                        "{}: face on face {:.0} k, edge on face {:.1} k, corner 1 k, crossed edges {:.1e} k per edge at δ = 1 % of r",
+                        s.name,
+                        s.face_on_weight,
+                        2.0 + longest * density,
+                        density * 0.01 * s.equivalent_radius
+                    )
+                })
+                .collect();
+            format!(
+                "\"volume\" (energy-conserving): the law on the overlap volume over the face area, at every corner inside and along every edge inside; {}",
+                per_shape.join("; ")
+            )
         }
     }
 }

@@ -45,5 +45,5 @@ fn continues_bit_identically(backend: BackendName, path: &str, before: u64, afte
 /// batch), and a drum of cubes (orientations and table shapes on top of the moving walls).
 pub fn a_run_continued_from_a_snapshot_is_bit_identical(backend: BackendName) {
     continues_bit_identically(backend, "scenes/conformance/small_mill.toml", 203, 250);
-    continues_bit_identically(backend, "scenes/conformance/cube_drum.toml", 150, 150);
+    continues_bit_identically(backend, "scenes/conformance/cube_drum.toml", 200, 200);
 }
