@@ -3,7 +3,7 @@
 
 use crate::Observables;
 use std::fmt;
-use tumble_scene::Plan;
+use tumble_scene::{Plan, PolyhedronContact};
 
 /// Why a run was stopped.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,9 +34,9 @@ pub struct Monitor {
     max_overlap_ratio: f64,
     energy_growth: f64,
     has_source: bool,
-    /// Polyhedron contacts are not exactly conservative (docs/drum.md): their error grows with
-    /// the energy the contacts exchange, so the dissipated energy joins the scale.
-    polyhedra: bool,
+    /// Depth-model polyhedron contacts are not conservative (docs/polyhedra.md): their error grows
+    /// with the energy the contacts exchange, so the dissipated energy joins the scale.
+    depth_polyhedra: bool,
     initial_energy: f64,
     initial_overlap: f64,
     initial_elastic: f64,
@@ -57,7 +57,7 @@ impl Monitor {
             max_overlap_ratio: plan.run.monitor.max_overlap_ratio,
             energy_growth: plan.run.monitor.energy_growth,
             has_source: plan.model.fluid.is_some(),
-            polyhedra: plan.model.polyhedra,
+            depth_polyhedra: plan.model.polyhedra && plan.model.polyhedron_contact == PolyhedronContact::Depth,
             initial_energy: initial.mechanical_energy() + initial.dissipated_energy - initial.wall_work,
             initial_overlap: if initial.max_overlap_ratio.is_finite() { initial.max_overlap_ratio } else { 0.0 },
             initial_elastic: initial.elastic_energy,
@@ -105,12 +105,12 @@ impl Monitor {
         if !self.has_source {
             // Energy in motion sets the scale: a resting bed must not gain a share of it.
             self.peak_energy.set(self.peak_energy.get().max(moving_energy(o)));
-            let exchanged = if self.polyhedra { o.dissipated_energy.max(0.0) } else { 0.0 };
+            let exchanged = if self.depth_polyhedra { o.dissipated_energy.max(0.0) } else { 0.0 };
             let scale = self.peak_energy.get().max(self.energy_floor) + exchanged;
             // Moving walls are a source whose work is booked: only unbooked gains count.
             let gain = o.mechanical_energy() + o.dissipated_energy - o.wall_work - self.initial_energy;
             if gain > self.energy_growth * scale {
-                let of = if self.polyhedra {
+                let of = if self.depth_polyhedra {
                     "the largest kinetic and elastic energy plus the dissipated energy"
                 } else {
                     "the largest kinetic and elastic energy"
@@ -160,8 +160,8 @@ impl Monitor {
                 self.dt,
                 steps(self.dt)
             )
-        } else if self.polyhedra {
-            "dt will not fix it: polyhedron contacts do not conserve energy exactly (docs/drum.md); raise run.monitor.energy_growth if the gain stays bounded".into()
+        } else if self.depth_polyhedra {
+            "dt will not fix it: the depth model's polyhedron contacts do not conserve energy (docs/polyhedra.md); use contact.polyhedron_model = \"volume\" or raise run.monitor.energy_growth if the gain stays bounded".into()
         } else {
             format!(
                 "dt = {:.4e} s is at or below the plan's default{}, so the step is not the cause: raise run.monitor.energy_growth if the gain is expected",

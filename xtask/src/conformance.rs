@@ -150,9 +150,13 @@ fn bed(backend: Backend, text: &str) -> [f64; 6] {
 /// a handful of perched cubes: its 95th percentile differed by 15 % between the backends while
 /// the mean height agreed to 4 %.)
 ///
-/// The bed is still compacting at 0.36 s, and realisations differ: five CPU runs whose Δt differ by
-/// 1e-4 relative end with mean heights 15 % apart and KE(0.36 s) a factor 7 apart. The CPU's value
-/// is therefore the mean of five such runs (Δt × (1 + k·1e-4), k = −2…2) and the GPU runs the plan's Δt.
+/// The bed is still compacting at 0.36 s (the last cubes slide and tumble on the floor), and
+/// realisations differ: runs whose Δt differ by 1e-4 relative end with mean heights 15 % apart and
+/// KE(0.36 s) / peak anywhere in 2.5e-3…4.3e-2 on either backend (8 CPU and 4 GPU runs). The late
+/// kinetic energy is therefore its mean over the samples from 0.24 s to 0.36 s (single runs
+/// 1.8e-2…4.9e-2 on both backends), the CPU's value is the mean of five runs (Δt × (1 + k·1e-4),
+/// k = −2…2) and the GPU runs the plan's Δt. A bed that kept bouncing (KE/peak ≈ 0.2 at 0.2 s)
+/// or stopped dead would fail.
 fn cube_settling_bed(backend: Backend) -> Vec<Measured> {
     let base = compiled(CUBE_SETTLING_BED);
     let perturbations: &[f64] = if backend == Backend::CpuF64 { &[-2.0, -1.0, 0.0, 1.0, 2.0] } else { &[0.0] };
@@ -169,12 +173,12 @@ fn cube_settling_bed(backend: Backend) -> Vec<Measured> {
         // Single realisations spread by ±8 % about the CPU's mean.
         against_cpu("cube bed: mean height [m]", mean(0), Error::Relative, 1e-1),
         against_cpu("cube bed: KE(0.10 s) / KE peak", mean(1), Error::Absolute, 5e-2),
-        against_cpu("cube bed: KE(0.36 s) / KE peak", mean(2), Error::Absolute, 2e-2),
+        against_cpu("cube bed: mean KE(0.24–0.36 s) / KE peak", mean(2), Error::Absolute, 2.5e-2),
         against_cpu("cube bed: contacts at the end", mean(3), Error::Relative, 0.2),
     ]
 }
 
-/// One cube-bed run: mean height, KE(0.10 s) and KE(0.36 s) over the peak, contacts at the end.
+/// One cube-bed run: mean height, KE(0.10 s) and the mean KE over 0.24–0.36 s over the peak, contacts at the end.
 fn cube_settling_bed_run(backend: Backend, scene: CompiledScene) -> [f64; 4] {
     let (sim, outputs) = run_with_outputs(backend, scene);
     let s = sim.state();
@@ -182,7 +186,8 @@ fn cube_settling_bed_run(backend: Backend, scene: CompiledScene) -> [f64; 4] {
     let ke = |o: &Observables| o.kinetic_energy + o.rotational_energy;
     let peak = outputs.iter().map(ke).fold(0.0, f64::max);
     let ke_at = |t: f64| ke(outputs.iter().min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs())).unwrap()) / peak;
-    [mean, ke_at(0.10), ke_at(0.36), outputs.last().unwrap().contacts as f64]
+    let late: Vec<f64> = outputs.iter().filter(|o| o.time > 0.239).map(|o| ke(o) / peak).collect();
+    [mean, ke_at(0.10), late.iter().sum::<f64>() / late.len() as f64, outputs.last().unwrap().contacts as f64]
 }
 
 /// Octahedron on cube, elastic and head-on: rebound speed over impact speed (1 m/s).
@@ -245,17 +250,21 @@ fn drum_run(backend: Backend, text: &str, samples: u64) -> DrumRun {
 
 /// A short drum of cubes with lifters: drive and lifter power and the charge's centre-of-mass angle
 /// over the second half of the run, the wall work and the energy balance over the whole run. The
-/// balance does not close with cubes on either backend (docs/drum.md, "Energy bookkeeping with
-/// cubes"): the GPU's residual is held to the CPU's. Measured on lavapipe: drive power 1 %, lifter
-/// power 12 %, angle 0.02°, work 0.5 %, residual −0.139 (CPU) against −0.113 (GPU).
+/// overlap-volume contact is a potential, so the balance closes on both backends to Verlet's error
+/// at t_col/20 (within 1 %; the separating-axis depth model left −0.139 on the CPU and −0.113 on
+/// the GPU); the residual is also held to the CPU's.
 fn cube_drum(backend: Backend) -> Vec<Measured> {
     let DrumRun { power, angle, o, gain } = drum_run(backend, CUBE_DRUM, 10);
+    let residual = (o.wall_work - gain) / o.wall_work;
+    let mut books = exact("cube drum: residual against 0 (books closed)", residual, 0.0, 0.01, 0.01);
+    books.error = Error::Absolute;
     vec![
         against_cpu("cube drum: drive power [W]", power.iter().sum(), Error::Relative, 0.1),
         against_cpu("cube drum: lifter power [W]", power[1], Error::Relative, 0.3),
         against_cpu("cube drum: charge COM angle [deg]", angle, Error::Absolute, 5.0),
         against_cpu("cube drum: wall work [J]", o.wall_work, Error::Relative, 0.05),
-        against_cpu("cube drum: (work − ΔE − dissipated) / work", (o.wall_work - gain) / o.wall_work, Error::Absolute, 0.05),
+        against_cpu("cube drum: (work − ΔE − dissipated) / work", residual, Error::Absolute, 0.01),
+        books,
     ]
 }
 

@@ -10,8 +10,9 @@ pub enum RollingModel {
     /// Constant directional torque −μ_r R* F_n ω̂_rel (no history; see [`crate::rolling_torque`]).
     #[default]
     Constant,
-    /// Elastic–plastic spring without damping (Wensrich & Katterfeld 2012; LIGGGHTS `epsd2`):
-    /// the torque is history, it lives beside the tangential spring.
+    /// Elastic–plastic spring without damping (Ai et al. 2011's model C spring, k_r of
+    /// Wensrich & Katterfeld 2012; LIGGGHTS's `epsd2` drops the dashpot too but takes
+    /// k_r = k_t R*²): the torque is history, it lives beside the tangential spring.
     Epsd2,
 }
 
