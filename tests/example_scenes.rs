@@ -10,6 +10,8 @@ fn every_example_scene_runs() {
         std::fs::read_dir(&root).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
     scenes.push(root.join("bench/packed_bed.toml"));
     scenes.push(root.join("bench/packed_bed_history.toml"));
+    scenes.push(root.join("lab_mill/lab_mill_20.toml"));
+    scenes.push(root.join("lab_mill/lab_mill_30.toml"));
     scenes.sort();
     assert!(scenes.len() >= 5);
     for path in scenes {

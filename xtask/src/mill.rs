@@ -20,12 +20,12 @@ use tumble::{FlowCounter, Simulation, compile, read_scene};
 use tumble_scene::schema::MotionSection;
 
 /// Worker threads per run: `TUMBLE_THREADS` or 2 (results are bit-identical for any count).
-fn threads() -> usize {
+pub(crate) fn threads() -> usize {
     std::env::var("TUMBLE_THREADS").ok().and_then(|s| s.parse().ok()).filter(|&n| n > 0).unwrap_or(2)
 }
 
 /// The repository: `TUMBLE_ROOT` (to run a copied binary elsewhere) or the source tree.
-fn root() -> std::path::PathBuf {
+pub(crate) fn root() -> std::path::PathBuf {
     match std::env::var_os("TUMBLE_ROOT") {
         Some(r) => r.into(),
         None => Path::new(env!("CARGO_MANIFEST_DIR")).join(".."),
@@ -34,7 +34,7 @@ fn root() -> std::path::PathBuf {
 
 /// Runs `f` over `items` on `jobs` concurrent threads (each run has its own worker pool),
 /// returning the results in the items' order.
-fn run_all<T: Sync, R: Send>(items: &[T], jobs: usize, f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+pub(crate) fn run_all<T: Sync, R: Send>(items: &[T], jobs: usize, f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     let next = std::sync::atomic::AtomicUsize::new(0);
     let out: Vec<std::sync::Mutex<Option<R>>> = items.iter().map(|_| std::sync::Mutex::new(None)).collect();
     std::thread::scope(|sc| {
@@ -55,11 +55,11 @@ fn run_all<T: Sync, R: Send>(items: &[T], jobs: usize, f: impl Fn(&T) -> R + Syn
 }
 
 /// `--name value` from the arguments.
-fn arg<T: std::str::FromStr>(args: &[String], name: &str) -> Option<T> {
+pub(crate) fn arg<T: std::str::FromStr>(args: &[String], name: &str) -> Option<T> {
     args.iter().position(|a| a == name).and_then(|k| args.get(k + 1)).and_then(|v| v.parse().ok())
 }
 
-fn write(name: &str, svg: String, csv: String) -> Result<(), i32> {
+pub(crate) fn write(name: &str, svg: String, csv: String) -> Result<(), i32> {
     let dir = root().join("docs").join("charts");
     for (ext, text) in [("svg", svg), ("csv", csv)] {
         let path = dir.join(format!("{name}.{ext}"));
@@ -107,13 +107,13 @@ const MEASURE: f64 = 2.5;
 /// Means over the measuring window of a drum or mill run: the drive power per wall group (shell,
 /// lifters, back, front) and the first drum's charge profile.
 #[derive(Clone, Debug)]
-struct ChargeMeans {
-    power: [f64; 4],
-    torque_arm: f64,
-    com_angle: f64,
-    com_radius: f64,
-    toe: f64,
-    shoulder: f64,
+pub(crate) struct ChargeMeans {
+    pub power: [f64; 4],
+    pub torque_arm: f64,
+    pub com_angle: f64,
+    pub com_radius: f64,
+    pub toe: f64,
+    pub shoulder: f64,
 }
 
 impl ChargeMeans {
@@ -127,7 +127,7 @@ impl ChargeMeans {
 
 /// Runs `sim` to its end in samples of 0.05 s, calling `each` after every sample; from `spin_up`
 /// on, averages the charge profile over the samples and the wall groups' work over the time.
-fn charge_means(sim: &mut Simulation, spin_up: f64, mut each: impl FnMut(&Simulation)) -> ChargeMeans {
+pub(crate) fn charge_means(sim: &mut Simulation, spin_up: f64, mut each: impl FnMut(&Simulation)) -> ChargeMeans {
     let every = (0.05 / sim.plan().model.dt).round() as u64;
     let (mut w0, mut t0) = (Vec::new(), 0.0);
     let mut samples = 0.0;
@@ -139,10 +139,10 @@ fn charge_means(sim: &mut Simulation, spin_up: f64, mut each: impl FnMut(&Simula
             continue;
         }
         if w0.is_empty() {
-            (w0, t0) = (sim.cpu().wall_work().to_vec(), sim.time());
+            (w0, t0) = (sim.wall_work(), sim.time());
             continue;
         }
-        let p = sim.cpu().drum_profiles()[0];
+        let p = sim.drum_profiles()[0];
         samples += 1.0;
         arm += p.torque_arm_power;
         angle += p.com_angle;
@@ -150,7 +150,7 @@ fn charge_means(sim: &mut Simulation, spin_up: f64, mut each: impl FnMut(&Simula
         toe += p.toe;
         shoulder += p.shoulder;
     }
-    let work = sim.cpu().wall_work();
+    let work = sim.wall_work();
     let span = sim.time() - t0;
     ChargeMeans {
         power: [0, 1, 2, 3].map(|g| (work[g] - w0[g]) / span),
