@@ -159,7 +159,7 @@ pub fn main_with(cli: Cli) -> i32 {
                     return 2;
                 }
             };
-            // Ctrl-C stops the run after the current chunk; every output is flushed first.
+            // Ctrl-C, SIGTERM (timeout, SLURM) and SIGHUP stop the run after the current chunk; every output is flushed first.
             let interrupt = Arc::new(AtomicBool::new(false));
             let flag = interrupt.clone();
             let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));

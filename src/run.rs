@@ -254,7 +254,9 @@ pub fn run_compiled(compiled: CompiledScene, options: &RunOptions) -> Result<Run
         Some(Stop::Unstable(e)) => Some(e.to_string()),
         Some(Stop::Capacity(e)) => Some(e.clone()),
         Some(Stop::Lost(e)) => Some(e.clone()),
-        Some(Stop::Interrupted) => Some(format!("interrupted by the user at step {} (t = {:.6e} s)", sim.steps(), sim.time())),
+        Some(Stop::Interrupted) => {
+            Some(format!("interrupted by a signal (Ctrl-C, SIGTERM or SIGHUP) at step {} (t = {:.6e} s)", sim.steps(), sim.time()))
+        }
         None => None,
     };
     let status = match &stopped {

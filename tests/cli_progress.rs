@@ -46,7 +46,17 @@ fn progress_is_a_bar_on_a_terminal_and_lines_in_a_pipe() {
 
 #[test]
 fn ctrl_c_stops_cleanly_with_complete_outputs() {
-    let out = tmp("interrupt");
+    stops_cleanly_on("INT");
+}
+
+/// SIGTERM is what `timeout` and SLURM send at a wall-time limit: it must leave what Ctrl-C leaves.
+#[test]
+fn sigterm_stops_cleanly_with_complete_outputs() {
+    stops_cleanly_on("TERM");
+}
+
+fn stops_cleanly_on(signal: &str) {
+    let out = tmp(&format!("interrupt-{signal}"));
     let mut child = Command::new(env!("CARGO_BIN_EXE_tumble"))
         .args(["run", "scenes/box_settle.toml", "--quiet", "--threads", "1", "--out"])
         .arg(&out)
@@ -54,13 +64,13 @@ fn ctrl_c_stops_cleanly_with_complete_outputs() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // Wait until the run has written a few rows, then send SIGINT as a terminal's Ctrl-C does.
+    // Wait until the run has written a few rows, then send the signal (SIGINT is a terminal's Ctrl-C).
     let start = Instant::now();
     while std::fs::read_to_string(out.join("observables.csv")).map_or(0, |t| t.lines().count()) < 3 {
         assert!(start.elapsed() < Duration::from_secs(120), "no output rows appeared");
         std::thread::sleep(Duration::from_millis(50));
     }
-    Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
     let status = child.wait().unwrap();
     let mut stderr = String::new();
     std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut stderr).unwrap();
