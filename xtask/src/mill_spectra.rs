@@ -14,6 +14,10 @@ const E_MIN: f64 = 1e-7;
 const BINS_PER_DECADE: usize = 5;
 const BINS: usize = 9 * BINS_PER_DECADE;
 
+/// Contacts present at a step: ball pairs by id, and (ball id, wall index).
+type PairSet = HashSet<(u32, u32)>;
+type WallSet = HashSet<(u32, usize)>;
+
 /// Impacts counted by energy bin over a measuring window.
 #[derive(Clone, Debug)]
 pub(crate) struct ImpactSpectrum {
@@ -38,14 +42,14 @@ fn lower_edge(k: usize) -> f64 {
 /// at `omega` (rad/s, about the z axis through the origin), as the lab mill's do.
 pub(crate) fn impact_spectrum(sim: &mut Simulation, from: f64, omega: f64) -> ImpactSpectrum {
     let mut s = ImpactSpectrum { ball_ball: [0; BINS], ball_liner: [0; BINS], ball_ball_energy: 0.0, ball_liner_energy: 0.0, seconds: 0.0 };
-    let (mut pairs, mut walls): (HashSet<(u32, u32)>, HashSet<(u32, usize)>) = Default::default();
+    let (mut pairs, mut walls): (PairSet, WallSet) = Default::default();
     let t0 = from.max(sim.time());
     while sim.steps() < sim.plan().run.steps {
         sim.advance(1);
         let counting = sim.time() > t0;
         let state = sim.state();
         let world = sim.walls();
-        let (mut now_pairs, mut now_walls): (HashSet<(u32, u32)>, HashSet<(u32, usize)>) = Default::default();
+        let (mut now_pairs, mut now_walls): (PairSet, WallSet) = Default::default();
         for i in 0..state.len() {
             let (pi, ri) = (state.pos[i], state.radius[i]);
             for j in i + 1..state.len() {
