@@ -88,7 +88,7 @@ struct MillRow {
 
 impl MillRow {
     fn total(&self) -> f64 {
-        self.means.power.iter().sum()
+        self.means.total_power()
     }
 
     /// Bond's ball-mill power (Rowland's metric form, kW per tonne of balls, no pulp, D < 3.3 m so no
@@ -99,8 +99,23 @@ impl MillRow {
     }
 }
 
-const D_MILL: f64 = 0.9;
-const D_BALL: f64 = 0.05;
+/// The laboratory mill's diameter and ball size (scenes/ball_mill.toml, scenes/lab_mill/), m.
+pub(crate) const D_MILL: f64 = 0.9;
+pub(crate) const D_BALL: f64 = 0.05;
+
+/// Critical speed N_c = 42.3 / √(D − d), rpm.
+pub(crate) fn critical_rpm() -> f64 {
+    42.3 / (D_MILL - D_BALL).sqrt()
+}
+
+/// Every rotating wall of `scene` turns at `rpm` (shell, lifters and end plates turn together).
+pub(crate) fn set_rpm(scene: &mut tumble_scene::schema::Scene, rpm: f64) {
+    for w in &mut scene.walls {
+        if let Some(MotionSection::Rotate(r)) = &mut w.motion {
+            r.rpm = rpm;
+        }
+    }
+}
 const SPIN_UP: f64 = 1.5;
 const MEASURE: f64 = 2.5;
 
@@ -117,6 +132,11 @@ pub(crate) struct ChargeMeans {
 }
 
 impl ChargeMeans {
+    /// Drive power summed over every wall group.
+    pub(crate) fn total_power(&self) -> f64 {
+        self.power.iter().sum()
+    }
+
     /// The columns the studies print, in order: the power of the shell, the lifters and both end
     /// plates, the torque-arm estimate, toe, shoulder, and the centre of mass's angle and radius.
     fn columns(&self) -> [f64; 8] {
@@ -164,13 +184,8 @@ pub(crate) fn charge_means(sim: &mut Simulation, spin_up: f64, mut each: impl Fn
 
 fn mill_run(fill_label: &'static str, (nx, ny): (usize, usize), fraction: f64) -> MillRow {
     let mut scene = read_scene(&root().join("scenes/ball_mill.toml")).unwrap();
-    let critical = 42.3 / (D_MILL - D_BALL).sqrt();
-    let rpm = fraction * critical;
-    for w in &mut scene.walls {
-        if let Some(MotionSection::Rotate(r)) = &mut w.motion {
-            r.rpm = rpm;
-        }
-    }
+    let rpm = fraction * critical_rpm();
+    set_rpm(&mut scene, rpm);
     let lattice = scene.particles[0].lattice.as_mut().unwrap();
     let s = lattice.spacing;
     lattice.min[0] = -0.5 * nx as f64 * s;
@@ -614,7 +629,7 @@ pub fn drum(args: &[String]) -> i32 {
             r.label,
             r.particles,
             r.rpm,
-            r.means.power.iter().sum::<f64>(),
+            r.means.total_power(),
             r.max_overlap,
             r.energy_residual,
             r.seconds,

@@ -17,19 +17,17 @@
 //!
 //! Writes docs/charts/mill_calibration.{csv,svg}, mill_spectra.{csv,svg} and mill_sensitivity.csv.
 
-use crate::mill::{ChargeMeans, arg, charge_means, root, run_all, threads, write};
+use crate::mill::{ChargeMeans, arg, charge_means, critical_rpm, root, run_all, set_rpm, threads, write};
 use crate::mill_spectra::{ImpactSpectrum, impact_spectrum, spectra_chart};
 use crate::svg::{LinearAxis, Shape, Style, Svg, YAxis, linear_frame};
 use std::fmt::Write as _;
 use std::time::Instant;
 use tumble::{Simulation, compile, read_scene};
-use tumble_scene::schema::{BackendName, DtSpec, MotionSection, NormalSection, Scene, TangentialSection};
+use tumble_scene::schema::{BackendName, DtSpec, NormalSection, Scene, TangentialSection};
 
 /// Measured net power at the calibration point (20 % filling, 50 % of critical), W: Venugopal &
 /// Rajamani (2001), the figure Blaze-DEM was calibrated on.
 const MEASURED_CALIBRATION_W: f64 = 459.0;
-const D_MILL: f64 = 0.9;
-const D_BALL: f64 = 0.05;
 /// Time to form the charge before power is averaged, s.
 const SPIN_UP: f64 = 2.0;
 /// A calibrated set matches the calibration point within this share.
@@ -46,7 +44,7 @@ struct OperatingPoint {
 
 impl OperatingPoint {
     fn rpm(self) -> f64 {
-        self.fraction * 42.3 / (D_MILL - D_BALL).sqrt()
+        self.fraction * critical_rpm()
     }
     fn scene(self) -> String {
         format!("scenes/lab_mill/lab_mill_{}.toml", self.fill)
@@ -84,7 +82,7 @@ struct MillRun {
 
 impl MillRun {
     fn power(&self) -> f64 {
-        self.means.power.iter().sum()
+        self.means.total_power()
     }
 }
 
@@ -92,11 +90,7 @@ impl MillRun {
 fn scene_for(point: OperatingPoint, params: &Params, seed: u64) -> Scene {
     let mut scene = read_scene(&root().join(point.scene())).unwrap_or_else(|e| panic!("{e}"));
     let rpm = point.rpm();
-    for w in &mut scene.walls {
-        if let Some(MotionSection::Rotate(r)) = &mut w.motion {
-            r.rpm = rpm;
-        }
-    }
+    set_rpm(&mut scene, rpm);
     scene.run.seed = seed;
     scene.run.snapshot_interval = None;
     scene.run.duration = SPIN_UP + params.revolutions.unwrap_or(1.0) * 60.0 / rpm;
@@ -170,6 +164,9 @@ impl Cell {
     fn powers(&self) -> Vec<f64> {
         self.runs.iter().map(MillRun::power).collect()
     }
+    fn mean_power(&self) -> f64 {
+        mean_std(&self.powers()).0
+    }
     fn mean_of(&self, f: impl Fn(&ChargeMeans) -> f64) -> f64 {
         self.runs.iter().map(|r| f(&r.means)).sum::<f64>() / self.runs.len() as f64
     }
@@ -228,7 +225,7 @@ fn run_cells(backend: BackendName, jobs: usize, seeds: u64, cells: Vec<(Operatin
 pub fn run(args: &[String]) -> i32 {
     if args.iter().any(|a| a == "--help") {
         eprintln!(
-            "cargo xtask mill-calibrate [--seeds N (5)] [--jobs J (2)] [--backend cpu|gpu] [--no-sensitivity]\n  calibrates the ball–liner friction of scenes/lab_mill/ on 459 W (20 % filling, 50 % of critical), predicts the other operating points, varies one parameter at a time; docs/charts/mill_calibration.*, mill_sensitivity.csv"
+            "cargo xtask mill-calibrate [--seeds N (5)] [--jobs J (2)] [--backend cpu|gpu] [--no-sensitivity]\n  calibrates the ball–liner friction and rolling resistance of scenes/lab_mill/ on 459 W (20 % filling, 50 % of critical), predicts the other operating points, writes collision-energy spectra, varies one parameter at a time; docs/charts/mill_calibration.*, mill_spectra.*, mill_sensitivity.csv"
         );
         return 0;
     }
@@ -257,7 +254,7 @@ pub fn run(args: &[String]) -> i32 {
         .windows(2)
         .filter(|w| w[0].params.liner_friction == w[1].params.liner_friction)
         .filter_map(|w| {
-            let (p0, p1) = (mean_std(&w[0].powers()).0, mean_std(&w[1].powers()).0);
+            let (p0, p1) = (w[0].mean_power(), w[1].mean_power());
             let (r0, r1) = (w[0].params.rolling_friction.unwrap_or(0.0), w[1].params.rolling_friction.unwrap_or(0.0));
             ((p0 - MEASURED_CALIBRATION_W) * (p1 - MEASURED_CALIBRATION_W) < 0.0).then(|| {
                 let mu_r = r0 + (MEASURED_CALIBRATION_W - p0) / (p1 - p0) * (r1 - r0);
@@ -266,7 +263,7 @@ pub fn run(args: &[String]) -> i32 {
         })
         .collect();
     calibration.extend(run_cells(backend, jobs, seeds, crossings));
-    let miss = |c: &Cell| mean_std(&c.powers()).0 / MEASURED_CALIBRATION_W - 1.0;
+    let miss = |c: &Cell| c.mean_power() / MEASURED_CALIBRATION_W - 1.0;
     let mut ranked: Vec<&Cell> = calibration.iter().collect();
     ranked.sort_by(|a, b| miss(a).abs().total_cmp(&miss(b).abs()));
     let matched: Vec<&Cell> = ranked.iter().copied().filter(|c| miss(c).abs() <= MATCH).collect();
@@ -347,7 +344,7 @@ pub fn run(args: &[String]) -> i32 {
             (Params { revolutions: Some(2.0), ..best }, "two revolutions averaged"),
         ];
         let cells = run_cells(backend, jobs, seeds, variants.iter().map(|(p, l)| (CALIBRATION, *p, l.to_string())).collect());
-        let base = mean_std(&cells[0].powers()).0;
+        let base = cells[0].mean_power();
         let mut sens = String::from(
             "# one parameter at a time about the calibrated set, at 20 % filling and 50 % of critical\nvariant,seeds,power_mean_w,power_sd_w,change_pct,wall_seconds_per_run\n",
         );
@@ -395,15 +392,14 @@ fn calibration_chart(calibration: &[Cell], predictions: &[Cell], sets: &[Params]
         let colour = liner_colours[k % liner_colours.len()];
         let mut sorted: Vec<&Cell> = calibration.iter().filter(|c| c.params.liner_friction == mu).collect();
         sorted.sort_by(|a, b| a.params.rolling_friction.unwrap_or(0.0).total_cmp(&b.params.rolling_friction.unwrap_or(0.0)));
-        let curve: Vec<(f64, f64)> =
-            sorted.iter().map(|c| (xm.px(c.params.rolling_friction.unwrap_or(0.0)), yp.px(mean_std(&c.powers()).0))).collect();
+        let curve: Vec<(f64, f64)> = sorted.iter().map(|c| (xm.px(c.params.rolling_friction.unwrap_or(0.0)), yp.px(c.mean_power()))).collect();
         doc.polyline(&curve, colour, 2.0, None, 1.0);
         for c in &sorted {
             let x = xm.px(c.params.rolling_friction.unwrap_or(0.0));
             for p in c.powers() {
                 doc.marker(Shape::Circle, x, yp.px(p), 5.0, colour, true);
             }
-            doc.marker(Shape::Circle, x, yp.px(mean_std(&c.powers()).0), 9.0, colour, false);
+            doc.marker(Shape::Circle, x, yp.px(c.mean_power()), 9.0, colour, false);
         }
     }
     let xs = LinearAxis { lo: 20.0, hi: 80.0, step: 10.0, p0: 690.0, p1: 1150.0 };
@@ -420,12 +416,12 @@ fn calibration_chart(calibration: &[Cell], predictions: &[Cell], sets: &[Params]
                 .map(|c| (100.0 * c.point.fraction, c))
                 .collect();
             pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let line: Vec<(f64, f64)> = pts.iter().map(|(x, c)| (xs.px(*x), yp.px(mean_std(&c.powers()).0))).collect();
+            let line: Vec<(f64, f64)> = pts.iter().map(|(x, c)| (xs.px(*x), yp.px(c.mean_power()))).collect();
             doc.polyline(&line, colour, 1.5, None, 0.8);
             for (x, c) in &pts {
                 let (lo, hi) = c.powers().iter().fold((f64::MAX, f64::MIN), |(a, b), &p| (a.min(p), b.max(p)));
                 doc.line((xs.px(*x), yp.px(lo)), (xs.px(*x), yp.px(hi)), colour, 1.0, None);
-                doc.marker(shape, xs.px(*x), yp.px(mean_std(&c.powers()).0), 8.0, colour, false);
+                doc.marker(shape, xs.px(*x), yp.px(c.mean_power()), 8.0, colour, false);
             }
         }
     }
