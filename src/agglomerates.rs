@@ -21,7 +21,7 @@ use tumble_broad::CellGrid;
 use tumble_geom::{DVec3, PeriodicBox, enclosing_sphere_of_spheres};
 
 /// Statistics of the agglomerates at one instant (one row of agglomerates.csv).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AgglomerateStats {
     /// Particles looked at.
     pub particles: usize,

@@ -1,6 +1,6 @@
 //! The command line (docs/cli.md, "Commands").
 
-use crate::{RunError, RunOptions, load_scene, run_compiled};
+use crate::{RunError, RunOptions, load_scene};
 use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -42,6 +42,26 @@ pub enum Command {
         /// Replace an earlier tumble run's outputs in the output folder.
         #[arg(long)]
         overwrite: bool,
+        /// Write a checkpoint every S seconds of simulated time (overrides run.checkpoint_interval).
+        #[arg(long, value_name = "S")]
+        checkpoint_interval: Option<f64>,
+    },
+    /// Continue a run from the newest checkpoint in its output folder, appending to its files.
+    Resume {
+        /// The run's output folder (with checkpoints/).
+        dir: PathBuf,
+        /// Continue to this simulated time instead of the run's duration (seconds).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Worker threads [default: all cores]; the CPU's results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Write a checkpoint every S seconds of simulated time from now on.
+        #[arg(long, value_name = "S")]
+        checkpoint_interval: Option<f64>,
+        /// No progress lines.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Run the analytic verification cases and print the table; exit status 1 on any failure.
     Verify,
@@ -130,7 +150,18 @@ pub fn main_with(cli: Cli) -> i32 {
                 }
             }
         }
-        Command::Run { scene, out, backend, threads, duration, dt, quiet, overwrite } => {
+        Command::Resume { dir, duration, threads, checkpoint_interval, quiet } => {
+            if let Err(e) = check_threads(threads).and(check_interval(checkpoint_interval)).and(check_duration(duration)) {
+                eprintln!("error: {e}");
+                return 2;
+            }
+            let mut options = RunOptions { duration, checkpoint_interval, ..interactive_options(quiet) };
+            if let Some(t) = threads {
+                options.threads = t;
+            }
+            finish_run(crate::resume_run(&dir, &options))
+        }
+        Command::Run { scene, out, backend, threads, duration, dt, quiet, overwrite, checkpoint_interval } => {
             let backend = match backend.as_deref() {
                 None => None,
                 Some("cpu") => Some(BackendName::Cpu),
@@ -140,16 +171,8 @@ pub fn main_with(cli: Cli) -> i32 {
                     return 2;
                 }
             };
-            if threads == Some(0) {
-                eprintln!("error: --threads must be at least 1");
-                return 2;
-            }
-            // Far more threads than cores only adds scheduling (thousands of them stall the run).
-            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-            if let Some(t) = threads
-                && t > 4 * cores
-            {
-                eprintln!("error: --threads {t}: this machine has {cores} cores; use at most {}", 4 * cores);
+            if let Err(e) = check_threads(threads).and(check_interval(checkpoint_interval)) {
+                eprintln!("error: {e}");
                 return 2;
             }
             let compiled = match load_scene(&scene, duration, dt) {
@@ -159,52 +182,86 @@ pub fn main_with(cli: Cli) -> i32 {
                     return 2;
                 }
             };
-            // Ctrl-C, SIGTERM (timeout, SLURM) and SIGHUP stop the run after the current chunk; every output is flushed first.
-            let interrupt = Arc::new(AtomicBool::new(false));
-            let flag = interrupt.clone();
-            let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
-            let mut options = RunOptions {
-                out_dir: out,
-                duration,
-                dt,
-                progress: !quiet,
-                terminal: std::io::stderr().is_terminal(),
-                interrupt: Some(interrupt),
-                backend,
-                overwrite,
-                ..Default::default()
-            };
+            let mut options = RunOptions { out_dir: out, duration, dt, backend, overwrite, checkpoint_interval, ..interactive_options(quiet) };
             if let Some(t) = threads {
                 options.threads = t;
             }
-            match run_compiled(compiled, &options) {
-                Ok(s) => {
-                    for w in &s.warnings {
-                        eprintln!("warning: {w}");
-                    }
-                    print_out(&format!(
-                        "{} steps of {} particles in {:.3} s: {:.3e} particle-steps/s; outputs in {}\n",
-                        s.steps,
-                        s.particles,
-                        s.wall_seconds,
-                        s.particle_steps_per_second,
-                        s.out_dir.display()
-                    ));
-                    0
-                }
-                Err(e @ (RunError::Unstable(_) | RunError::Capacity(_) | RunError::Lost(_))) => {
-                    eprintln!("error: {e}");
-                    3
-                }
-                Err(e @ RunError::Interrupted { .. }) => {
-                    eprintln!("{e}");
-                    130
-                }
+            let record = match crate::scene_record(&scene, &options) {
+                Ok(r) => r,
                 Err(e) => {
                     eprintln!("error: {e}");
-                    2
+                    return 2;
                 }
+            };
+            finish_run(crate::run_recorded(compiled, Some(record), &options))
+        }
+    }
+}
+
+/// Options of a run from the command line: progress unless `quiet`, and Ctrl-C, SIGTERM
+/// (timeout, SLURM) and SIGHUP stop the run after the current chunk with every output flushed.
+fn interactive_options(quiet: bool) -> RunOptions {
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let flag = interrupt.clone();
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    RunOptions { progress: !quiet, terminal: std::io::stderr().is_terminal(), interrupt: Some(interrupt), ..Default::default() }
+}
+
+fn check_threads(threads: Option<usize>) -> Result<(), String> {
+    if threads == Some(0) {
+        return Err("--threads must be at least 1".into());
+    }
+    // Far more threads than cores only adds scheduling (thousands of them stall the run).
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    match threads {
+        Some(t) if t > 4 * cores => Err(format!("--threads {t}: this machine has {cores} cores; use at most {}", 4 * cores)),
+        _ => Ok(()),
+    }
+}
+
+fn check_interval(interval: Option<f64>) -> Result<(), String> {
+    match interval {
+        Some(s) if !(s.is_finite() && s > 0.0) => Err(format!("--checkpoint-interval {s}: must be a positive number of seconds")),
+        _ => Ok(()),
+    }
+}
+
+fn check_duration(duration: Option<f64>) -> Result<(), String> {
+    match duration {
+        Some(s) if !(s.is_finite() && s > 0.0) => Err(format!("--duration {s}: must be a positive number of seconds")),
+        _ => Ok(()),
+    }
+}
+
+/// Prints how a run ended and returns the exit code: 0 done, 3 stopped by the physics or a
+/// capacity, 130 interrupted, 2 anything else (nothing run).
+fn finish_run(result: Result<crate::RunSummary, RunError>) -> i32 {
+    match result {
+        Ok(s) => {
+            for w in &s.warnings {
+                eprintln!("warning: {w}");
             }
+            print_out(&format!(
+                "{} steps of {} particles in {:.3} s: {:.3e} particle-steps/s; outputs in {}\n",
+                s.steps,
+                s.particles,
+                s.wall_seconds,
+                s.particle_steps_per_second,
+                s.out_dir.display()
+            ));
+            0
+        }
+        Err(e @ (RunError::Unstable(_) | RunError::Capacity(_) | RunError::Lost(_))) => {
+            eprintln!("error: {e}");
+            3
+        }
+        Err(e @ RunError::Interrupted { .. }) => {
+            eprintln!("{e}");
+            130
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            2
         }
     }
 }

@@ -12,6 +12,7 @@ use tumble_scene::Plan;
 use tumble_state::State;
 
 /// Net mass carried through each flow plane, positive along its normal.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub struct FlowCounter {
     /// Level of each particle at the last count for each plane, by particle id ([`UNSEEN`] before the first).
     level: Vec<Vec<i64>>,

@@ -13,6 +13,7 @@
 //! ```
 
 pub mod agglomerates;
+pub mod checkpoint;
 pub mod cli;
 mod flow;
 mod monitor;
@@ -21,13 +22,15 @@ mod output;
 mod progress;
 pub mod render;
 mod run;
+pub mod seed;
 mod simulation;
+mod summary;
 pub mod verify;
 pub mod vtk;
 
 pub use flow::FlowCounter;
 pub use monitor::{Instability, Monitor};
-pub use run::{RunError, RunOptions, RunSummary, load_scene, run_compiled, run_scene_file};
+pub use run::{CheckpointReport, RunError, RunOptions, RunSummary, load_scene, resume_run, run_compiled, run_recorded, run_scene_file, scene_record};
 pub use simulation::Simulation;
 pub use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};
 pub use tumble_state::{Backend, DrumProfile, Fault, Frame, Observables, Snapshot, SnapshotError, State, TrackRow};

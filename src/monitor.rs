@@ -29,6 +29,7 @@ impl fmt::Display for Instability {
 pub const SUSPECT_INITIAL_OVERLAP: f64 = 0.1;
 
 /// Watches observables at t = 0 and between output intervals.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub struct Monitor {
     enabled: bool,
     max_overlap_ratio: f64,

@@ -19,6 +19,24 @@ pub struct ExtraColumns {
     pub flow: Vec<(f64, f64)>,
 }
 
+/// Opens `name` in `dir`: a new file that `header` starts, or, for a resumed run, the file
+/// as it is (already cut back to the checkpoint's rows) for appending.
+fn open_csv(
+    dir: &Path,
+    name: &str,
+    append: bool,
+    header: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
+) -> std::io::Result<BufWriter<File>> {
+    let path = dir.join(name);
+    if append {
+        return Ok(BufWriter::new(std::fs::OpenOptions::new().append(true).open(path)?));
+    }
+    let mut w = BufWriter::new(File::create(path)?);
+    header(&mut w)?;
+    w.flush()?;
+    Ok(w)
+}
+
 /// observables.csv, one row per output interval.
 pub struct ObservablesCsv(BufWriter<File>);
 
@@ -26,8 +44,12 @@ impl ObservablesCsv {
     /// Header: the fixed columns, `fluid_work` with a fluid, then `power_<wall>` per moving wall
     /// and `wall_work`, then per wall group `fx_<g>,fy_<g>,fz_<g>,tx_<g>,ty_<g>,tz_<g>`, then per drum `charge_mass_<d>,com_angle_<d>,com_radius_<d>,toe_<d>,shoulder_<d>,torque_arm_power_<d>`,
     /// then per flow plane `flow_<p>,mass_<p>`.
-    pub fn create(dir: &Path, plan: &Plan) -> std::io::Result<Self> {
-        let mut w = BufWriter::new(File::create(dir.join("observables.csv"))?);
+    /// The file, new or (`append`) continued.
+    pub fn open(dir: &Path, plan: &Plan, append: bool) -> std::io::Result<Self> {
+        open_csv(dir, "observables.csv", append, |w| Self::header(w, plan)).map(ObservablesCsv)
+    }
+
+    fn header(w: &mut BufWriter<File>, plan: &Plan) -> std::io::Result<()> {
         write!(w, "t,kinetic_energy,rotational_energy,potential_energy,elastic_energy,dissipated_energy,contacts,max_overlap_ratio,removed")?;
         if plan.model.fluid.is_some() {
             write!(w, ",fluid_work")?;
@@ -49,8 +71,7 @@ impl ObservablesCsv {
         for p in &plan.model.flow_planes {
             write!(w, ",flow_{0},mass_{0}", p.name)?;
         }
-        writeln!(w)?;
-        Ok(ObservablesCsv(w))
+        writeln!(w)
     }
 
     /// One row; `removed` counts the particles that have left the domain since t = 0.
@@ -103,10 +124,11 @@ pub struct TracksCsv {
 }
 
 impl TracksCsv {
-    pub fn create(dir: &Path, plan: &tumble_scene::Plan) -> std::io::Result<Self> {
-        let mut w = BufWriter::new(File::create(dir.join("tracks.csv"))?);
+    /// The file, new or (`append`) continued.
+    pub fn open(dir: &Path, plan: &tumble_scene::Plan, append: bool) -> std::io::Result<Self> {
         let orientation = plan.model.polyhedra;
-        writeln!(w, "t,id,x,y,z,vx,vy,vz,wx,wy,wz{}", if orientation { ",qw,qx,qy,qz" } else { "" })?;
+        let w =
+            open_csv(dir, "tracks.csv", append, |w| writeln!(w, "t,id,x,y,z,vx,vy,vz,wx,wy,wz{}", if orientation { ",qw,qx,qy,qz" } else { "" }))?;
         Ok(TracksCsv { w, orientation })
     }
 
@@ -131,9 +153,9 @@ pub struct AgglomeratesCsv {
 }
 
 impl AgglomeratesCsv {
-    pub fn create(dir: &Path, particles: usize) -> std::io::Result<Self> {
-        let mut w = BufWriter::new(File::create(dir.join("agglomerates.csv"))?);
-        writeln!(w, "{}", crate::agglomerates::csv_header(particles))?;
+    /// The file, new or (`append`) continued; `particles` at the start sets the histogram's bins.
+    pub fn open(dir: &Path, particles: usize, append: bool) -> std::io::Result<Self> {
+        let w = open_csv(dir, "agglomerates.csv", append, |w| writeln!(w, "{}", crate::agglomerates::csv_header(particles)))?;
         Ok(AgglomeratesCsv { w, bins: crate::agglomerates::histogram_bins(particles) })
     }
 

@@ -33,6 +33,15 @@ impl Simulation {
         }
     }
 
+    /// Sets up a compiled scene on the named backend starting from `state` (see
+    /// [`CpuSimulation::from_state`]; the GPU does not take its springs).
+    pub fn from_state(backend: BackendName, scene: CompiledScene, state: State, threads: usize) -> Result<Self, GpuError> {
+        Ok(match backend {
+            BackendName::Cpu => Self::with_backend(Box::new(CpuSimulation::from_state(scene, state, threads))),
+            BackendName::Gpu => Self::with_backend(Box::new(GpuSimulation::from_state(scene, state)?)),
+        })
+    }
+
     /// Wraps any backend.
     pub fn with_backend(backend: Box<dyn Backend>) -> Self {
         Simulation { backend }

@@ -20,8 +20,11 @@ pub struct SnapshotWriter {
     format: SnapshotFormat,
     moving_walls: bool,
     /// (series name, its entries): particles, bodies, walls, contacts.
-    series: Vec<(&'static str, Vec<(f64, String)>)>,
+    series: Vec<(String, Vec<(f64, String)>)>,
 }
+
+/// Each series' entries (time, file relative to the output folder), as a checkpoint keeps them.
+pub type SeriesIndex = Vec<(String, Vec<(f64, String)>)>;
 
 fn pvd(entries: &[(f64, String)]) -> String {
     let mut pvd = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
@@ -44,14 +47,37 @@ impl SnapshotWriter {
         Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format, moving_walls, series: Vec::new() })
     }
 
+    /// Continues the series of a resumed run: the .pvd files list `series` again, and snapshot
+    /// files written after the checkpoint (the resumed run writes them anew) are removed.
+    pub fn reopen(out_dir: &Path, plan: &tumble_scene::Plan, series: SeriesIndex) -> io::Result<Self> {
+        std::fs::create_dir_all(out_dir.join("snapshots"))?;
+        let kept: std::collections::HashSet<&str> = series.iter().flat_map(|(_, e)| e.iter().map(|(_, f)| f.as_str())).collect();
+        for e in std::fs::read_dir(out_dir.join("snapshots"))? {
+            let name = format!("snapshots/{}", e?.file_name().to_string_lossy());
+            if !kept.contains(name.as_str()) {
+                std::fs::remove_file(out_dir.join(&name))?;
+            }
+        }
+        for (name, entries) in &series {
+            std::fs::write(out_dir.join(format!("{name}.pvd")), pvd(entries))?;
+        }
+        let moving_walls = plan.model.walls.iter().any(|w| w.motion.is_some());
+        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format: plan.run.snapshot_format, moving_walls, series })
+    }
+
+    /// Every series' entries so far.
+    pub fn index(&self) -> &SeriesIndex {
+        &self.series
+    }
+
     /// Writes `data` as `snapshots/<series>_<index>.vtp` and rewrites `<series>.pvd`.
-    fn add(&mut self, series: &'static str, index: usize, time: f64, data: &PolyData) -> io::Result<()> {
+    fn add(&mut self, series: &str, index: usize, time: f64, data: &PolyData) -> io::Result<()> {
         let name = format!("snapshots/{series}_{index:06}.vtp");
         std::fs::write(self.out_dir.join(&name), encode(data, self.format))?;
         let k = match self.series.iter().position(|(s, _)| *s == series) {
             Some(k) => k,
             None => {
-                self.series.push((series, Vec::new()));
+                self.series.push((series.to_string(), Vec::new()));
                 self.series.len() - 1
             }
         };

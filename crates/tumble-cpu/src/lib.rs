@@ -89,9 +89,15 @@ pub struct CpuSimulation {
 impl CpuSimulation {
     /// Sets up the state and evaluates the initial forces, on `threads` worker threads.
     pub fn new(scene: CompiledScene, threads: usize) -> Self {
+        let state = State::from_scene(&scene);
+        Self::from_state(scene, state, threads)
+    }
+
+    /// Sets up `scene` starting from `state` (a state of the same model: [`State::from_scene`]'s
+    /// arrays, springs included) instead of the scene's particles.
+    pub fn from_state(scene: CompiledScene, state: State, threads: usize) -> Self {
         let threads = threads.max(1);
         let pool = std::sync::Arc::new(rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool"));
-        let state = State::from_scene(&scene);
         let slots = state.history.slots;
         // A one-cell placeholder: the first broad phase sizes the real grid to the particles.
         let grid = CellGrid::new(&scene.plan.model.domain, scene.plan.model.domain.extent().max_element());

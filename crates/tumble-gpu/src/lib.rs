@@ -96,6 +96,13 @@ pub struct GpuSimulation {
 impl GpuSimulation {
     /// Uploads a compiled scene to the process's GPU and evaluates the initial forces.
     pub fn new(scene: CompiledScene) -> Result<Self, GpuError> {
+        let state = tumble_state::State::from_scene(&scene);
+        Self::from_state(scene, state)
+    }
+
+    /// Sets up `scene` starting from `state` ([`tumble_state::State::from_scene`]'s arrays)
+    /// instead of the scene's particles. Springs in `state` are not carried onto the device.
+    pub fn from_state(scene: CompiledScene, state: tumble_state::State) -> Result<Self, GpuError> {
         let hulls = prisms::PrismHulls::new(&scene.plan)?;
         if scene.plan.model.pairs.iter().any(|p| p.rolling > 0.0 && p.rolling_model == tumble_contact::RollingModel::Epsd2) {
             return Err(GpuError::Feature(
@@ -106,7 +113,6 @@ impl GpuSimulation {
             return Err(GpuError::Feature(format!("{why}; use backend = \"cpu\"")));
         }
         let gpu = context::gpu()?;
-        let state = tumble_state::State::from_scene(&scene);
         let plan = scene.plan;
         let arrays = upload::ParticleArrays::from_state(&state, &plan);
         let slots = arrays.pos.len() as u32;

@@ -275,6 +275,12 @@ pub struct RunSettings {
     pub steps: u64,
     pub output_every: u64,
     pub snapshot_every: Option<u64>,
+    /// Steps between checkpoints (`tumble resume`), when the scene asks for them.
+    pub checkpoint_every: Option<u64>,
+    /// Newest checkpoints kept.
+    pub checkpoint_keep: usize,
+    /// A checkpoint (file or run folder) whose particles replace the scene's at t = 0.
+    pub start_from: Option<String>,
     pub backend: BackendName,
     pub monitor: MonitorSection,
     /// Write agglomerates.csv at every output interval.

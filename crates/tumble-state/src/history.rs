@@ -39,12 +39,53 @@ impl Spring {
 }
 
 /// One generation of spring slots: `slots` per particle, the first `count[i]` in use.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+///
+/// Serialised compactly, with the slots in use only (a packed bed uses about a third of
+/// them): what is beyond `count[i]` is never read, so a restore may leave it zero.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct HistorySlots {
     pub slots: usize,
     pub count: Vec<u16>,
     pub key: Vec<u32>,
     pub spring: Vec<Spring>,
+}
+
+/// [`HistorySlots`] as serialised: the counts, then the keys and springs in use, particle by particle.
+#[derive(Serialize, Deserialize)]
+struct UsedSlots {
+    slots: usize,
+    count: Vec<u16>,
+    key: Vec<u32>,
+    spring: Vec<Spring>,
+}
+
+impl Serialize for HistorySlots {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let n = self.count.len();
+        let used = (0..n).flat_map(|i| i * self.slots..i * self.slots + self.count[i] as usize);
+        let (key, spring) = used.map(|k| (self.key[k], self.spring[k])).unzip();
+        UsedSlots { slots: self.slots, count: self.count.clone(), key, spring }.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for HistorySlots {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let used = UsedSlots::deserialize(deserializer)?;
+        let total: usize = used.count.iter().map(|&c| c as usize).sum();
+        if used.count.iter().any(|&c| c as usize > used.slots) || used.key.len() != total || used.spring.len() != total {
+            return Err(serde::de::Error::custom("contact history: slot counts do not match the springs"));
+        }
+        let mut slots = HistorySlots::new(used.count.len(), used.slots);
+        let mut next = 0;
+        for (i, &c) in used.count.iter().enumerate() {
+            let base = i * used.slots;
+            slots.key[base..base + c as usize].copy_from_slice(&used.key[next..next + c as usize]);
+            slots.spring[base..base + c as usize].copy_from_slice(&used.spring[next..next + c as usize]);
+            next += c as usize;
+        }
+        slots.count = used.count;
+        Ok(slots)
+    }
 }
 
 impl HistorySlots {

@@ -126,10 +126,14 @@ impl std::error::Error for SnapshotError {}
 impl Snapshot {
     /// Encodes as magic, version (little-endian u32), then the postcard body (f64 bit-exact).
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut out = MAGIC.to_vec();
-        out.extend_from_slice(&self.version.to_le_bytes());
-        out.extend(postcard::to_stdvec(self).expect("a snapshot always encodes"));
-        out
+        self.write_to(Vec::new()).expect("a snapshot always encodes into memory")
+    }
+
+    /// Streams what [`Snapshot::to_bytes`] returns into `w` (a file: no copy of the whole in memory).
+    pub fn write_to<W: std::io::Write>(&self, mut w: W) -> std::io::Result<W> {
+        w.write_all(MAGIC)?;
+        w.write_all(&self.version.to_le_bytes())?;
+        postcard::to_io(self, w).map_err(std::io::Error::other)
     }
 
     /// Decodes what [`Snapshot::to_bytes`] wrote, refusing other versions.

@@ -70,11 +70,17 @@ pub(super) struct Schedule {
     pub steps: u64,
     pub output_every: u64,
     pub snapshot_every: Option<u64>,
+    pub checkpoint_every: Option<u64>,
+    pub checkpoint_keep: usize,
 }
 
 /// The most steps a run may take: far beyond any real run (days at 1e7 particle-steps/s for
 /// one particle), so a Δt of 1e-320 s is refused instead of hanging.
 pub const MAX_STEPS: f64 = 1e10;
+
+/// Checkpoints kept when the scene does not say: the newest and two before it, in case the
+/// newest was written by a run whose files were damaged afterwards.
+pub const DEFAULT_CHECKPOINT_KEEP: usize = 3;
 
 pub(super) fn schedule(scene: &Scene, dt: f64) -> Result<Schedule, SceneError> {
     let run = &scene.run;
@@ -96,7 +102,18 @@ pub(super) fn schedule(scene: &Scene, dt: f64) -> Result<Schedule, SceneError> {
         Some(s) => Some(((positive("run.snapshot_interval", s)? / dt).round() as u64).max(1)),
         None => None,
     };
-    Ok(Schedule { steps, output_every, snapshot_every })
+    let checkpoint_every = match run.checkpoint_interval {
+        Some(s) => Some(((positive("run.checkpoint_interval", s)? / dt).round() as u64).max(1)),
+        None => None,
+    };
+    let checkpoint_keep = match run.checkpoint_keep {
+        Some(0) => {
+            return Err(SceneError::field("run.checkpoint_keep", "checkpoint_keep = 0 would keep no checkpoint to resume from; use 1 or more"));
+        }
+        Some(k) => k as usize,
+        None => DEFAULT_CHECKPOINT_KEEP,
+    };
+    Ok(Schedule { steps, output_every, snapshot_every, checkpoint_every, checkpoint_keep })
 }
 
 /// The instability monitor's thresholds.

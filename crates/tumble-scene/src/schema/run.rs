@@ -73,6 +73,11 @@ pub struct RunSection {
     pub max_lost_fraction: f64,
     /// Write agglomerates.csv at every output interval (default: when cohesion is on).
     pub agglomerates: Option<bool>,
+    /// Simulated seconds between checkpoints (`checkpoints/` in the output folder, for
+    /// `tumble resume`); none by default.
+    pub checkpoint_interval: Option<f64>,
+    /// Checkpoints kept (the newest ones); 3.
+    pub checkpoint_keep: Option<u32>,
 }
 
 fn default_seed() -> u64 {
@@ -94,6 +99,10 @@ pub struct StartSection {
     /// Skip the overlap checks (a deliberately compressed packing).
     #[serde(default)]
     pub allow_overlap: bool,
+    /// Take the particles' state (positions, velocities, spins, orientations, springs) from a
+    /// checkpoint of another run: a checkpoint file or a run's output folder (its newest).
+    #[serde(default)]
+    pub from: Option<String>,
 }
 
 fn default_start_overlap() -> f64 {
@@ -102,7 +111,7 @@ fn default_start_overlap() -> f64 {
 
 impl Default for StartSection {
     fn default() -> Self {
-        StartSection { max_overlap: default_start_overlap(), allow_overlap: false }
+        StartSection { max_overlap: default_start_overlap(), allow_overlap: false, from: None }
     }
 }
 

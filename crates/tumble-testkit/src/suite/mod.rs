@@ -11,7 +11,8 @@
 //! - `polyhedra`: a tumbling box (E and L), a cube resting face-down, an elastic
 //!   octahedron–cube impact, a cube struck by a plate and dragged by a belt;
 //! - `determinism`: two runs bit-identical (and on the CPU one and two threads);
-//! - `restore`: a run continued from a snapshot bit-identical to the one that wrote it;
+//! - `restore`: a run continued from a snapshot bit-identical to the one that wrote it; a run
+//!   stopped and resumed from its checkpoints writing the files of one that went straight through;
 //! - `periodic`: energy across wraps of a periodic axis, a flow plane on one, image counts
 //!   through a snapshot.
 //!
@@ -63,6 +64,7 @@ behaviours![
     polyhedra::a_belt_drags_a_cube_to_its_speed,
     determinism::two_runs_of_a_scene_are_bit_identical,
     restore::a_run_continued_from_a_snapshot_is_bit_identical,
+    restore::a_resumed_run_writes_the_files_of_an_uninterrupted_one,
     periodic::a_sphere_sliding_round_a_periodic_incline_keeps_its_energy,
     periodic::a_flow_plane_on_a_periodic_axis_measures_the_mass_flux_of_a_stream,
     periodic::a_periodic_run_continued_from_a_snapshot_keeps_its_image_counts,

@@ -1,0 +1,304 @@
+//! Checkpoints: a whole run frozen between two steps, in `checkpoints/` of its output folder,
+//! for `tumble resume` and for seeding other runs (docs/cli.md, "Checkpoints and resume").
+//!
+//! A checkpoint holds the backend's [`Snapshot`](tumble_state::Snapshot) (bytes), the run loop's
+//! books (monitor, wall-power and flow baselines, how long each output file was) and the scene
+//! text with the command's overrides, so a resumed run needs nothing but the folder. Files are
+//! written to a temporary name, synced and renamed: a run killed at any moment leaves complete
+//! checkpoints only.
+
+use serde::{Deserialize, Serialize};
+use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use tumble_state::Snapshot;
+
+/// The layout of a checkpoint file; a reader refuses any other.
+pub const CHECKPOINT_VERSION: u32 = 1;
+
+/// The first bytes of a checkpoint file.
+const MAGIC: &[u8; 8] = b"TUMBLECK";
+
+/// Magic, layout version, CRC-32 of the body, body length.
+const HEADER_BYTES: usize = 8 + 4 + 4 + 8;
+
+/// The folder of checkpoints inside a run's output folder.
+pub const FOLDER: &str = "checkpoints";
+
+/// The scene a run was started with: what `tumble resume` compiles again.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneRecord {
+    /// The scene file as the command named it (for messages; the text below is what counts).
+    pub path: PathBuf,
+    pub text: String,
+    /// `--duration` and `--dt` of the command that started the run.
+    pub duration: Option<f64>,
+    pub dt: Option<f64>,
+    /// `--checkpoint-interval` of the command that started or last resumed the run.
+    pub checkpoint_interval: Option<f64>,
+}
+
+/// A checkpoint's record of the run: everything but the backend's snapshot.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CheckpointHeader {
+    /// The tumble release that wrote it (a different one may continue, not bit-identically).
+    pub tumble_version: String,
+    /// The scene, when the run was started from a file (a library run may have none).
+    pub scene: Option<SceneRecord>,
+    /// `cpu` or `gpu`.
+    pub backend: String,
+    pub step: u64,
+    pub time: f64,
+    /// The run loop's books, encoded by the run loop.
+    pub books: Vec<u8>,
+}
+
+/// One checkpoint file's content.
+#[derive(Clone, Debug)]
+pub struct Checkpoint {
+    pub header: CheckpointHeader,
+    pub snapshot: Snapshot,
+}
+
+/// Counts and checksums what passes through to `inner`.
+struct Hashing<W> {
+    inner: W,
+    crc: crc32fast::Hasher,
+    len: u64,
+}
+
+impl<W: Write> Write for Hashing<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.crc.update(&buf[..n]);
+        self.len += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+impl Checkpoint {
+    /// Writes the file's bytes into `w`: the header (magic, layout version, CRC-32 and length of
+    /// the body) and the body (the postcard record, then the snapshot's own encoding), streamed
+    /// so that no copy of a large state is made in memory.
+    pub fn write_to<W: Write + Seek>(&self, w: W) -> std::io::Result<W> {
+        let mut w = w;
+        let start = w.stream_position()?;
+        w.write_all(&[0; HEADER_BYTES])?;
+        let mut body = Hashing { inner: BufWriter::with_capacity(1 << 20, w), crc: crc32fast::Hasher::new(), len: 0 };
+        postcard::to_io(&self.header, &mut body).map_err(std::io::Error::other)?;
+        let mut body = self.snapshot.write_to(body)?;
+        body.flush()?;
+        let (crc, len) = (body.crc.finalize(), body.len);
+        let mut w = body.inner.into_inner().map_err(|e| e.into_error())?;
+        w.seek(SeekFrom::Start(start))?;
+        w.write_all(MAGIC)?;
+        w.write_all(&CHECKPOINT_VERSION.to_le_bytes())?;
+        w.write_all(&crc.to_le_bytes())?;
+        w.write_all(&len.to_le_bytes())?;
+        w.seek(SeekFrom::End(0))?;
+        Ok(w)
+    }
+
+    /// The file's bytes in memory.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        self.write_to(std::io::Cursor::new(Vec::new())).expect("a checkpoint always encodes into memory").into_inner()
+    }
+
+    /// Decodes what [`Checkpoint::to_bytes`] wrote; a damaged, cut or foreign file says why.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Checkpoint, String> {
+        if bytes.len() < HEADER_BYTES || &bytes[..8] != MAGIC {
+            return Err("not a tumble checkpoint (no TUMBLECK header)".into());
+        }
+        let version = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
+        if version != CHECKPOINT_VERSION {
+            return Err(format!(
+                "checkpoint layout version {version}, but this tumble reads version {CHECKPOINT_VERSION}; resume with the tumble that wrote it"
+            ));
+        }
+        let crc = u32::from_le_bytes(bytes[12..16].try_into().unwrap());
+        let len = u64::from_le_bytes(bytes[16..24].try_into().unwrap());
+        let body = &bytes[HEADER_BYTES..];
+        if body.len() as u64 != len {
+            return Err(format!("the file is cut or extended: its header gives {len} body bytes, the file has {}", body.len()));
+        }
+        if crc32fast::hash(body) != crc {
+            return Err("the file is damaged: its checksum does not match its content".into());
+        }
+        let (header, rest) = postcard::take_from_bytes::<CheckpointHeader>(body).map_err(|e| format!("the record cannot be decoded: {e}"))?;
+        let snapshot = Snapshot::from_bytes(rest).map_err(|e| e.to_string())?;
+        Ok(Checkpoint { header, snapshot })
+    }
+}
+
+/// The file name of the checkpoint at `step`: names sort in step order.
+fn file_name(step: u64) -> String {
+    format!("step_{step:012}.ckpt")
+}
+
+/// The step of a checkpoint file name, if it is one.
+fn step_of(name: &str) -> Option<u64> {
+    name.strip_prefix("step_")?.strip_suffix(".ckpt")?.parse().ok()
+}
+
+/// The checkpoints in `out_dir`, oldest first (temporary files of an interrupted write are not among them).
+pub fn list(out_dir: &Path) -> std::io::Result<Vec<(u64, PathBuf)>> {
+    let dir = out_dir.join(FOLDER);
+    let mut found = Vec::new();
+    match std::fs::read_dir(&dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(found),
+        Err(e) => return Err(e),
+        Ok(entries) => {
+            for e in entries {
+                let e = e?;
+                if let Some(step) = e.file_name().to_str().and_then(step_of) {
+                    found.push((step, e.path()));
+                }
+            }
+        }
+    }
+    found.sort();
+    Ok(found)
+}
+
+/// Writes `checkpoint` atomically (temporary file, fsync, rename, fsync of the folder) and
+/// keeps the newest `keep`; returns its path and size in bytes.
+pub fn write(out_dir: &Path, checkpoint: &Checkpoint, keep: usize) -> std::io::Result<(PathBuf, u64)> {
+    let dir = out_dir.join(FOLDER);
+    std::fs::create_dir_all(&dir)?;
+    let path = dir.join(file_name(checkpoint.header.step));
+    let tmp = dir.join(format!(".{}.tmp", file_name(checkpoint.header.step)));
+    let f = checkpoint.write_to(std::fs::File::create(&tmp)?)?;
+    f.sync_all()?;
+    let bytes = f.metadata()?.len();
+    drop(f);
+    std::fs::rename(&tmp, &path)?;
+    // The rename itself is durable only once the folder is synced.
+    std::fs::File::open(&dir)?.sync_all()?;
+    let all = list(out_dir)?;
+    for (_, old) in &all[..all.len().saturating_sub(keep.max(1))] {
+        std::fs::remove_file(old)?;
+    }
+    Ok((path, bytes))
+}
+
+/// Removes the temporary files of checkpoint writes that a killed run left unfinished.
+pub fn remove_unfinished(out_dir: &Path) -> std::io::Result<()> {
+    let Ok(entries) = std::fs::read_dir(out_dir.join(FOLDER)) else { return Ok(()) };
+    for e in entries {
+        let e = e?;
+        if e.file_name().to_str().is_some_and(|n| n.starts_with('.') && n.ends_with(".ckpt.tmp")) {
+            std::fs::remove_file(e.path())?;
+        }
+    }
+    Ok(())
+}
+
+/// Reads one checkpoint file; the message names the file.
+pub fn read(path: &Path) -> Result<Checkpoint, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: cannot read the checkpoint: {e}", path.display()))?;
+    Checkpoint::from_bytes(&bytes).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The newest checkpoint of the run in `out_dir`.
+pub fn newest(out_dir: &Path) -> Result<(PathBuf, Checkpoint), String> {
+    let all = list(out_dir).map_err(|e| format!("{}: cannot read the checkpoints: {e}", out_dir.join(FOLDER).display()))?;
+    let Some((_, path)) = all.last() else {
+        return Err(format!(
+            "{}: no checkpoint to resume from (the run had no run.checkpoint_interval or --checkpoint-interval, or stopped before its first checkpoint)",
+            out_dir.display()
+        ));
+    };
+    match read(path) {
+        Ok(c) => Ok((path.clone(), c)),
+        Err(e) if all.len() > 1 => Err(format!("{e}; remove it to resume from the one before ({})", all[all.len() - 2].1.display())),
+        Err(e) => Err(e),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(step: u64) -> Checkpoint {
+        let scene = crate::compile(&crate::parse_scene(SCENE).unwrap()).unwrap();
+        let mut sim = crate::Simulation::new(scene, 1);
+        sim.advance(step % 7);
+        Checkpoint {
+            header: CheckpointHeader {
+                tumble_version: "0.1.0".into(),
+                scene: Some(SceneRecord { path: "a.toml".into(), text: SCENE.into(), duration: Some(1.0), dt: None, checkpoint_interval: None }),
+                backend: "cpu".into(),
+                step,
+                time: step as f64 * 1e-5,
+                books: vec![1, 2, 3],
+            },
+            snapshot: sim.snapshot(),
+        }
+    }
+
+    const SCENE: &str = "name = \"pair\"\n[run]\nduration = 0.01\ndt = 1e-4\n[domain]\nmin = [-1.0, -1.0, -1.0]\nmax = [1.0, 1.0, 1.0]\n\
+        [[materials]]\nname = \"m\"\ndensity = 1000.0\n[contact]\nnormal = { model = \"linear\", stiffness = 1000.0 }\nrestitution = 0.5\n\
+        [[particles]]\nmaterial = \"m\"\nshape = { sphere = { diameter = 0.1 } }\npositions = [[0.0, 0.0, 0.0], [0.2, 0.0, 0.0]]\nvelocity = [1.0, 0.0, 0.0]\n";
+
+    fn fresh(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("tumble-checkpoint-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn a_checkpoint_reads_back_as_written() {
+        let c = sample(42);
+        let back = Checkpoint::from_bytes(&c.to_bytes()).unwrap();
+        assert_eq!(back.to_bytes(), c.to_bytes());
+        assert_eq!(back.header.scene, c.header.scene);
+        assert_eq!(back.snapshot, c.snapshot);
+    }
+
+    #[test]
+    fn every_damaged_byte_and_every_cut_is_refused() {
+        let bytes = sample(7).to_bytes();
+        for k in 0..bytes.len() {
+            let mut bad = bytes.clone();
+            bad[k] ^= 0x10;
+            assert!(Checkpoint::from_bytes(&bad).is_err(), "a flipped bit at byte {k} was accepted");
+        }
+        for n in 0..bytes.len() {
+            assert!(Checkpoint::from_bytes(&bytes[..n]).is_err(), "a file cut to {n} bytes was accepted");
+        }
+        let e = Checkpoint::from_bytes(&bytes[..bytes.len() - 1]).unwrap_err();
+        assert!(e.contains("cut"), "{e}");
+    }
+
+    #[test]
+    fn only_the_newest_are_kept_and_no_temporary_file_is_left() {
+        let d = fresh("keep");
+        for step in [0, 100, 200, 300, 400] {
+            write(&d, &sample(step), 3).unwrap();
+        }
+        let steps: Vec<u64> = list(&d).unwrap().into_iter().map(|(s, _)| s).collect();
+        assert_eq!(steps, vec![200, 300, 400]);
+        let names: Vec<String> = std::fs::read_dir(d.join(FOLDER)).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
+        assert_eq!(newest(&d).unwrap().1.header.step, 400);
+    }
+
+    #[test]
+    fn a_damaged_newest_checkpoint_is_named_with_the_one_before() {
+        let d = fresh("damaged");
+        write(&d, &sample(100), 3).unwrap();
+        let (path, _) = write(&d, &sample(200), 3).unwrap();
+        let mut bytes = std::fs::read(&path).unwrap();
+        let n = bytes.len();
+        bytes[n - 3] ^= 1;
+        std::fs::write(&path, bytes).unwrap();
+        let e = newest(&d).unwrap_err();
+        assert!(e.contains("step_000000000200.ckpt") && e.contains("damaged") && e.contains("step_000000000100.ckpt") && !e.contains('\n'), "{e}");
+        let e = newest(&fresh("none")).unwrap_err();
+        assert!(e.contains("no checkpoint"), "{e}");
+    }
+}
