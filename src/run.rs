@@ -80,6 +80,8 @@ pub struct RunSummary {
     pub warnings: Vec<String>,
     /// The step of the checkpoint this run was resumed from.
     pub resumed_from_step: Option<u64>,
+    /// Why the run ended before its duration (`run.end_when`), if it did.
+    pub ended_early: Option<String>,
     /// The checkpoints this run wrote, when checkpoints are on.
     pub checkpoints: Option<CheckpointReport>,
 }
@@ -482,6 +484,12 @@ impl<'o> Run<'o> {
             let snapshot = snapshot_every.is_some_and(|k| step.is_multiple_of(k));
             if on_cadence || snapshot {
                 stopped = self.rows(step, on_cadence, snapshot)?;
+                if let Some(Stop::Ended(_)) = stopped
+                    && self.checkpoint_every.is_some()
+                {
+                    // The state a later run starts from (run.start.from).
+                    self.checkpoint()?;
+                }
                 if stopped.is_some() {
                     break;
                 }
@@ -517,6 +525,7 @@ impl<'o> Run<'o> {
         // One frame (one read-back on a device) serves the monitor, the rows and the snapshot.
         let frame = sim.frame((output && self.rows_need_state) || snapshot);
         let o = frame.observables;
+        let mut ended = None;
         if output {
             if let Err(e) = self.books.monitor.check(step, &o) {
                 return Ok(Some(Stop::Unstable(e)));
@@ -526,6 +535,15 @@ impl<'o> Run<'o> {
             if let Some(text) = too_many_lost(sim.plan(), sim.removed(), self.books.initial_particles, o.time) {
                 return Ok(Some(Stop::Lost(text)));
             }
+            ended =
+                sim.plan().run.end_when.filter(|e| o.time >= e.after && o.kinetic_energy + o.rotational_energy < e.kinetic_energy_below).map(|e| {
+                    Stop::Ended(format!(
+                        "the particles' kinetic energy {:.3e} J fell below run.end_when.kinetic_energy_below = {:e} J at t = {:.6e} s",
+                        o.kinetic_energy + o.rotational_energy,
+                        e.kinetic_energy_below,
+                        o.time
+                    ))
+                });
             io(out_dir, self.outputs.tracks.rows(o.time, &frame.tracks))?;
             if let (Some(w), Some(state)) = (self.outputs.agglo.as_mut(), frame.state.as_deref()) {
                 let a = agglomerates_of(sim.plan(), state);
@@ -539,7 +557,7 @@ impl<'o> Run<'o> {
         {
             io(out_dir, w.write((step / k) as usize, sim, o.time, state))?;
         }
-        Ok(None)
+        Ok(ended)
     }
 
     /// Writes a checkpoint of the run as it stands.
@@ -581,9 +599,14 @@ impl<'o> Run<'o> {
             removed: sim.removed(),
             warnings,
             resumed_from_step: self.resumed_from,
+            ended_early: match &stopped {
+                Some(Stop::Ended(why)) => Some(why.clone()),
+                _ => None,
+            },
             checkpoints: self.checkpoint_every.map(|_| self.checkpoints),
         };
         let stop_text = match &stopped {
+            Some(Stop::Ended(_)) => None,
             Some(Stop::Unstable(e)) => Some(e.to_string()),
             Some(Stop::Capacity(e)) => Some(e.clone()),
             Some(Stop::Lost(e)) => Some(e.clone()),
@@ -598,7 +621,7 @@ impl<'o> Run<'o> {
             None => None,
         };
         let status = match &stopped {
-            None => "completed",
+            None | Some(Stop::Ended(_)) => "completed",
             Some(Stop::Interrupted) => "interrupted",
             Some(_) => "stopped",
         };
@@ -610,7 +633,7 @@ impl<'o> Run<'o> {
             Some(Stop::Capacity(e)) => Err(RunError::Capacity(e)),
             Some(Stop::Lost(e)) => Err(RunError::Lost(e)),
             Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir: self.out_dir }),
-            None => Ok(summary),
+            None | Some(Stop::Ended(_)) => Ok(summary),
         }
     }
 }
@@ -667,6 +690,8 @@ impl ExtraRows {
 const MAX_CHUNK: u64 = 200;
 
 enum Stop {
+    /// The scene's `run.end_when` was met: a completed run.
+    Ended(String),
     Unstable(Instability),
     Capacity(String),
     Lost(String),

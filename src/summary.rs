@@ -66,6 +66,9 @@ pub(crate) fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, st
         "stopped": stopped,
     });
     let mut value = value;
+    if let Some(why) = &s.ended_early {
+        value["ended_early"] = serde_json::json!(why);
+    }
     if let Some(step) = s.resumed_from_step {
         value["resumed_from_step"] = serde_json::json!(step);
     }

@@ -17,7 +17,6 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 use tumble::{FlowCounter, Simulation, compile, read_scene};
-use tumble_scene::schema::MotionSection;
 
 /// Worker threads per run: `TUMBLE_THREADS` or 2 (results are bit-identical for any count).
 pub(crate) fn threads() -> usize {
@@ -111,7 +110,7 @@ pub(crate) fn critical_rpm() -> f64 {
 /// Every rotating wall of `scene` turns at `rpm` (shell, lifters and end plates turn together).
 pub(crate) fn set_rpm(scene: &mut tumble_scene::schema::Scene, rpm: f64) {
     for w in &mut scene.walls {
-        if let Some(MotionSection::Rotate(r)) = &mut w.motion {
+        if let Some(r) = w.motion.as_mut().and_then(|m| m.rotate.as_mut()) {
             r.rpm = rpm;
         }
     }

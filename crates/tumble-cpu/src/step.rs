@@ -82,7 +82,7 @@ impl CpuSimulation {
         }
         for (now, wall) in self.walls.iter_mut().zip(&self.plan.model.walls) {
             if wall.motion.is_some() {
-                now.shape = wall.shape_at(t);
+                *now = wall.posed(t);
             }
         }
     }

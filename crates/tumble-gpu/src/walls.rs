@@ -9,12 +9,7 @@ use tumble_state::DrumProfile;
 impl GpuSimulation {
     /// The walls in the pose of the last contact pass (moving walls at that pass's time).
     pub fn walls(&self) -> Vec<Wall> {
-        self.plan
-            .model
-            .walls
-            .iter()
-            .map(|w| if w.motion.is_some() { Wall { shape: w.shape_at(self.wall_time), ..w.clone() } } else { w.clone() })
-            .collect()
+        self.plan.model.walls.iter().map(|w| w.posed(self.wall_time)).collect()
     }
 
     /// Bytes of the per-(id, group) wall entries of `element_bytes` each (zero without moving walls).

@@ -80,6 +80,8 @@ pub struct Wall {
     pub shape: SurfaceShape,
     /// None: static.
     pub motion: Option<Motion>,
+    /// When the motion runs (always, for a static wall).
+    pub timing: Timing,
     /// The scene wall ([[walls]] entry) this surface belongs to: index into `PhysicsModel::wall_groups`.
     pub group: u16,
     /// Largest speed at which its surface sweeps through space (0 when the motion leaves
@@ -96,9 +98,18 @@ impl Wall {
         match self.motion {
             None => self.shape.clone(),
             Some(m) => {
-                let (pivot, rotation, shift) = m.pose(t);
+                let (pivot, rotation, shift) = m.pose(self.timing.elapsed(t));
                 self.shape.moved(pivot, rotation, shift)
             }
+        }
+    }
+
+    /// The wall at time `t`: its surface there, and its motion as the velocities of that
+    /// instant (a rotation at its current ω, any translation at its current velocity).
+    pub fn posed(&self, t: f64) -> Wall {
+        match self.motion {
+            None => self.clone(),
+            Some(m) => Wall { shape: self.shape_at(t), motion: Some(m.instant(self.timing.elapsed(t), self.timing.rate(t))), ..self.clone() },
         }
     }
 
@@ -130,22 +141,91 @@ pub enum Motion {
     Translate {
         velocity: DVec3,
     },
+    /// x(t) = amplitude · sin(omega t) along unit `direction`.
+    Oscillate {
+        direction: DVec3,
+        amplitude: f64,
+        omega: f64,
+    },
 }
 
 impl Motion {
+    /// Velocity of the wall material at `x` (an oscillation at its phase 0: use [`Wall::posed`]).
     #[inline]
     pub fn velocity_at(&self, x: DVec3) -> DVec3 {
         match *self {
             Motion::Rotate { point, axis, omega } => (axis * omega).cross(x - point),
             Motion::Translate { velocity } => velocity,
+            Motion::Oscillate { direction, amplitude, omega } => direction * (amplitude * omega),
         }
     }
 
-    /// (pivot, rotation about the pivot, shift) taking the t = 0 pose to time t.
-    pub fn pose(&self, t: f64) -> (DVec3, DQuat, DVec3) {
+    /// (pivot, rotation about the pivot, shift) taking the t = 0 pose to motion time `tau`.
+    pub fn pose(&self, tau: f64) -> (DVec3, DQuat, DVec3) {
         match *self {
-            Motion::Rotate { point, axis, omega } => (point, DQuat::from_axis_angle(axis, omega * t), DVec3::ZERO),
-            Motion::Translate { velocity } => (DVec3::ZERO, DQuat::IDENTITY, velocity * t),
+            Motion::Rotate { point, axis, omega } => (point, DQuat::from_axis_angle(axis, omega * tau), DVec3::ZERO),
+            Motion::Translate { velocity } => (DVec3::ZERO, DQuat::IDENTITY, velocity * tau),
+            Motion::Oscillate { direction, amplitude, omega } => (DVec3::ZERO, DQuat::IDENTITY, direction * (amplitude * (omega * tau).sin())),
+        }
+    }
+
+    /// The motion at motion time `tau` running at `rate` of its full speed, as a constant-velocity
+    /// motion with that instant's velocities.
+    pub fn instant(&self, tau: f64, rate: f64) -> Motion {
+        match *self {
+            Motion::Rotate { point, axis, omega } => Motion::Rotate { point, axis, omega: omega * rate },
+            Motion::Translate { velocity } => Motion::Translate { velocity: velocity * rate },
+            Motion::Oscillate { direction, amplitude, omega } => {
+                Motion::Translate { velocity: direction * (amplitude * omega * (omega * tau).cos() * rate) }
+            }
+        }
+    }
+
+    /// Largest speed of the motion itself (a rotation's is ω times the radius: see the walls' speeds).
+    pub fn peak_speed(&self) -> f64 {
+        match *self {
+            Motion::Rotate { omega, .. } => omega.abs(),
+            Motion::Translate { velocity } => velocity.length(),
+            Motion::Oscillate { amplitude, omega, .. } => amplitude * omega.abs(),
+        }
+    }
+}
+
+/// When a wall's motion runs: it starts at `start`, reaches full speed linearly over `ramp`
+/// and stops at `stop`, where the wall stays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Timing {
+    pub start: f64,
+    pub ramp: f64,
+    pub stop: f64,
+}
+
+impl Timing {
+    /// A motion that runs from t = 0 at full speed, for ever.
+    pub const ALWAYS: Timing = Timing { start: 0.0, ramp: 0.0, stop: f64::INFINITY };
+
+    /// The share of its full speed the motion runs at at time `t`.
+    #[inline]
+    pub fn rate(&self, t: f64) -> f64 {
+        if t < self.start || t >= self.stop {
+            0.0
+        } else if t < self.start + self.ramp {
+            (t - self.start) / self.ramp
+        } else {
+            1.0
+        }
+    }
+
+    /// Motion time at `t`: the integral of [`Timing::rate`] from 0 (t itself for [`Timing::ALWAYS`]).
+    #[inline]
+    pub fn elapsed(&self, t: f64) -> f64 {
+        let t = t.min(self.stop);
+        if t <= self.start {
+            0.0
+        } else if t < self.start + self.ramp {
+            (t - self.start) * (t - self.start) / (2.0 * self.ramp)
+        } else {
+            t - self.start - 0.5 * self.ramp
         }
     }
 }
@@ -281,6 +361,8 @@ pub struct RunSettings {
     pub checkpoint_keep: usize,
     /// A checkpoint (file or run folder) whose particles replace the scene's at t = 0.
     pub start_from: Option<String>,
+    /// End the run early once the particles rest.
+    pub end_when: Option<crate::schema::EndWhenSection>,
     pub backend: BackendName,
     pub monitor: MonitorSection,
     /// Write agglomerates.csv at every output interval.
@@ -417,4 +499,62 @@ impl Plan {
 pub struct CompiledScene {
     pub plan: Plan,
     pub particles: InitialParticles,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_untimed_motion_runs_on_time_itself() {
+        for t in [0.0, 1e-300, 3.7e-5, 0.1, 12.5, 1e9] {
+            assert_eq!(Timing::ALWAYS.elapsed(t).to_bits(), t.to_bits());
+            assert_eq!(Timing::ALWAYS.rate(t), 1.0);
+        }
+    }
+
+    #[test]
+    fn motion_time_is_the_integral_of_the_rate() {
+        let timing = Timing { start: 0.2, ramp: 0.3, stop: 0.9 };
+        let (n, end) = (200_000, 1.2);
+        let h = end / n as f64;
+        let mut integral = 0.0;
+        for k in 0..n {
+            // Midpoint rule, exact for the piecewise-linear rate away from its kinks.
+            integral += timing.rate((k as f64 + 0.5) * h) * h;
+            let t = (k + 1) as f64 * h;
+            assert!((integral - timing.elapsed(t)).abs() < 1e-8, "t = {t}: ∫ rate = {integral}, elapsed {}", timing.elapsed(t));
+        }
+        assert_eq!(timing.elapsed(0.1), 0.0);
+        assert!((timing.elapsed(2.0) - (0.9 - 0.2 - 0.15)).abs() < 1e-15, "stopped where it stood at 0.9 s");
+    }
+
+    #[test]
+    fn a_posed_wall_moves_at_the_velocity_it_reports() {
+        let shape = SurfaceShape::Plane(tumble_geom::Plane::new(DVec3::ZERO, DVec3::Z));
+        let motions =
+            [Motion::Oscillate { direction: DVec3::Z, amplitude: 0.002, omega: 31.4 }, Motion::Translate { velocity: DVec3::new(0.0, 0.0, 0.3) }];
+        for motion in motions {
+            let wall = Wall {
+                name: "w".into(),
+                material: 0,
+                shape: shape.clone(),
+                motion: Some(motion),
+                timing: Timing { start: 0.1, ramp: 0.2, stop: 0.8 },
+                group: 0,
+                travel_speed: 0.0,
+                surface_speed: 0.0,
+            };
+            let height = |t: f64| match wall.shape_at(t) {
+                SurfaceShape::Plane(p) => p.point.dot(p.normal),
+                _ => unreachable!(),
+            };
+            for t in [0.05, 0.15, 0.25, 0.31, 0.5, 0.79, 0.85] {
+                let h = 1e-6;
+                let rate = (height(t + h) - height(t - h)) / (2.0 * h);
+                let v = wall.posed(t).velocity_at(DVec3::ZERO).z;
+                assert!((rate - v).abs() < 1e-6, "{motion:?} at t = {t}: the pose moves at {rate}, the wall reports {v}");
+            }
+        }
+    }
 }

@@ -3,7 +3,7 @@
 
 use crate::SceneError;
 use crate::compile::{finite3, positive, unit};
-use crate::plan::{Drum, Motion, Wall, WallGroup};
+use crate::plan::{Drum, Motion, Timing, Wall, WallGroup};
 use crate::schema::*;
 use glam::DVec3;
 use tumble_geom::{Cylinder, PeriodicBox, Plane, Prism, Quad, SurfaceShape};
@@ -20,28 +20,14 @@ pub(crate) fn compile_walls(
     let names: Vec<String> = scene.walls.iter().enumerate().map(|(k, w)| w.name.clone().unwrap_or_else(|| format!("wall{k}"))).collect();
     // Motions first: lifters take their cylinder's.
     let mut motions: Vec<Option<Motion>> = Vec::new();
+    let mut timings: Vec<Timing> = Vec::new();
     for (k, w) in scene.walls.iter().enumerate() {
-        let f = |x: &str| format!("walls[{k}].motion.{x}");
-        motions.push(match &w.motion {
-            None => None,
-            Some(MotionSection::Rotate(r)) => {
-                if !(r.rpm.is_finite() && r.rpm != 0.0) {
-                    return Err(SceneError::field(f("rotate.rpm"), format!("must be a non-zero number of revolutions per minute, got {}", r.rpm)));
-                }
-                Some(Motion::Rotate {
-                    point: finite3(&f("rotate.point"), r.point)?,
-                    axis: unit(&f("rotate.axis"), r.axis)?,
-                    omega: r.rpm * std::f64::consts::TAU / 60.0,
-                })
-            }
-            Some(MotionSection::Translate(t)) => {
-                let v = finite3(&f("translate.velocity"), t.velocity)?;
-                if v == DVec3::ZERO {
-                    return Err(SceneError::field(f("translate.velocity"), "must be non-zero (leave motion out for a static wall)"));
-                }
-                Some(Motion::Translate { velocity: v })
-            }
-        });
+        let (motion, timing) = match &w.motion {
+            None => (None, Timing::ALWAYS),
+            Some(m) => motion(k, m)?,
+        };
+        motions.push(motion);
+        timings.push(timing);
         if w.motion.is_some() && names[..k].contains(&names[k]) {
             return Err(SceneError::field(
                 format!("walls[{k}].name"),
@@ -61,6 +47,7 @@ pub(crate) fn compile_walls(
             return Err(SceneError::field(format!("walls[{k}]"), "give exactly one shape: plane, quad, box, cylinder or lifters"));
         }
         let mut motion = motions[k];
+        let mut timing = timings[k];
         let group = k as u16;
         let mut shapes: Vec<(String, SurfaceShape)> = Vec::new();
         if let Some(p) = &w.plane {
@@ -169,6 +156,7 @@ pub(crate) fn compile_walls(
                 ));
             }
             motion = motions[j];
+            timing = timings[j];
             for (r, prism) in lifter_prisms(&cyl, l.count, h, width, base, l.phase.to_radians()).into_iter().enumerate() {
                 shapes.push((format!("{name}{r}"), SurfaceShape::Prism(Box::new(prism))));
             }
@@ -177,6 +165,7 @@ pub(crate) fn compile_walls(
         for (wall_name, shape) in shapes {
             let (travel_speed, surface_speed) = match motion {
                 None => (0.0, 0.0),
+                Some(Motion::Oscillate { .. }) => (motion.unwrap().peak_speed(), motion.unwrap().peak_speed()),
                 Some(Motion::Translate { velocity }) => match &shape {
                     // An infinite plane sliding in its own plane stays where it is.
                     SurfaceShape::Plane(p) => (velocity.dot(p.normal).abs(), velocity.length()),
@@ -193,13 +182,58 @@ pub(crate) fn compile_walls(
                     (if invariant { 0.0 } else { speed }, speed)
                 }
             };
-            walls.push(Wall { name: wall_name, material, shape, motion, group, travel_speed, surface_speed });
+            walls.push(Wall { name: wall_name, material, shape, motion, timing, group, travel_speed, surface_speed });
         }
     }
     if walls.len() > u16::MAX as usize {
         return Err(SceneError::field("walls", format!("{} surfaces; at most {} are supported", walls.len(), u16::MAX)));
     }
     Ok((walls, groups, drums))
+}
+
+/// A wall's motion and its timing, checked.
+fn motion(k: usize, m: &MotionSection) -> Result<(Option<Motion>, Timing), SceneError> {
+    let f = |x: &str| format!("walls[{k}].motion.{x}");
+    let given = [m.rotate.is_some(), m.translate.is_some(), m.oscillate.is_some()].iter().filter(|&&b| b).count();
+    if given != 1 {
+        return Err(SceneError::field(f("rotate"), format!("give exactly one of rotate, translate and oscillate (got {given})")));
+    }
+    let motion = if let Some(r) = &m.rotate {
+        if !(r.rpm.is_finite() && r.rpm != 0.0) {
+            return Err(SceneError::field(f("rotate.rpm"), format!("must be a non-zero number of revolutions per minute, got {}", r.rpm)));
+        }
+        Motion::Rotate {
+            point: finite3(&f("rotate.point"), r.point)?,
+            axis: unit(&f("rotate.axis"), r.axis)?,
+            omega: r.rpm * std::f64::consts::TAU / 60.0,
+        }
+    } else if let Some(t) = &m.translate {
+        let v = finite3(&f("translate.velocity"), t.velocity)?;
+        if v == DVec3::ZERO {
+            return Err(SceneError::field(f("translate.velocity"), "must be non-zero (leave motion out for a static wall)"));
+        }
+        Motion::Translate { velocity: v }
+    } else {
+        let o = m.oscillate.as_ref().unwrap();
+        positive(&f("oscillate.amplitude"), o.amplitude)?;
+        positive(&f("oscillate.frequency"), o.frequency)?;
+        Motion::Oscillate {
+            direction: unit(&f("oscillate.direction"), o.direction)?,
+            amplitude: o.amplitude,
+            omega: std::f64::consts::TAU * o.frequency,
+        }
+    };
+    if !(m.start.is_finite() && m.start >= 0.0) {
+        return Err(SceneError::field(f("start"), format!("must be a time in seconds, 0 or later, got {}", m.start)));
+    }
+    if !(m.ramp.is_finite() && m.ramp >= 0.0) {
+        return Err(SceneError::field(f("ramp"), format!("must be a duration in seconds, 0 or more, got {}", m.ramp)));
+    }
+    let stop = m.stop.unwrap_or(f64::INFINITY);
+    if stop.is_nan() || stop <= m.start {
+        return Err(SceneError::field(f("stop"), format!("must come after motion.start = {} s, got {stop}", m.start)));
+    }
+    Ok((Some(motion), Timing { start: m.start, ramp: m.ramp, stop }))
 }
 
 fn cylinder(k: usize, c: &CylinderSection) -> Result<Cylinder, SceneError> {

@@ -97,6 +97,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         checkpoint_every: schedule.checkpoint_every,
         checkpoint_keep: schedule.checkpoint_keep,
         start_from: scene.run.start.from.clone(),
+        end_when: run::end_when(scene)?,
         backend: scene.run.backend,
         monitor,
         agglomerates: scene.run.agglomerates.unwrap_or(mechanics.cohesion),

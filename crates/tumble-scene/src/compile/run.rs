@@ -116,6 +116,16 @@ pub(super) fn schedule(scene: &Scene, dt: f64) -> Result<Schedule, SceneError> {
     Ok(Schedule { steps, output_every, snapshot_every, checkpoint_every, checkpoint_keep })
 }
 
+/// The early end of a settling run, checked.
+pub(super) fn end_when(scene: &Scene) -> Result<Option<crate::schema::EndWhenSection>, SceneError> {
+    let Some(e) = scene.run.end_when else { return Ok(None) };
+    positive("run.end_when.kinetic_energy_below", e.kinetic_energy_below)?;
+    if !(e.after.is_finite() && e.after >= 0.0) {
+        return Err(SceneError::field("run.end_when.after", format!("must be a time in seconds, 0 or later, got {}", e.after)));
+    }
+    Ok(Some(e))
+}
+
 /// The instability monitor's thresholds.
 pub(super) fn monitor(scene: &Scene) -> Result<MonitorSection, SceneError> {
     let monitor = scene.run.monitor;

@@ -430,12 +430,32 @@ pub struct LiftersSection {
     pub on: String,
 }
 
-/// Prescribed wall motion.
+/// Prescribed wall motion: one of `rotate`, `translate`, `oscillate`, and when it runs.
 #[derive(Clone, Debug, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum MotionSection {
-    Rotate(RotateSection),
-    Translate(TranslateSection),
+#[serde(deny_unknown_fields)]
+pub struct MotionSection {
+    pub rotate: Option<RotateSection>,
+    pub translate: Option<TranslateSection>,
+    pub oscillate: Option<OscillateSection>,
+    /// Time the motion starts, s (the wall stands still before).
+    #[serde(default)]
+    pub start: f64,
+    /// Time over which the speed rises linearly from 0 to its full value after `start`, s.
+    #[serde(default)]
+    pub ramp: f64,
+    /// Time the motion stops, s (the wall stays where it is then).
+    pub stop: Option<f64>,
+}
+
+/// Sinusoidal translation: x(t) = amplitude · sin(2π frequency t) along `direction`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OscillateSection {
+    pub direction: V3,
+    /// m.
+    pub amplitude: f64,
+    /// Hz.
+    pub frequency: f64,
 }
 
 #[derive(Clone, Debug, Deserialize)]

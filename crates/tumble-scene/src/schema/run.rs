@@ -78,6 +78,19 @@ pub struct RunSection {
     pub checkpoint_interval: Option<f64>,
     /// Checkpoints kept (the newest ones); 3.
     pub checkpoint_keep: Option<u32>,
+    /// End the run early once the particles have come to rest (a settling stage).
+    pub end_when: Option<EndWhenSection>,
+}
+
+/// When a run ends before its duration.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EndWhenSection {
+    /// The particles' kinetic energy (translational + rotational) at an output row below this, J.
+    pub kinetic_energy_below: f64,
+    /// Not before this time, s (the particles may start at rest).
+    #[serde(default)]
+    pub after: f64,
 }
 
 fn default_seed() -> u64 {

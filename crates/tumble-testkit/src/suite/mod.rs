@@ -7,7 +7,8 @@
 //!   resting on a plane at m g / k;
 //! - `history`: tangential springs and rolling resistance (case 8, oblique impacts, inclines);
 //! - `invariants`: exactly opposite pair forces;
-//! - `walls`: a drum's drive power, flow planes and moving-wall series, a sphere on a belt;
+//! - `walls`: a drum's drive power, flow planes and moving-wall series, a sphere on a belt, a
+//!   sphere riding a floor that starts oscillating at a given time;
 //! - `polyhedra`: a tumbling box (E and L), a cube resting face-down, an elastic
 //!   octahedron–cube impact, a cube struck by a plate and dragged by a belt;
 //! - `determinism`: two runs bit-identical (and on the CPU one and two threads);
@@ -57,6 +58,7 @@ behaviours![
     walls::flow_planes_count_the_mass_through_and_moving_walls_write_a_series,
     walls::a_belt_drags_a_rolling_sphere_until_its_contact_point_moves_with_it,
     walls::a_bed_at_rest_in_a_box_puts_its_weight_on_the_walls,
+    walls::a_sphere_on_an_oscillating_floor_rides_it_from_its_start_time,
     polyhedra::a_box_spun_about_its_intermediate_axis_tumbles_keeping_energy_and_momentum,
     polyhedra::a_cube_set_face_down_on_a_plane_rests_at_m_g_over_k,
     polyhedra::an_octahedron_striking_a_cube_face_rebounds_elastically,
