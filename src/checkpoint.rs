@@ -84,22 +84,7 @@ impl Checkpoint {
     /// the body) and the body (the postcard record, then the snapshot's own encoding), streamed
     /// so that no copy of a large state is made in memory.
     pub fn write_to<W: Write + Seek>(&self, w: W) -> std::io::Result<W> {
-        let mut w = w;
-        let start = w.stream_position()?;
-        w.write_all(&[0; HEADER_BYTES])?;
-        let mut body = Hashing { inner: BufWriter::with_capacity(1 << 20, w), crc: crc32fast::Hasher::new(), len: 0 };
-        postcard::to_io(&self.header, &mut body).map_err(std::io::Error::other)?;
-        let mut body = self.snapshot.write_to(body)?;
-        body.flush()?;
-        let (crc, len) = (body.crc.finalize(), body.len);
-        let mut w = body.inner.into_inner().map_err(|e| e.into_error())?;
-        w.seek(SeekFrom::Start(start))?;
-        w.write_all(MAGIC)?;
-        w.write_all(&CHECKPOINT_VERSION.to_le_bytes())?;
-        w.write_all(&crc.to_le_bytes())?;
-        w.write_all(&len.to_le_bytes())?;
-        w.seek(SeekFrom::End(0))?;
-        Ok(w)
+        write_parts(&self.header, |body| self.snapshot.write_to(body).map(|_| ()), w)
     }
 
     /// The file's bytes in memory.
@@ -133,6 +118,31 @@ impl Checkpoint {
     }
 }
 
+/// Writes a checkpoint file's bytes into `w`: the header (magic, layout version, CRC-32 and
+/// length of the body), then the body, `header`'s record followed by what `snapshot` streams (a
+/// snapshot's encoding), through one buffer so that no copy of a large state is made in memory.
+pub fn write_parts<W: Write + Seek>(
+    header: &CheckpointHeader,
+    snapshot: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    mut w: W,
+) -> std::io::Result<W> {
+    let start = w.stream_position()?;
+    w.write_all(&[0; HEADER_BYTES])?;
+    let mut body = Hashing { inner: BufWriter::with_capacity(1 << 20, w), crc: crc32fast::Hasher::new(), len: 0 };
+    postcard::to_io(header, &mut body).map_err(std::io::Error::other)?;
+    snapshot(&mut body)?;
+    body.flush()?;
+    let (crc, len) = (body.crc.finalize(), body.len);
+    let mut w = body.inner.into_inner().map_err(|e| e.into_error())?;
+    w.seek(SeekFrom::Start(start))?;
+    w.write_all(MAGIC)?;
+    w.write_all(&CHECKPOINT_VERSION.to_le_bytes())?;
+    w.write_all(&crc.to_le_bytes())?;
+    w.write_all(&len.to_le_bytes())?;
+    w.seek(SeekFrom::End(0))?;
+    Ok(w)
+}
+
 /// The file name of the checkpoint at `step`: names sort in step order.
 fn file_name(step: u64) -> String {
     format!("step_{step:012}.ckpt")
@@ -163,14 +173,19 @@ pub fn list(out_dir: &Path) -> std::io::Result<Vec<(u64, PathBuf)>> {
     Ok(found)
 }
 
-/// Writes `checkpoint` atomically (temporary file, fsync, rename, fsync of the folder) and
+/// Writes a checkpoint of `header` and the snapshot `snapshot` streams atomically (temporary file, fsync, rename, fsync of the folder) and
 /// keeps the newest `keep`; returns its path and size in bytes.
-pub fn write(out_dir: &Path, checkpoint: &Checkpoint, keep: usize) -> std::io::Result<(PathBuf, u64)> {
+pub fn write(
+    out_dir: &Path,
+    header: &CheckpointHeader,
+    snapshot: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    keep: usize,
+) -> std::io::Result<(PathBuf, u64)> {
     let dir = out_dir.join(FOLDER);
     std::fs::create_dir_all(&dir)?;
-    let path = dir.join(file_name(checkpoint.header.step));
-    let tmp = dir.join(format!(".{}.tmp", file_name(checkpoint.header.step)));
-    let f = checkpoint.write_to(std::fs::File::create(&tmp)?)?;
+    let path = dir.join(file_name(header.step));
+    let tmp = dir.join(format!(".{}.tmp", file_name(header.step)));
+    let f = write_parts(header, snapshot, std::fs::File::create(&tmp)?)?;
     f.sync_all()?;
     let bytes = f.metadata()?.len();
     drop(f);
@@ -260,6 +275,16 @@ mod tests {
     }
 
     #[test]
+    fn a_backend_streams_the_bytes_of_its_snapshot() {
+        let scene = crate::compile(&crate::parse_scene(SCENE).unwrap()).unwrap();
+        let mut sim = crate::Simulation::new(scene, 1);
+        sim.advance(5);
+        let mut streamed = Vec::new();
+        sim.backend().write_snapshot(&mut streamed).unwrap();
+        assert!(streamed == sim.snapshot().to_bytes(), "the borrowed snapshot encodes differently");
+    }
+
+    #[test]
     fn every_damaged_byte_and_every_cut_is_refused() {
         let bytes = sample(7).to_bytes();
         for k in 0..bytes.len() {
@@ -278,7 +303,8 @@ mod tests {
     fn only_the_newest_are_kept_and_no_temporary_file_is_left() {
         let d = fresh("keep");
         for step in [0, 100, 200, 300, 400] {
-            write(&d, &sample(step), 3).unwrap();
+            let c = sample(step);
+            write(&d, &c.header, |w| c.snapshot.write_to(w).map(|_| ()), 3).unwrap();
         }
         let steps: Vec<u64> = list(&d).unwrap().into_iter().map(|(s, _)| s).collect();
         assert_eq!(steps, vec![200, 300, 400]);
@@ -290,8 +316,9 @@ mod tests {
     #[test]
     fn a_damaged_newest_checkpoint_is_named_with_the_one_before() {
         let d = fresh("damaged");
-        write(&d, &sample(100), 3).unwrap();
-        let (path, _) = write(&d, &sample(200), 3).unwrap();
+        let (a, b) = (sample(100), sample(200));
+        write(&d, &a.header, |w| a.snapshot.write_to(w).map(|_| ()), 3).unwrap();
+        let (path, _) = write(&d, &b.header, |w| b.snapshot.write_to(w).map(|_| ()), 3).unwrap();
         let mut bytes = std::fs::read(&path).unwrap();
         let n = bytes.len();
         bytes[n - 3] ^= 1;

@@ -230,7 +230,7 @@ fn set_up(backend: BackendName, compiled: CompiledScene, threads: usize) -> Resu
     };
     let seed_error = |e: String| RunError::Scene(SceneError::field("run.start.from", e));
     let state = crate::seed::read_state(Path::new(&from)).map_err(seed_error)?;
-    let (compiled, state, warnings) = crate::seed::seeded(compiled, &state, backend == BackendName::Cpu).map_err(seed_error)?;
+    let (compiled, state, warnings) = crate::seed::seeded(compiled, &state).map_err(seed_error)?;
     Ok((Simulation::from_state(backend, compiled, state, threads).map_err(on)?, warnings))
 }
 
@@ -573,8 +573,9 @@ impl<'o> Run<'o> {
             time: self.sim.time(),
             books: postcard::to_stdvec(&self.books).expect("the books always encode"),
         };
-        let cp = Checkpoint { header, snapshot: self.sim.snapshot() };
-        let (path, bytes) = io(&self.out_dir, checkpoint::write(&self.out_dir, &cp, self.sim.plan().run.checkpoint_keep))?;
+        let sim = &self.sim;
+        let (path, bytes) =
+            io(&self.out_dir, checkpoint::write(&self.out_dir, &header, |w| sim.backend().write_snapshot(w), sim.plan().run.checkpoint_keep))?;
         let c = &mut self.checkpoints;
         c.written += 1;
         c.last = Some(path);

@@ -3,7 +3,8 @@
 //!
 //! The scene declares its particles as usual; the checkpoint's particles then replace them by
 //! id, with their positions, velocities, spins, orientations and contact springs. Each one must
-//! be the scene's particle of that id (same size, material and shape); particles the other run
+//! be the scene's particle of that id (same size to f32 rounding, material and shape; the scene's
+//! size and mass are kept); particles the other run
 //! lost are left out. Its time, walls and energy books start afresh at t = 0.
 
 use crate::checkpoint;
@@ -23,7 +24,7 @@ pub fn read_state(from: &Path) -> Result<State, String> {
 
 /// The scene's particles replaced by `from`'s, and the starting state with `from`'s springs;
 /// the warnings say what was not carried over.
-pub fn seeded(mut compiled: CompiledScene, from: &State, springs: bool) -> Result<(CompiledScene, State, Vec<String>), String> {
+pub fn seeded(mut compiled: CompiledScene, from: &State) -> Result<(CompiledScene, State, Vec<String>), String> {
     let declared = compiled.particles.len();
     let mut order: Vec<usize> = (0..from.len()).collect();
     order.sort_by_key(|&k| from.id[k]);
@@ -38,7 +39,8 @@ pub fn seeded(mut compiled: CompiledScene, from: &State, springs: bool) -> Resul
             ));
         }
         let shape = from.shape.get(k).copied().unwrap_or(tumble_scene::SPHERE);
-        if from.radius[k].to_bits() != p.radius[id].to_bits() || from.material[k] != p.material[id] || shape != p.shape[id] {
+        // A device's checkpoint holds its radii in f32: equal within its rounding.
+        if (from.radius[k] - p.radius[id]).abs() > 1e-6 * p.radius[id] || from.material[k] != p.material[id] || shape != p.shape[id] {
             return Err(format!(
                 "particle {id}: radius {} m, material {}, shape {} in the checkpoint, but radius {} m, material {}, shape {} in this scene: declare the particles of the run that wrote it",
                 from.radius[k], from.material[k], shape, p.radius[id], p.material[id], p.shape[id]
@@ -66,11 +68,7 @@ pub fn seeded(mut compiled: CompiledScene, from: &State, springs: bool) -> Resul
     let mut state = State::from_scene(&compiled);
     let slots = state.history.slots;
     if slots > 0 && from.history.slots > 0 {
-        if !springs {
-            warnings.push("contact springs are not carried onto the GPU backend: its contacts start without tangential springs".into());
-        } else {
-            state.history = carried_springs(from, &order, &index, slots, compiled.plan.model.walls.len(), &mut warnings)?;
-        }
+        state.history = carried_springs(from, &order, &index, slots, compiled.plan.model.walls.len(), &mut warnings)?;
     }
     Ok((compiled, state, warnings))
 }

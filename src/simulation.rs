@@ -34,7 +34,7 @@ impl Simulation {
     }
 
     /// Sets up a compiled scene on the named backend starting from `state` (see
-    /// [`CpuSimulation::from_state`]; the GPU does not take its springs).
+    /// [`CpuSimulation::from_state`]; the GPU takes the springs in f32).
     pub fn from_state(backend: BackendName, scene: CompiledScene, state: State, threads: usize) -> Result<Self, GpuError> {
         Ok(match backend {
             BackendName::Cpu => Self::with_backend(Box::new(CpuSimulation::from_state(scene, state, threads))),

@@ -5,22 +5,47 @@ use glam::DVec3;
 use std::any::Any;
 use std::borrow::Cow;
 use tumble_scene::{Plan, Wall};
-use tumble_state::{Backend, BackendInfo, Fault, Frame, NeighbourState, SNAPSHOT_VERSION, Snapshot, SnapshotError, State, WallState};
+use tumble_state::{
+    Backend, BackendInfo, Fault, Frame, NeighbourState, NeighbourStateRef, SNAPSHOT_VERSION, Snapshot, SnapshotError, SnapshotRef, State, WallState,
+};
 
 impl CpuSimulation {
     /// Everything needed to continue this run bit-identically (arrays in memory order).
     pub fn snapshot(&self) -> Snapshot {
+        let r = self.snapshot_ref();
         Snapshot {
+            version: r.version,
+            scene: r.scene.to_string(),
+            dt: r.dt,
+            backend: r.backend.into(),
+            precision: r.precision.into(),
+            step: r.step,
+            time: r.time,
+            removed: r.removed,
+            state: self.state.clone(),
+            last_pass: self.sums.clone(),
+            walls: r.walls,
+            neighbours: r.neighbours.map(|n| NeighbourState { reference: n.reference.to_vec(), valid: n.valid, builds: n.builds }),
+            last_resort: r.last_resort,
+            fault: r.fault,
+            rng: Vec::new(),
+            device: None,
+        }
+    }
+
+    /// The snapshot borrowed from this simulation's arrays (what [`CpuSimulation::snapshot`] copies).
+    pub fn snapshot_ref(&self) -> SnapshotRef<'_> {
+        SnapshotRef {
             version: SNAPSHOT_VERSION,
-            scene: self.plan.run.name.clone(),
+            scene: &self.plan.run.name,
             dt: self.plan.model.dt,
-            backend: "cpu".into(),
-            precision: "f64".into(),
+            backend: "cpu",
+            precision: "f64",
             step: self.step,
             time: self.time(),
             removed: self.removed as u64,
-            state: self.state.clone(),
-            last_pass: self.sums.clone(),
+            state: &self.state,
+            last_pass: &self.sums,
             walls: WallState {
                 time: self.walls_time,
                 built_at: self.walls_built_at,
@@ -28,14 +53,14 @@ impl CpuSimulation {
                 work: self.group_work.clone(),
                 work_compensation: Vec::new(),
             },
-            neighbours: Some(NeighbourState {
-                reference: self.neighbours.reference().to_vec(),
+            neighbours: Some(NeighbourStateRef {
+                reference: self.neighbours.reference(),
                 valid: self.neighbours.is_valid(),
                 builds: self.neighbours.builds,
             }),
             last_resort: self.last_resort,
             fault: self.history_overflow.map(Fault::from),
-            rng: Vec::new(),
+            rng: &[],
             device: None,
         }
     }
@@ -164,6 +189,10 @@ impl Backend for CpuSimulation {
 
     fn snapshot(&self) -> Snapshot {
         CpuSimulation::snapshot(self)
+    }
+
+    fn write_snapshot(&self, w: &mut dyn std::io::Write) -> std::io::Result<()> {
+        self.snapshot_ref().write_to(w).map(|_| ())
     }
 
     fn restore(&mut self, snapshot: &Snapshot) -> Result<(), SnapshotError> {

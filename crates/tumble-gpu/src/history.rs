@@ -41,6 +41,28 @@ impl GpuSimulation {
         self.overflow.get()
     }
 
+    /// Writes `history` (springs by particle id, from a [`tumble_state::State`] in id order) into
+    /// the generation the next contact pass reads: a run started from another run's springs.
+    pub(crate) fn upload_springs(&self, history: &tumble_state::HistorySlots) {
+        let n = self.slots as usize;
+        let slots = history_slots(&self.plan);
+        let per_entry = tumble_shaders::HISTORY_ENERGIES_PER_ENTRY as usize;
+        let rows = slots.div_ceil(per_entry);
+        let counts = n * slots;
+        let energies = n * (slots + tumble_shaders::HISTORY_COUNT_ENTRIES as usize);
+        let mut all = vec![[0u32; 4]; n * history_entries_per_particle(slots) as usize];
+        for id in 0..n.min(history.count.len()) {
+            let mut used = 0;
+            for (k, (key, s)) in history.of(id).take(slots).enumerate() {
+                all[id * slots + k] = [(s.xi.x as f32).to_bits(), (s.xi.y as f32).to_bits(), (s.xi.z as f32).to_bits(), key];
+                all[energies + id * rows + k / per_entry][k % per_entry] = (s.energy as f32).to_bits();
+                used += 1;
+            }
+            all[counts + id] = [used, used, used, 0];
+        }
+        self.gpu.queue.write_buffer(self.latest_history(), 0, bytemuck::cast_slice(&all));
+    }
+
     /// Every stored spring as the device holds it: (owner id, key) → ξ (f32 bits),
     /// key = the neighbour's id or `WALL_KEY | wall`. Empty without history.
     pub fn springs(&self) -> BTreeMap<(u32, u32), [u32; 3]> {
@@ -54,7 +76,7 @@ impl GpuSimulation {
     }
 
     /// (owner id, key) → (ξ, stored energy) as f32 bits, from the latest generation.
-    fn stored_springs(&self) -> BTreeMap<(u32, u32), ([u32; 3], u32)> {
+    pub(crate) fn stored_springs(&self) -> BTreeMap<(u32, u32), ([u32; 3], u32)> {
         let mut out = BTreeMap::new();
         if !self.plan.model.history {
             return out;

@@ -101,7 +101,7 @@ impl GpuSimulation {
     }
 
     /// Sets up `scene` starting from `state` ([`tumble_state::State::from_scene`]'s arrays)
-    /// instead of the scene's particles. Springs in `state` are not carried onto the device.
+    /// instead of the scene's particles, its springs included (in f32).
     pub fn from_state(scene: CompiledScene, state: tumble_state::State) -> Result<Self, GpuError> {
         let hulls = prisms::PrismHulls::new(&scene.plan)?;
         if scene.plan.model.pairs.iter().any(|p| p.rolling > 0.0 && p.rolling_model == tumble_contact::RollingModel::Epsd2) {
@@ -154,6 +154,9 @@ impl GpuSimulation {
             wall_time: 0.0,
             hulls,
         };
+        if sim.plan.model.history && state.history.total() > 0 {
+            sim.upload_springs(&state.history);
+        }
         let mut r = sim.recorder();
         sim.record_initial(&mut r);
         sim.submit(r.encoder);

@@ -72,7 +72,7 @@ impl GpuSimulation {
             step: self.steps(),
             time: self.time(),
             removed: self.removed() as u64,
-            state: frame.state.map(Cow::into_owned).unwrap_or_default(),
+            state: self.with_springs(frame.state.map(Cow::into_owned).unwrap_or_default()),
             last_pass: Vec::new(),
             walls: WallState {
                 time: self.wall_time,
@@ -87,6 +87,29 @@ impl GpuSimulation {
             rng: Vec::new(),
             device: Some(device),
         }
+    }
+
+    /// `state` (particles in id order) with the device's springs widened to f64, keyed by id
+    /// as the CPU keys them: what another backend seeded from this snapshot takes.
+    fn with_springs(&self, mut state: tumble_state::State) -> tumble_state::State {
+        let slots = crate::upload::history_slots(&self.plan);
+        if slots == 0 {
+            return state;
+        }
+        let index: std::collections::HashMap<u32, usize> = state.id.iter().enumerate().map(|(i, &id)| (id, i)).collect();
+        let mut history = tumble_state::HistorySlots::new(state.len(), slots);
+        for ((owner, key), (xi, energy)) in self.stored_springs() {
+            let Some(&i) = index.get(&owner) else { continue };
+            let used = history.count[i] as usize;
+            if used < slots {
+                let xi = glam::DVec3::new(f32::from_bits(xi[0]) as f64, f32::from_bits(xi[1]) as f64, f32::from_bits(xi[2]) as f64);
+                history.key[i * slots + used] = key;
+                history.spring[i * slots + used] = tumble_state::Spring { xi, energy: f32::from_bits(energy) as f64, ..Default::default() };
+                history.count[i] += 1;
+            }
+        }
+        state.history = history;
+        state
     }
 
     /// Continues from a snapshot this backend wrote for the same scene. On the adapter that

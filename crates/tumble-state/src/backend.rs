@@ -101,6 +101,11 @@ pub trait Backend: Any {
     fn bytes_per_particle(&self) -> u64;
     /// Everything needed to continue this run bit-identically.
     fn snapshot(&self) -> Snapshot;
+    /// Streams [`Backend::snapshot`]'s bytes ([`Snapshot::to_bytes`]) into `w`; a backend whose
+    /// arrays are on the host writes them without copying.
+    fn write_snapshot(&self, w: &mut dyn std::io::Write) -> std::io::Result<()> {
+        self.snapshot().write_to(w).map(|_| ())
+    }
     /// Continues from `snapshot`, which this backend wrote for the same scene.
     fn restore(&mut self, snapshot: &Snapshot) -> Result<(), SnapshotError>;
     /// A collective decision: true when `local` is true on any part of the run (one process: `local`).

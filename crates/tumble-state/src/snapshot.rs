@@ -45,6 +45,45 @@ pub struct Snapshot {
     pub device: Option<DeviceImage>,
 }
 
+/// A [`Snapshot`] borrowed from a backend's own arrays: it encodes to the same bytes without
+/// copying them first (a state of a million particles is a gigabyte to copy).
+#[derive(Serialize)]
+pub struct SnapshotRef<'a> {
+    pub version: u32,
+    pub scene: &'a str,
+    pub dt: f64,
+    pub backend: &'a str,
+    pub precision: &'a str,
+    pub step: u64,
+    pub time: f64,
+    pub removed: u64,
+    pub state: &'a State,
+    pub last_pass: &'a [ContactSum],
+    pub walls: WallState,
+    pub neighbours: Option<NeighbourStateRef<'a>>,
+    pub last_resort: Option<u64>,
+    pub fault: Option<Fault>,
+    pub rng: &'a [u64],
+    pub device: Option<&'a DeviceImage>,
+}
+
+/// [`NeighbourState`] borrowed.
+#[derive(Serialize)]
+pub struct NeighbourStateRef<'a> {
+    pub reference: &'a [DVec3],
+    pub valid: bool,
+    pub builds: u64,
+}
+
+impl SnapshotRef<'_> {
+    /// Streams the bytes [`Snapshot::to_bytes`] would give for the owned snapshot into `w`.
+    pub fn write_to<W: std::io::Write>(&self, mut w: W) -> std::io::Result<W> {
+        w.write_all(MAGIC)?;
+        w.write_all(&self.version.to_le_bytes())?;
+        postcard::to_io(self, w).map_err(std::io::Error::other)
+    }
+}
+
 /// A device backend's memory between two steps: its buffers byte for byte (slot order,
 /// springs, Kahan pairs, cell tables) and its host-side counters. `state` beside it holds
 /// the same particles widened to f64 in id order, for readers that are not that backend.
