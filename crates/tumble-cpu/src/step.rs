@@ -82,7 +82,8 @@ impl CpuSimulation {
         }
         for (now, wall) in self.walls.iter_mut().zip(&self.plan.model.walls) {
             if wall.motion.is_some() {
-                *now = wall.posed(t);
+                now.shape = wall.shape_at(t);
+                now.motion = wall.motion_at(t);
             }
         }
     }

@@ -109,8 +109,13 @@ impl Wall {
     pub fn posed(&self, t: f64) -> Wall {
         match self.motion {
             None => self.clone(),
-            Some(m) => Wall { shape: self.shape_at(t), motion: Some(m.instant(self.timing.elapsed(t), self.timing.rate(t))), ..self.clone() },
+            Some(_) => Wall { shape: self.shape_at(t), motion: self.motion_at(t), ..self.clone() },
         }
+    }
+
+    /// The motion at time `t` as that instant's velocities (what [`Wall::posed`] carries).
+    pub fn motion_at(&self, t: f64) -> Option<Motion> {
+        self.motion.map(|m| m.instant(self.timing.elapsed(t), self.timing.rate(t)))
     }
 
     /// Velocity of the wall material at point `x` (zero for a static wall).
