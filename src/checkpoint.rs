@@ -143,6 +143,37 @@ pub fn write_parts<W: Write + Seek>(
     Ok(w)
 }
 
+/// Counts the bytes written through it.
+struct Counting(u64);
+
+impl Write for Counting {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0 += buf.len() as u64;
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Bytes one spring in use adds to a checkpoint: its key and the spring (tangential and rolling,
+/// with their energies).
+pub const BYTES_PER_SPRING: u64 = 4 + 64;
+
+/// The size of a checkpoint of `compiled` at its start, bytes, without contact springs (each
+/// adds [`BYTES_PER_SPRING`]): the particle arrays, the neighbour list's reference positions and
+/// the last contact pass's sums.
+pub fn estimated_bytes(compiled: &tumble_scene::CompiledScene) -> u64 {
+    let state = tumble_state::State::from_scene(compiled);
+    let n = state.len() as u64;
+    let mut count = Counting(0);
+    postcard::to_io(&state, &mut count).expect("counting never fails");
+    let mut sum = Counting(0);
+    postcard::to_io(&tumble_state::ContactSum::default(), &mut sum).expect("counting never fails");
+    count.0 + n * (24 + sum.0) + 1024
+}
+
 /// The file name of the checkpoint at `step`: names sort in step order.
 fn file_name(step: u64) -> String {
     format!("step_{step:012}.ckpt")

@@ -129,6 +129,17 @@ pub fn main_with(cli: Cli) -> i32 {
                     tumble_gpu::BYTES_PER_CELL,
                     grid.dims
                 ));
+                if let Some(every) = c.plan.run.checkpoint_every {
+                    let bytes = crate::checkpoint::estimated_bytes(&c);
+                    print_out(&format!(
+                        "checkpoints  every {every} steps ({:.4e} s), newest {} kept; about {:.3} MiB each ({} bytes per particle) + {} bytes per contact spring\n",
+                        every as f64 * c.plan.model.dt,
+                        c.plan.run.checkpoint_keep,
+                        bytes as f64 / (1 << 20) as f64,
+                        bytes / n.max(1) as u64,
+                        crate::checkpoint::BYTES_PER_SPRING
+                    ));
+                }
                 0
             }
             Err(e) => {

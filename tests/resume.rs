@@ -337,3 +337,21 @@ fn a_charge_settled_once_seeds_a_run_at_speed_with_its_contacts() {
     assert!(!dir.join("other").exists(), "a refused seed wrote nothing");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_plan_states_the_size_of_a_checkpoint() {
+    let dir = tmp("size");
+    let scene = mill_scene(&dir, 0.002);
+    let text = std::fs::read_to_string(&scene).unwrap().replace("integrator = \"verlet\"", "integrator = \"verlet\"\ncheckpoint_interval = 1.0");
+    std::fs::write(&scene, text).unwrap();
+    let plan = String::from_utf8(run(&["plan", scene.to_str().unwrap()]).stdout).unwrap();
+    let line = plan.lines().find(|l| l.starts_with("checkpoints")).unwrap_or_else(|| panic!("{plan}"));
+    let mib: f64 = line.split("about ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    let out = dir.join("run");
+    assert!(run(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]).status.success());
+    // The checkpoint at t = 0 holds no springs yet.
+    let first = std::fs::metadata(out.join("checkpoints/step_000000000000.ckpt")).unwrap().len() as f64 / (1u64 << 20) as f64;
+    println!("{line}; the t = 0 checkpoint is {first:.4} MiB");
+    assert!((mib - first).abs() < 0.05 * first, "the plan says {mib} MiB, the file is {first} MiB");
+    let _ = std::fs::remove_dir_all(&dir);
+}
