@@ -1,24 +1,19 @@
-//! Running a scene end to end: compile, step, monitor, write outputs and checkpoints; resume a
-//! run from its newest checkpoint.
+//! Running a scene end to end: the options, the summary and errors, setting a run up (seeded
+//! from another run's checkpoint when the scene says so); the step loop is run_loop.rs and
+//! continuing from a checkpoint resume.rs.
 
 use crate::Simulation;
-use crate::agglomerates::AgglomerateStats;
-use crate::checkpoint::{self, Checkpoint, CheckpointHeader, SceneRecord};
-use crate::flow::FlowCounter;
+use crate::checkpoint::SceneRecord;
 use crate::monitor::{Instability, Monitor};
-use crate::output::{AgglomeratesCsv, ExtraColumns, ObservablesCsv, TracksCsv};
-use crate::progress::Progress;
-use crate::summary::{running_json, summary_json};
-use crate::vtk::{SeriesIndex, SnapshotWriter};
-use serde::{Deserialize, Serialize};
+use crate::run_loop::{Books, ExtraRows, Outputs, Run};
+use crate::summary::running_json;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use std::sync::atomic::AtomicBool;
 use tumble_scene::schema::{BackendName, DtSpec};
-use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};
-use tumble_state::{Frame, State};
+use tumble_scene::{CompiledScene, Plan, SceneError, compile, read_scene};
+use tumble_state::State;
 
 /// Options of `tumble run`.
 #[derive(Clone, Debug)]
@@ -170,7 +165,7 @@ pub fn scene_record(path: &Path, options: &RunOptions) -> Result<SceneRecord, Ru
     })
 }
 
-fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T, RunError> {
+pub(crate) fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T, RunError> {
     r.map_err(|e| RunError::Io(path.to_path_buf(), e))
 }
 
@@ -223,7 +218,7 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
 
 /// The scene on `backend`, its particles taken from `run.start.from` when the scene names a
 /// checkpoint there; the warnings say what the seed did not carry over.
-fn set_up(backend: BackendName, compiled: CompiledScene, threads: usize) -> Result<(Simulation, Vec<String>), RunError> {
+pub(crate) fn set_up(backend: BackendName, compiled: CompiledScene, threads: usize) -> Result<(Simulation, Vec<String>), RunError> {
     let on = |e: tumble_gpu::GpuError| RunError::Backend(format!("backend {}: {e}", backend.name()));
     let Some(from) = compiled.plan.run.start_from.clone() else {
         return Ok((Simulation::on(backend, compiled, threads).map_err(on)?, Vec::new()));
@@ -235,462 +230,19 @@ fn set_up(backend: BackendName, compiled: CompiledScene, threads: usize) -> Resu
 }
 
 /// Steps between checkpoints: the command's interval, else the scene's.
-fn checkpoint_every(plan: &Plan, interval: Option<f64>) -> Option<u64> {
+pub(crate) fn checkpoint_every(plan: &Plan, interval: Option<f64>) -> Option<u64> {
     match interval {
         Some(s) => Some(((s / plan.model.dt).round() as u64).max(1)),
         None => plan.run.checkpoint_every,
     }
 }
 
-/// Continues the run in `dir` from its newest checkpoint, appending to its files.
-///
-/// The scene is the one the run started with (recorded in the checkpoint); `options.duration`
-/// may extend it, `options.threads` is free (the CPU's results do not depend on it), and the
-/// backend must be the one that wrote the checkpoint. A refusal changes nothing in `dir`.
-pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunError> {
-    let refuse = RunError::Resume;
-    if !dir.join(crate::outdir::MARKER).is_file() {
-        return Err(refuse(format!("{}: not the output folder of a tumble run (no {} marker)", dir.display(), crate::outdir::MARKER)));
-    }
-    let (path, Checkpoint { header: cp, snapshot }) = checkpoint::newest(dir).map_err(refuse)?;
-    let shown = path.display();
-    let Some(mut record) = cp.scene.clone() else {
-        return Err(refuse(format!(
-            "{shown}: the checkpoint records no scene (the run was started through the library's run_compiled); run_scene_file records it"
-        )));
-    };
-    if let Ok(now) = std::fs::read_to_string(&record.path)
-        && now != record.text
-    {
-        return Err(refuse(format!(
-            "{}: the scene file changed since the run in {} started, and a run continues only the scene it started with; restore the file, or start a new run with tumble run",
-            record.path.display(),
-            dir.display()
-        )));
-    }
-    if options.dt.is_some_and(|dt| Some(dt) != record.dt) {
-        return Err(refuse(format!("{shown}: a resumed run keeps the dt it started with; leave out --dt")));
-    }
-    let backend = match cp.backend.as_str() {
-        "cpu" => BackendName::Cpu,
-        "gpu" => BackendName::Gpu,
-        other => return Err(refuse(format!("{shown}: written by an unknown backend `{other}`"))),
-    };
-    if options.backend.is_some_and(|b| b != backend) {
-        return Err(refuse(format!("{shown}: written by the {} backend; a run continues on the backend that started it", backend.name())));
-    }
-    if options.duration.is_some() {
-        record.duration = options.duration;
-    }
-    if options.checkpoint_interval.is_some() {
-        record.checkpoint_interval = options.checkpoint_interval;
-    }
-    let compiled = compile_record(&record).map_err(RunError::Scene)?;
-    let plan_text = compiled.plan.describe(compiled.particles.len());
-    let books: Books = postcard::from_bytes(&cp.books).map_err(|e| refuse(format!("{shown}: the run's books cannot be decoded: {e}")))?;
-    let folder_scene = std::fs::read_to_string(dir.join("summary.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| v["scene"].as_str().map(str::to_string));
-    if let Some(name) = folder_scene
-        && name != snapshot.scene
-    {
-        return Err(refuse(format!("{shown}: a checkpoint of scene `{}`, but the run in {} is scene `{name}`", snapshot.scene, dir.display())));
-    }
-    // The restore replaces every particle on the CPU; a device's arrays are sized to the seed's
-    // particles, so a seeded GPU run is set up seeded again (its seed must still be there).
-    let mut sim = match backend {
-        BackendName::Cpu => Simulation::on(backend, compiled, options.threads).map_err(|e| RunError::Backend(format!("backend cpu: {e}")))?,
-        BackendName::Gpu => set_up(backend, compiled, options.threads)?.0,
-    };
-    sim.restore(&snapshot).map_err(|e| refuse(format!("{shown}: {e}")))?;
-    let total = sim.plan().run.steps;
-    if sim.steps() >= total {
-        return Err(refuse(format!(
-            "{shown}: the run already reached its end (step {}, t = {:.6e} s); pass --duration longer than {} s to continue it",
-            sim.steps(),
-            sim.time(),
-            sim.plan().run.duration
-        )));
-    }
-    check_files(dir, &books).map_err(refuse)?;
-    io(dir, checkpoint::remove_unfinished(dir))?;
-    let outputs = io(dir, Outputs::open(dir, sim.plan(), books.initial_particles, Some(&books)))?;
-    io(dir, crate::outdir::write_atomic(&dir.join("summary.json"), &running_json(&sim, &plan_text)))?;
-    let checkpoint_every = checkpoint_every(sim.plan(), record.checkpoint_interval);
-    let mut run = Run::new(sim, dir.to_path_buf(), options, books, outputs, Some(record), plan_text, Some(cp.step), checkpoint_every);
-    if cp.tumble_version != env!("CARGO_PKG_VERSION") {
-        run.warnings.push(format!(
-            "resumed from a checkpoint of tumble {} with tumble {}: the continuation is not guaranteed to be bit-identical",
-            cp.tumble_version,
-            env!("CARGO_PKG_VERSION")
-        ));
-    }
-    run.go(None, false)
-}
-
-/// The recorded scene compiled with the recorded overrides.
-fn compile_record(record: &SceneRecord) -> Result<CompiledScene, SceneError> {
-    let mut scene: Scene = parse_scene(&record.text).map_err(|e| e.in_file(&record.path))?;
-    if let Some(d) = record.duration {
-        scene.run.duration = d;
-    }
-    if let Some(dt) = record.dt {
-        scene.run.dt = Some(DtSpec::Seconds(dt));
-    }
-    compile(&scene).map_err(|e| e.in_file(&record.path))
-}
-
-/// Refuses a folder whose output files are shorter than the checkpoint says they were.
-fn check_files(dir: &Path, books: &Books) -> Result<(), String> {
-    for (name, len) in &books.files {
-        let path = dir.join(name);
-        let now = std::fs::metadata(&path).map_err(|e| format!("{}: {e}; the output folder was changed after the checkpoint", path.display()))?.len();
-        if now < *len {
-            return Err(format!("{}: {now} bytes, but {len} at the checkpoint; the output folder was changed after the checkpoint", path.display()));
-        }
-    }
-    Ok(())
-}
-
-/// What the run loop keeps besides the backend's state; a checkpoint carries it.
-#[derive(Serialize, Deserialize)]
-struct Books {
-    initial_particles: usize,
-    monitor: Monitor,
-    extra: ExtraRows,
-    last_agglomerates: Option<AgglomerateStats>,
-    /// Each output file (relative to the folder) and its length in bytes when the books were taken.
-    files: Vec<(String, u64)>,
-    series: SeriesIndex,
-}
-
-/// The run's output files.
-struct Outputs {
-    obs: ObservablesCsv,
-    tracks: TracksCsv,
-    agglo: Option<AgglomeratesCsv>,
-    snapshots: Option<SnapshotWriter>,
-}
-
-impl Outputs {
-    /// New files, or (`resume`) the files of an earlier part cut back to its checkpoint.
-    fn open(dir: &Path, plan: &Plan, initial_particles: usize, resume: Option<&Books>) -> std::io::Result<Self> {
-        if let Some(books) = resume {
-            for (name, len) in &books.files {
-                std::fs::OpenOptions::new().write(true).open(dir.join(name))?.set_len(*len)?;
-            }
-        }
-        let append = resume.is_some();
-        let agglo = match plan.run.agglomerates {
-            true => Some(AgglomeratesCsv::open(dir, initial_particles, append)?),
-            false => None,
-        };
-        let snapshots = match (plan.run.snapshot_every, resume) {
-            (None, _) => None,
-            (Some(_), None) => Some(SnapshotWriter::create(dir, plan)?),
-            (Some(_), Some(books)) => Some(SnapshotWriter::reopen(dir, plan, books.series.clone())?),
-        };
-        Ok(Outputs { obs: ObservablesCsv::open(dir, plan, append)?, tracks: TracksCsv::open(dir, plan, append)?, agglo, snapshots })
-    }
-
-    /// The length of each CSV file now (every row is flushed as it is written).
-    fn lengths(&self, dir: &Path) -> std::io::Result<Vec<(String, u64)>> {
-        let mut names = vec!["observables.csv", "tracks.csv"];
-        if self.agglo.is_some() {
-            names.push("agglomerates.csv");
-        }
-        names.into_iter().map(|n| Ok((n.to_string(), std::fs::metadata(dir.join(n))?.len()))).collect()
-    }
-}
-
-/// One `tumble run` or `tumble resume`: the simulation, its outputs and its books.
-struct Run<'o> {
-    sim: Simulation,
-    out_dir: PathBuf,
-    options: &'o RunOptions,
-    books: Books,
-    outputs: Outputs,
-    scene: Option<SceneRecord>,
-    plan_text: String,
-    resumed_from: Option<u64>,
-    checkpoint_every: Option<u64>,
-    checkpoints: CheckpointReport,
-    warnings: Vec<String>,
-    /// Flow planes and agglomerates need the particle arrays at every output row; nothing else does.
-    rows_need_state: bool,
-}
-
-impl<'o> Run<'o> {
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        sim: Simulation,
-        out_dir: PathBuf,
-        options: &'o RunOptions,
-        books: Books,
-        outputs: Outputs,
-        scene: Option<SceneRecord>,
-        plan_text: String,
-        resumed_from: Option<u64>,
-        checkpoint_every: Option<u64>,
-    ) -> Self {
-        let rows_need_state = !sim.plan().model.flow_planes.is_empty() || sim.plan().run.agglomerates;
-        let checkpoints = CheckpointReport { every_steps: checkpoint_every.unwrap_or(0), ..Default::default() };
-        Run {
-            sim,
-            out_dir,
-            options,
-            books,
-            outputs,
-            scene,
-            plan_text,
-            resumed_from,
-            checkpoint_every,
-            checkpoints,
-            warnings: Vec::new(),
-            rows_need_state,
-        }
-    }
-
-    /// Steps to the end, writing rows, snapshots and checkpoints; `stopped` is a stop found before step 1.
-    fn go(mut self, mut stopped: Option<Stop>, checkpoint_first: bool) -> Result<RunSummary, RunError> {
-        if stopped.is_none() && checkpoint_first && self.checkpoint_every.is_some() {
-            self.checkpoint()?;
-        }
-        let plan = self.sim.plan();
-        let (total, every, snapshot_every) = (plan.run.steps, plan.run.output_every, plan.run.snapshot_every);
-        let mut progress = self.options.progress.then(|| Progress::new(self.options.terminal, total, plan.run.duration));
-        let start = Instant::now();
-        let mut particle_steps = 0u128;
-        let next = |step: u64, every: u64| (step / every + 1) * every;
-        while stopped.is_none() && self.sim.steps() < total {
-            // Advance to the next output, snapshot or checkpoint, in chunks short enough to answer Ctrl-C promptly.
-            let mut target = next(self.sim.steps(), every).min(total);
-            for k in [snapshot_every, self.checkpoint_every].into_iter().flatten() {
-                target = target.min(next(self.sim.steps(), k));
-            }
-            let chunk = (target - self.sim.steps()).min(MAX_CHUNK);
-            let n = self.sim.particles() as u128;
-            self.sim.advance(chunk);
-            particle_steps += n * chunk as u128;
-            if let Some(fault) = self.sim.fault() {
-                stopped = Some(Stop::Capacity(self.books.monitor.explain_fault(fault.to_string())));
-                break;
-            }
-            let step = self.sim.steps();
-            // Every part of a distributed run stops at the same step.
-            let interrupted = self.sim.agree(self.options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))) && step < total;
-            let on_cadence = step.is_multiple_of(every);
-            let snapshot = snapshot_every.is_some_and(|k| step.is_multiple_of(k));
-            if on_cadence || snapshot {
-                stopped = self.rows(step, on_cadence, snapshot)?;
-                if let Some(Stop::Ended(_)) = stopped
-                    && self.checkpoint_every.is_some()
-                {
-                    // The state a later run starts from (run.start.from).
-                    self.checkpoint()?;
-                }
-                if stopped.is_some() {
-                    break;
-                }
-            }
-            // Before the last row when that row is off the output cadence: a run continued past
-            // its end then writes the rows an uninterrupted run would have.
-            if self.checkpoint_every.is_some_and(|k| step.is_multiple_of(k) || interrupted || step == total) {
-                self.checkpoint()?;
-            }
-            if step == total && !on_cadence {
-                stopped = self.rows(step, true, false)?;
-                if stopped.is_some() {
-                    break;
-                }
-            }
-            if interrupted {
-                stopped = Some(Stop::Interrupted);
-                break;
-            }
-            if let Some(p) = progress.as_mut() {
-                p.update(step, self.sim.time(), particle_steps);
-            }
-        }
-        if let Some(p) = progress.as_mut() {
-            p.finish(self.sim.steps(), self.sim.time(), particle_steps);
-        }
-        self.finish(stopped, start.elapsed().as_secs_f64(), particle_steps)
-    }
-
-    /// The output row (`output`) and snapshot (`snapshot`) of `step`, from one frame; a stop the row finds.
-    fn rows(&mut self, step: u64, output: bool, snapshot: bool) -> Result<Option<Stop>, RunError> {
-        let (sim, out_dir) = (&self.sim, self.out_dir.as_path());
-        // One frame (one read-back on a device) serves the monitor, the rows and the snapshot.
-        let frame = sim.frame((output && self.rows_need_state) || snapshot);
-        let o = frame.observables;
-        let mut ended = None;
-        if output {
-            if let Err(e) = self.books.monitor.check(step, &o) {
-                return Ok(Some(Stop::Unstable(e)));
-            }
-            let extra = self.books.extra.row(sim.plan(), sim.time(), &frame);
-            io(out_dir, self.outputs.obs.row(&o, sim.plan().model.fluid.is_some(), sim.removed(), &extra))?;
-            if let Some(text) = too_many_lost(sim.plan(), sim.removed(), self.books.initial_particles, o.time) {
-                return Ok(Some(Stop::Lost(text)));
-            }
-            ended =
-                sim.plan().run.end_when.filter(|e| o.time >= e.after && o.kinetic_energy + o.rotational_energy < e.kinetic_energy_below).map(|e| {
-                    Stop::Ended(format!(
-                        "the particles' kinetic energy {:.3e} J fell below run.end_when.kinetic_energy_below = {:e} J at t = {:.6e} s",
-                        o.kinetic_energy + o.rotational_energy,
-                        e.kinetic_energy_below,
-                        o.time
-                    ))
-                });
-            io(out_dir, self.outputs.tracks.rows(o.time, &frame.tracks))?;
-            if let (Some(w), Some(state)) = (self.outputs.agglo.as_mut(), frame.state.as_deref()) {
-                let a = agglomerates_of(sim.plan(), state);
-                io(out_dir, w.row(o.time, &a))?;
-                self.books.last_agglomerates = Some(a);
-            }
-        }
-        // Never write NaN: a non-finite state is stopped by the monitor at the next output.
-        if let (true, true, Some(w), Some(k), Some(state)) =
-            (snapshot, o.finite, self.outputs.snapshots.as_mut(), sim.plan().run.snapshot_every, frame.state.as_deref())
-        {
-            io(out_dir, w.write((step / k) as usize, sim, o.time, state))?;
-        }
-        Ok(ended)
-    }
-
-    /// Writes a checkpoint of the run as it stands.
-    fn checkpoint(&mut self) -> Result<(), RunError> {
-        let t0 = Instant::now();
-        self.books.files = io(&self.out_dir, self.outputs.lengths(&self.out_dir))?;
-        self.books.series = self.outputs.snapshots.as_ref().map(|w| w.index().clone()).unwrap_or_default();
-        let header = CheckpointHeader {
-            tumble_version: env!("CARGO_PKG_VERSION").to_string(),
-            scene: self.scene.clone(),
-            backend: self.sim.backend_name().to_string(),
-            step: self.sim.steps(),
-            time: self.sim.time(),
-            books: postcard::to_stdvec(&self.books).expect("the books always encode"),
-        };
-        let sim = &self.sim;
-        let (path, bytes) =
-            io(&self.out_dir, checkpoint::write(&self.out_dir, &header, |w| sim.backend().write_snapshot(w), sim.plan().run.checkpoint_keep))?;
-        let c = &mut self.checkpoints;
-        c.written += 1;
-        c.last = Some(path);
-        c.last_bytes = bytes;
-        c.seconds += t0.elapsed().as_secs_f64();
-        Ok(())
-    }
-
-    /// Writes the final summary.json and says how the run ended.
-    fn finish(self, stopped: Option<Stop>, wall_seconds: f64, particle_steps: u128) -> Result<RunSummary, RunError> {
-        let sim = &self.sim;
-        let mut warnings = self.warnings;
-        warnings.extend(lost_warning(sim.removed(), self.books.initial_particles));
-        let summary = RunSummary {
-            out_dir: self.out_dir.clone(),
-            steps: sim.steps(),
-            particles: sim.particles(),
-            wall_seconds,
-            particle_steps_per_second: particle_steps as f64 / wall_seconds.max(1e-12),
-            final_observables: sim.observables(),
-            final_agglomerates: self.books.last_agglomerates,
-            removed: sim.removed(),
-            warnings,
-            resumed_from_step: self.resumed_from,
-            ended_early: match &stopped {
-                Some(Stop::Ended(why)) => Some(why.clone()),
-                _ => None,
-            },
-            checkpoints: self.checkpoint_every.map(|_| self.checkpoints),
-        };
-        let stop_text = match &stopped {
-            Some(Stop::Ended(_)) => None,
-            Some(Stop::Unstable(e)) => Some(e.to_string()),
-            Some(Stop::Capacity(e)) => Some(e.clone()),
-            Some(Stop::Lost(e)) => Some(e.clone()),
-            Some(Stop::Interrupted) => {
-                let resume = if self.checkpoint_every.is_some() {
-                    format!("; `tumble resume {}` continues it", self.out_dir.display())
-                } else {
-                    String::new()
-                };
-                Some(format!("interrupted by a signal (Ctrl-C, SIGTERM or SIGHUP) at step {} (t = {:.6e} s){resume}", sim.steps(), sim.time()))
-            }
-            None => None,
-        };
-        let status = match &stopped {
-            None | Some(Stop::Ended(_)) => "completed",
-            Some(Stop::Interrupted) => "interrupted",
-            Some(_) => "stopped",
-        };
-        let json = summary_json(sim, &summary, &self.plan_text, status, stop_text);
-        // Replaced in one rename: a reader sees the "running" summary or the final one, never half of either.
-        io(&self.out_dir, crate::outdir::write_atomic(&self.out_dir.join("summary.json"), &json))?;
-        match stopped {
-            Some(Stop::Unstable(e)) => Err(RunError::Unstable(e)),
-            Some(Stop::Capacity(e)) => Err(RunError::Capacity(e)),
-            Some(Stop::Lost(e)) => Err(RunError::Lost(e)),
-            Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir: self.out_dir }),
-            None | Some(Stop::Ended(_)) => Ok(summary),
-        }
-    }
-}
-
 /// Agglomerate statistics of state `s` (positions wrapped into the domain).
-fn agglomerates_of(plan: &Plan, s: &State) -> crate::agglomerates::AgglomerateStats {
+pub(crate) fn agglomerates_of(plan: &Plan, s: &State) -> crate::agglomerates::AgglomerateStats {
     crate::agglomerates::agglomerates(&s.pos, &s.radius, Some(&plan.model.domain))
 }
 
-/// Wall power (mean over the output interval), drum profiles and flow-plane counts.
-#[derive(Serialize, Deserialize)]
-struct ExtraRows {
-    moving: Vec<usize>,
-    last: Option<(f64, Vec<f64>)>,
-    flow: Option<FlowCounter>,
-}
-
-impl ExtraRows {
-    fn new(plan: &Plan) -> Self {
-        let moving = (0..plan.model.wall_groups.len()).filter(|&g| plan.model.wall_groups[g].moving).collect();
-        ExtraRows { moving, last: None, flow: None }
-    }
-
-    /// The extra columns of the row at time `t` (the first row starts the flow count).
-    fn row(&mut self, plan: &Plan, t: f64, frame: &Frame) -> ExtraColumns {
-        // Nothing to add.
-        if plan.model.wall_groups.is_empty() && plan.model.drums.is_empty() && plan.model.flow_planes.is_empty() {
-            return ExtraColumns::default();
-        }
-        let work = &frame.wall_work;
-        let power = match &self.last {
-            // Mean power since the last row: Δ(work) / Δt.
-            Some((t0, w0)) if t > *t0 => self.moving.iter().map(|&g| (work[g] - w0[g]) / (t - t0)).collect(),
-            // The first row: the power of the initial force pass.
-            _ => self.moving.iter().map(|&g| frame.wall_power[g]).collect(),
-        };
-        self.last = Some((t, work.clone()));
-        let flow = match (frame.state.as_deref(), plan.model.flow_planes.is_empty()) {
-            (Some(s), false) => match self.flow.as_mut() {
-                Some(f) => f.update_state(plan, s, t),
-                None => {
-                    let f = self.flow.insert(FlowCounter::from_state(plan, s, t));
-                    f.mass.iter().map(|&m| (0.0, m)).collect()
-                }
-            },
-            _ => Vec::new(),
-        };
-        let wall_loads = frame.wall_force.iter().copied().zip(frame.wall_torque.iter().copied()).collect();
-        ExtraColumns { power, wall_loads, drums: frame.drums.clone(), flow }
-    }
-}
-
-/// Most steps advanced between two checks of the interrupt flag and the progress display.
-const MAX_CHUNK: u64 = 200;
-
-enum Stop {
+pub(crate) enum Stop {
     /// The scene's `run.end_when` was met: a completed run.
     Ended(String),
     Unstable(Instability),
@@ -700,7 +252,7 @@ enum Stop {
 }
 
 /// The stop message when more particles have left the domain than the scene allows.
-fn too_many_lost(plan: &Plan, removed: usize, initial: usize, t: f64) -> Option<String> {
+pub(crate) fn too_many_lost(plan: &Plan, removed: usize, initial: usize, t: f64) -> Option<String> {
     let allowed = plan.run.max_lost_fraction * initial as f64;
     (removed as f64 > allowed).then(|| {
         format!(
@@ -712,7 +264,7 @@ fn too_many_lost(plan: &Plan, removed: usize, initial: usize, t: f64) -> Option<
 }
 
 /// The warning of a finished run that lost particles.
-fn lost_warning(removed: usize, initial: usize) -> Option<String> {
+pub(crate) fn lost_warning(removed: usize, initial: usize) -> Option<String> {
     (removed > 0).then(|| {
         format!(
             "{removed} of {initial} particles ({:.2} %) left the domain through its non-periodic sides and were removed",

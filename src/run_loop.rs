@@ -1,0 +1,351 @@
+//! The step loop of a run: output rows, snapshots and checkpoints at their cadence, the
+//! monitor, the run's end and its summary.json.
+
+use crate::Simulation;
+use crate::agglomerates::AgglomerateStats;
+use crate::checkpoint::{self, CheckpointHeader, SceneRecord};
+use crate::flow::FlowCounter;
+use crate::monitor::Monitor;
+use crate::output::{AgglomeratesCsv, ExtraColumns, ObservablesCsv, TracksCsv};
+use crate::progress::Progress;
+use crate::run::{CheckpointReport, RunError, RunOptions, RunSummary, Stop, agglomerates_of, io, lost_warning, too_many_lost};
+use crate::summary::summary_json;
+use crate::vtk::{SeriesIndex, SnapshotWriter};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+use tumble_scene::Plan;
+use tumble_state::Frame;
+
+/// What the run loop keeps besides the backend's state; a checkpoint carries it.
+#[derive(Serialize, Deserialize)]
+pub(crate) struct Books {
+    pub(crate) initial_particles: usize,
+    pub(crate) monitor: Monitor,
+    pub(crate) extra: ExtraRows,
+    pub(crate) last_agglomerates: Option<AgglomerateStats>,
+    /// Each output file (relative to the folder) and its length in bytes when the books were taken.
+    pub(crate) files: Vec<(String, u64)>,
+    pub(crate) series: SeriesIndex,
+}
+
+/// The run's output files.
+pub(crate) struct Outputs {
+    pub(crate) obs: ObservablesCsv,
+    pub(crate) tracks: TracksCsv,
+    pub(crate) agglo: Option<AgglomeratesCsv>,
+    pub(crate) snapshots: Option<SnapshotWriter>,
+}
+
+impl Outputs {
+    /// New files, or (`resume`) the files of an earlier part cut back to its checkpoint.
+    pub(crate) fn open(dir: &Path, plan: &Plan, initial_particles: usize, resume: Option<&Books>) -> std::io::Result<Self> {
+        if let Some(books) = resume {
+            for (name, len) in &books.files {
+                std::fs::OpenOptions::new().write(true).open(dir.join(name))?.set_len(*len)?;
+            }
+        }
+        let append = resume.is_some();
+        let agglo = match plan.run.agglomerates {
+            true => Some(AgglomeratesCsv::open(dir, initial_particles, append)?),
+            false => None,
+        };
+        let snapshots = match (plan.run.snapshot_every, resume) {
+            (None, _) => None,
+            (Some(_), None) => Some(SnapshotWriter::create(dir, plan)?),
+            (Some(_), Some(books)) => Some(SnapshotWriter::reopen(dir, plan, books.series.clone())?),
+        };
+        Ok(Outputs { obs: ObservablesCsv::open(dir, plan, append)?, tracks: TracksCsv::open(dir, plan, append)?, agglo, snapshots })
+    }
+
+    /// The length of each CSV file now (every row is flushed as it is written).
+    pub(crate) fn lengths(&self, dir: &Path) -> std::io::Result<Vec<(String, u64)>> {
+        let mut names = vec!["observables.csv", "tracks.csv"];
+        if self.agglo.is_some() {
+            names.push("agglomerates.csv");
+        }
+        names.into_iter().map(|n| Ok((n.to_string(), std::fs::metadata(dir.join(n))?.len()))).collect()
+    }
+}
+
+/// One `tumble run` or `tumble resume`: the simulation, its outputs and its books.
+pub(crate) struct Run<'o> {
+    pub(crate) sim: Simulation,
+    pub(crate) out_dir: PathBuf,
+    pub(crate) options: &'o RunOptions,
+    pub(crate) books: Books,
+    pub(crate) outputs: Outputs,
+    pub(crate) scene: Option<SceneRecord>,
+    pub(crate) plan_text: String,
+    pub(crate) resumed_from: Option<u64>,
+    pub(crate) checkpoint_every: Option<u64>,
+    pub(crate) checkpoints: CheckpointReport,
+    pub(crate) warnings: Vec<String>,
+    /// Flow planes and agglomerates need the particle arrays at every output row; nothing else does.
+    pub(crate) rows_need_state: bool,
+}
+
+impl<'o> Run<'o> {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        sim: Simulation,
+        out_dir: PathBuf,
+        options: &'o RunOptions,
+        books: Books,
+        outputs: Outputs,
+        scene: Option<SceneRecord>,
+        plan_text: String,
+        resumed_from: Option<u64>,
+        checkpoint_every: Option<u64>,
+    ) -> Self {
+        let rows_need_state = !sim.plan().model.flow_planes.is_empty() || sim.plan().run.agglomerates;
+        let checkpoints = CheckpointReport { every_steps: checkpoint_every.unwrap_or(0), ..Default::default() };
+        Run {
+            sim,
+            out_dir,
+            options,
+            books,
+            outputs,
+            scene,
+            plan_text,
+            resumed_from,
+            checkpoint_every,
+            checkpoints,
+            warnings: Vec::new(),
+            rows_need_state,
+        }
+    }
+
+    /// Steps to the end, writing rows, snapshots and checkpoints; `stopped` is a stop found before step 1.
+    pub(crate) fn go(mut self, mut stopped: Option<Stop>, checkpoint_first: bool) -> Result<RunSummary, RunError> {
+        if stopped.is_none() && checkpoint_first && self.checkpoint_every.is_some() {
+            self.checkpoint()?;
+        }
+        let plan = self.sim.plan();
+        let (total, every, snapshot_every) = (plan.run.steps, plan.run.output_every, plan.run.snapshot_every);
+        let mut progress = self.options.progress.then(|| Progress::new(self.options.terminal, total, plan.run.duration));
+        let start = Instant::now();
+        let mut particle_steps = 0u128;
+        let next = |step: u64, every: u64| (step / every + 1) * every;
+        while stopped.is_none() && self.sim.steps() < total {
+            // Advance to the next output, snapshot or checkpoint, in chunks short enough to answer Ctrl-C promptly.
+            let mut target = next(self.sim.steps(), every).min(total);
+            for k in [snapshot_every, self.checkpoint_every].into_iter().flatten() {
+                target = target.min(next(self.sim.steps(), k));
+            }
+            let chunk = (target - self.sim.steps()).min(MAX_CHUNK);
+            let n = self.sim.particles() as u128;
+            self.sim.advance(chunk);
+            particle_steps += n * chunk as u128;
+            if let Some(fault) = self.sim.fault() {
+                stopped = Some(Stop::Capacity(self.books.monitor.explain_fault(fault.to_string())));
+                break;
+            }
+            let step = self.sim.steps();
+            // Every part of a distributed run stops at the same step.
+            let interrupted = self.sim.agree(self.options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))) && step < total;
+            let on_cadence = step.is_multiple_of(every);
+            let snapshot = snapshot_every.is_some_and(|k| step.is_multiple_of(k));
+            if on_cadence || snapshot {
+                stopped = self.rows(step, on_cadence, snapshot)?;
+                if let Some(Stop::Ended(_)) = stopped
+                    && self.checkpoint_every.is_some()
+                {
+                    // The state a later run starts from (run.start.from).
+                    self.checkpoint()?;
+                }
+                if stopped.is_some() {
+                    break;
+                }
+            }
+            // Before the last row when that row is off the output cadence: a run continued past
+            // its end then writes the rows an uninterrupted run would have.
+            if self.checkpoint_every.is_some_and(|k| step.is_multiple_of(k) || interrupted || step == total) {
+                self.checkpoint()?;
+            }
+            if step == total && !on_cadence {
+                stopped = self.rows(step, true, false)?;
+                if stopped.is_some() {
+                    break;
+                }
+            }
+            if interrupted {
+                stopped = Some(Stop::Interrupted);
+                break;
+            }
+            if let Some(p) = progress.as_mut() {
+                p.update(step, self.sim.time(), particle_steps);
+            }
+        }
+        if let Some(p) = progress.as_mut() {
+            p.finish(self.sim.steps(), self.sim.time(), particle_steps);
+        }
+        self.finish(stopped, start.elapsed().as_secs_f64(), particle_steps)
+    }
+
+    /// The output row (`output`) and snapshot (`snapshot`) of `step`, from one frame; a stop the row finds.
+    fn rows(&mut self, step: u64, output: bool, snapshot: bool) -> Result<Option<Stop>, RunError> {
+        let (sim, out_dir) = (&self.sim, self.out_dir.as_path());
+        // One frame (one read-back on a device) serves the monitor, the rows and the snapshot.
+        let frame = sim.frame((output && self.rows_need_state) || snapshot);
+        let o = frame.observables;
+        let mut ended = None;
+        if output {
+            if let Err(e) = self.books.monitor.check(step, &o) {
+                return Ok(Some(Stop::Unstable(e)));
+            }
+            let extra = self.books.extra.row(sim.plan(), sim.time(), &frame);
+            io(out_dir, self.outputs.obs.row(&o, sim.plan().model.fluid.is_some(), sim.removed(), &extra))?;
+            if let Some(text) = too_many_lost(sim.plan(), sim.removed(), self.books.initial_particles, o.time) {
+                return Ok(Some(Stop::Lost(text)));
+            }
+            ended =
+                sim.plan().run.end_when.filter(|e| o.time >= e.after && o.kinetic_energy + o.rotational_energy < e.kinetic_energy_below).map(|e| {
+                    Stop::Ended(format!(
+                        "the particles' kinetic energy {:.3e} J fell below run.end_when.kinetic_energy_below = {:e} J at t = {:.6e} s",
+                        o.kinetic_energy + o.rotational_energy,
+                        e.kinetic_energy_below,
+                        o.time
+                    ))
+                });
+            io(out_dir, self.outputs.tracks.rows(o.time, &frame.tracks))?;
+            if let (Some(w), Some(state)) = (self.outputs.agglo.as_mut(), frame.state.as_deref()) {
+                let a = agglomerates_of(sim.plan(), state);
+                io(out_dir, w.row(o.time, &a))?;
+                self.books.last_agglomerates = Some(a);
+            }
+        }
+        // Never write NaN: a non-finite state is stopped by the monitor at the next output.
+        if let (true, true, Some(w), Some(k), Some(state)) =
+            (snapshot, o.finite, self.outputs.snapshots.as_mut(), sim.plan().run.snapshot_every, frame.state.as_deref())
+        {
+            io(out_dir, w.write((step / k) as usize, sim, o.time, state))?;
+        }
+        Ok(ended)
+    }
+
+    /// Writes a checkpoint of the run as it stands.
+    fn checkpoint(&mut self) -> Result<(), RunError> {
+        let t0 = Instant::now();
+        self.books.files = io(&self.out_dir, self.outputs.lengths(&self.out_dir))?;
+        self.books.series = self.outputs.snapshots.as_ref().map(|w| w.index().clone()).unwrap_or_default();
+        let header = CheckpointHeader {
+            tumble_version: env!("CARGO_PKG_VERSION").to_string(),
+            scene: self.scene.clone(),
+            backend: self.sim.backend_name().to_string(),
+            step: self.sim.steps(),
+            time: self.sim.time(),
+            books: postcard::to_stdvec(&self.books).expect("the books always encode"),
+        };
+        let sim = &self.sim;
+        let (path, bytes) =
+            io(&self.out_dir, checkpoint::write(&self.out_dir, &header, |w| sim.backend().write_snapshot(w), sim.plan().run.checkpoint_keep))?;
+        let c = &mut self.checkpoints;
+        c.written += 1;
+        c.last = Some(path);
+        c.last_bytes = bytes;
+        c.seconds += t0.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Writes the final summary.json and says how the run ended.
+    fn finish(self, stopped: Option<Stop>, wall_seconds: f64, particle_steps: u128) -> Result<RunSummary, RunError> {
+        let sim = &self.sim;
+        let mut warnings = self.warnings;
+        warnings.extend(lost_warning(sim.removed(), self.books.initial_particles));
+        let summary = RunSummary {
+            out_dir: self.out_dir.clone(),
+            steps: sim.steps(),
+            particles: sim.particles(),
+            wall_seconds,
+            particle_steps_per_second: particle_steps as f64 / wall_seconds.max(1e-12),
+            final_observables: sim.observables(),
+            final_agglomerates: self.books.last_agglomerates,
+            removed: sim.removed(),
+            warnings,
+            resumed_from_step: self.resumed_from,
+            ended_early: match &stopped {
+                Some(Stop::Ended(why)) => Some(why.clone()),
+                _ => None,
+            },
+            checkpoints: self.checkpoint_every.map(|_| self.checkpoints),
+        };
+        let stop_text = match &stopped {
+            Some(Stop::Ended(_)) => None,
+            Some(Stop::Unstable(e)) => Some(e.to_string()),
+            Some(Stop::Capacity(e)) => Some(e.clone()),
+            Some(Stop::Lost(e)) => Some(e.clone()),
+            Some(Stop::Interrupted) => {
+                let resume = if self.checkpoint_every.is_some() {
+                    format!("; `tumble resume {}` continues it", self.out_dir.display())
+                } else {
+                    String::new()
+                };
+                Some(format!("interrupted by a signal (Ctrl-C, SIGTERM or SIGHUP) at step {} (t = {:.6e} s){resume}", sim.steps(), sim.time()))
+            }
+            None => None,
+        };
+        let status = match &stopped {
+            None | Some(Stop::Ended(_)) => "completed",
+            Some(Stop::Interrupted) => "interrupted",
+            Some(_) => "stopped",
+        };
+        let json = summary_json(sim, &summary, &self.plan_text, status, stop_text);
+        // Replaced in one rename: a reader sees the "running" summary or the final one, never half of either.
+        io(&self.out_dir, crate::outdir::write_atomic(&self.out_dir.join("summary.json"), &json))?;
+        match stopped {
+            Some(Stop::Unstable(e)) => Err(RunError::Unstable(e)),
+            Some(Stop::Capacity(e)) => Err(RunError::Capacity(e)),
+            Some(Stop::Lost(e)) => Err(RunError::Lost(e)),
+            Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir: self.out_dir }),
+            None | Some(Stop::Ended(_)) => Ok(summary),
+        }
+    }
+}
+
+/// Wall power (mean over the output interval), drum profiles and flow-plane counts.
+#[derive(Serialize, Deserialize)]
+pub(crate) struct ExtraRows {
+    moving: Vec<usize>,
+    last: Option<(f64, Vec<f64>)>,
+    flow: Option<FlowCounter>,
+}
+
+impl ExtraRows {
+    pub(crate) fn new(plan: &Plan) -> Self {
+        let moving = (0..plan.model.wall_groups.len()).filter(|&g| plan.model.wall_groups[g].moving).collect();
+        ExtraRows { moving, last: None, flow: None }
+    }
+
+    /// The extra columns of the row at time `t` (the first row starts the flow count).
+    pub(crate) fn row(&mut self, plan: &Plan, t: f64, frame: &Frame) -> ExtraColumns {
+        // Nothing to add.
+        if plan.model.wall_groups.is_empty() && plan.model.drums.is_empty() && plan.model.flow_planes.is_empty() {
+            return ExtraColumns::default();
+        }
+        let work = &frame.wall_work;
+        let power = match &self.last {
+            // Mean power since the last row: Δ(work) / Δt.
+            Some((t0, w0)) if t > *t0 => self.moving.iter().map(|&g| (work[g] - w0[g]) / (t - t0)).collect(),
+            // The first row: the power of the initial force pass.
+            _ => self.moving.iter().map(|&g| frame.wall_power[g]).collect(),
+        };
+        self.last = Some((t, work.clone()));
+        let flow = match (frame.state.as_deref(), plan.model.flow_planes.is_empty()) {
+            (Some(s), false) => match self.flow.as_mut() {
+                Some(f) => f.update_state(plan, s, t),
+                None => {
+                    let f = self.flow.insert(FlowCounter::from_state(plan, s, t));
+                    f.mass.iter().map(|&m| (0.0, m)).collect()
+                }
+            },
+            _ => Vec::new(),
+        };
+        let wall_loads = frame.wall_force.iter().copied().zip(frame.wall_torque.iter().copied()).collect();
+        ExtraColumns { power, wall_loads, drums: frame.drums.clone(), flow }
+    }
+}
+
+/// Most steps advanced between two checks of the interrupt flag and the progress display.
+const MAX_CHUNK: u64 = 200;
