@@ -173,11 +173,10 @@ pub fn main_with(cli: Cli) -> i32 {
             finish_run(crate::resume_run(&dir, &options))
         }
         Command::Run { scene, out, backend, threads, duration, dt, quiet, overwrite, checkpoint_interval } => {
-            let backend = match backend.as_deref() {
+            let backend = match backend.as_deref().map(|b| (b, BackendName::from_name(b))) {
                 None => None,
-                Some("cpu") => Some(BackendName::Cpu),
-                Some("gpu") => Some(BackendName::Gpu),
-                Some(b) => {
+                Some((_, Some(b))) => Some(b),
+                Some((b, None)) => {
                     eprintln!("error: --backend {b}: unknown backend (valid: cpu, gpu)");
                     return 2;
                 }
@@ -186,8 +185,8 @@ pub fn main_with(cli: Cli) -> i32 {
                 eprintln!("error: {e}");
                 return 2;
             }
-            let compiled = match load_scene(&scene, duration, dt) {
-                Ok(c) => c,
+            let (compiled, record) = match crate::load_recorded(&scene, &RunOptions { duration, dt, checkpoint_interval, ..Default::default() }) {
+                Ok(loaded) => loaded,
                 Err(e) => {
                     eprintln!("error: {e}");
                     return 2;
@@ -197,13 +196,6 @@ pub fn main_with(cli: Cli) -> i32 {
             if let Some(t) = threads {
                 options.threads = t;
             }
-            let record = match crate::scene_record(&scene, &options) {
-                Ok(r) => r,
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    return 2;
-                }
-            };
             finish_run(crate::run_recorded(compiled, Some(record), &options))
         }
     }

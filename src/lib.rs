@@ -33,7 +33,7 @@ pub mod vtk;
 pub use flow::FlowCounter;
 pub use monitor::{Instability, Monitor};
 pub use resume::resume_run;
-pub use run::{CheckpointReport, RunError, RunOptions, RunSummary, load_scene, run_compiled, run_recorded, run_scene_file, scene_record};
+pub use run::{CheckpointReport, RunError, RunOptions, RunSummary, load_recorded, load_scene, run_compiled, run_recorded, run_scene_file};
 pub use simulation::Simulation;
 pub use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};
 pub use tumble_state::{Backend, DrumProfile, Fault, Frame, Observables, Snapshot, SnapshotError, State, TrackRow};

@@ -1,14 +1,12 @@
 //! `tumble resume`: continuing a run from the newest checkpoint in its folder, appending to its
 //! files (docs/cli.md, "Checkpoints and resume").
 
-use crate::Simulation;
-use crate::checkpoint::{self, Checkpoint, SceneRecord};
-use crate::run::{RunError, RunOptions, RunSummary, checkpoint_every, io, set_up};
+use crate::checkpoint::{self, Checkpoint};
+use crate::run::{RunError, RunOptions, RunSummary, checkpoint_every, compile_text, io, set_up};
 use crate::run_loop::{Books, Outputs, Run};
 use crate::summary::running_json;
 use std::path::Path;
-use tumble_scene::schema::{BackendName, DtSpec};
-use tumble_scene::{CompiledScene, Scene, SceneError, compile, parse_scene};
+use tumble_scene::schema::BackendName;
 
 /// Continues the run in `dir` from its newest checkpoint, appending to its files.
 ///
@@ -39,10 +37,8 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
     if options.dt.is_some_and(|dt| Some(dt) != record.dt) {
         return Err(refuse(format!("{shown}: a resumed run keeps the dt it started with; leave out --dt")));
     }
-    let backend = match cp.backend.as_str() {
-        "cpu" => BackendName::Cpu,
-        "gpu" => BackendName::Gpu,
-        other => return Err(refuse(format!("{shown}: written by an unknown backend `{other}`"))),
+    let Some(backend) = BackendName::from_name(&cp.backend) else {
+        return Err(refuse(format!("{shown}: written by an unknown backend `{}`", cp.backend)));
     };
     if options.backend.is_some_and(|b| b != backend) {
         return Err(refuse(format!("{shown}: written by the {} backend; a run continues on the backend that started it", backend.name())));
@@ -53,7 +49,7 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
     if options.checkpoint_interval.is_some() {
         record.checkpoint_interval = options.checkpoint_interval;
     }
-    let compiled = compile_record(&record).map_err(RunError::Scene)?;
+    let compiled = compile_text(&record.text, &record.path, record.duration, record.dt).map_err(RunError::Scene)?;
     let plan_text = compiled.plan.describe(compiled.particles.len());
     let books: Books = postcard::from_bytes(&cp.books).map_err(|e| refuse(format!("{shown}: the run's books cannot be decoded: {e}")))?;
     let folder_scene = std::fs::read_to_string(dir.join("summary.json"))
@@ -67,10 +63,7 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
     }
     // The restore replaces every particle on the CPU; a device's arrays are sized to the seed's
     // particles, so a seeded GPU run is set up seeded again (its seed must still be there).
-    let mut sim = match backend {
-        BackendName::Cpu => Simulation::on(backend, compiled, options.threads).map_err(|e| RunError::Backend(format!("backend cpu: {e}")))?,
-        BackendName::Gpu => set_up(backend, compiled, options.threads)?.0,
-    };
+    let (mut sim, _) = set_up(backend, compiled, options.threads, backend == BackendName::Gpu)?;
     sim.restore(&snapshot).map_err(|e| refuse(format!("{shown}: {e}")))?;
     let total = sim.plan().run.steps;
     if sim.steps() >= total {
@@ -95,18 +88,6 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
         ));
     }
     run.go(None, false)
-}
-
-/// The recorded scene compiled with the recorded overrides.
-fn compile_record(record: &SceneRecord) -> Result<CompiledScene, SceneError> {
-    let mut scene: Scene = parse_scene(&record.text).map_err(|e| e.in_file(&record.path))?;
-    if let Some(d) = record.duration {
-        scene.run.duration = d;
-    }
-    if let Some(dt) = record.dt {
-        scene.run.dt = Some(DtSpec::Seconds(dt));
-    }
-    compile(&scene).map_err(|e| e.in_file(&record.path))
 }
 
 /// Refuses a folder whose output files are shorter than the checkpoint says they were.

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use tumble_scene::schema::{BackendName, DtSpec};
-use tumble_scene::{CompiledScene, Plan, SceneError, compile, read_scene};
+use tumble_scene::{CompiledScene, Plan, SceneError, compile, parse_scene, read_scene_text};
 use tumble_state::State;
 
 /// Options of `tumble run`.
@@ -136,7 +136,12 @@ impl std::error::Error for RunError {}
 
 /// Reads, overrides (duration, dt) and compiles a scene file.
 pub fn load_scene(path: &Path, duration: Option<f64>, dt: Option<f64>) -> Result<CompiledScene, SceneError> {
-    let mut scene = read_scene(path)?;
+    compile_text(&read_scene_text(path)?, path, duration, dt)
+}
+
+/// Scene text from the file `path`, parsed, overridden (duration, dt) and compiled; errors name `path`.
+pub(crate) fn compile_text(text: &str, path: &Path, duration: Option<f64>, dt: Option<f64>) -> Result<CompiledScene, SceneError> {
+    let mut scene = parse_scene(text).map_err(|e| e.in_file(path))?;
     if let Some(d) = duration {
         scene.run.duration = d;
     }
@@ -148,21 +153,23 @@ pub fn load_scene(path: &Path, duration: Option<f64>, dt: Option<f64>) -> Result
 
 /// Runs a scene file with the given options; its text is recorded in the run's checkpoints.
 pub fn run_scene_file(path: &Path, options: &RunOptions) -> Result<RunSummary, RunError> {
-    let compiled = load_scene(path, options.duration, options.dt).map_err(RunError::Scene)?;
-    let record = scene_record(path, options)?;
+    let (compiled, record) = load_recorded(path, options).map_err(RunError::Scene)?;
     run_recorded(compiled, Some(record), options)
 }
 
-/// The scene file `path` as a checkpoint records it, with the overrides of `options`.
-pub fn scene_record(path: &Path, options: &RunOptions) -> Result<SceneRecord, RunError> {
-    let text = std::fs::read_to_string(path).map_err(|e| RunError::Io(path.to_path_buf(), e))?;
-    Ok(SceneRecord {
+/// A scene file compiled with the overrides of `options` ([`load_scene`]), and the record of
+/// it that the run's checkpoints keep, from one reading of the file.
+pub fn load_recorded(path: &Path, options: &RunOptions) -> Result<(CompiledScene, SceneRecord), SceneError> {
+    let text = read_scene_text(path)?;
+    let compiled = compile_text(&text, path, options.duration, options.dt)?;
+    let record = SceneRecord {
         path: std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
         text,
         duration: options.duration,
         dt: options.dt,
         checkpoint_interval: options.checkpoint_interval,
-    })
+    };
+    Ok((compiled, record))
 }
 
 pub(crate) fn io<T>(path: &Path, r: std::io::Result<T>) -> Result<T, RunError> {
@@ -181,7 +188,7 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
     let plan_text = compiled.plan.describe(compiled.particles.len());
     let backend = options.backend.unwrap_or(compiled.plan.run.backend);
     // The backend is set up before any file is written: a missing adapter changes nothing.
-    let (sim, seed_warnings) = set_up(backend, compiled, options.threads)?;
+    let (sim, seed_warnings) = set_up(backend, compiled, options.threads, true)?;
     crate::outdir::prepare(&out_dir, options.overwrite).map_err(RunError::OutputFolder)?;
     io(&out_dir, crate::outdir::write_atomic(&out_dir.join("summary.json"), &running_json(&sim, &plan_text)))?;
     let initial_particles = sim.particles();
@@ -217,10 +224,10 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
 }
 
 /// The scene on `backend`, its particles taken from `run.start.from` when the scene names a
-/// checkpoint there; the warnings say what the seed did not carry over.
-pub(crate) fn set_up(backend: BackendName, compiled: CompiledScene, threads: usize) -> Result<(Simulation, Vec<String>), RunError> {
+/// checkpoint there and `seed` is set; the warnings say what the seed did not carry over.
+pub(crate) fn set_up(backend: BackendName, compiled: CompiledScene, threads: usize, seed: bool) -> Result<(Simulation, Vec<String>), RunError> {
     let on = |e: tumble_gpu::GpuError| RunError::Backend(format!("backend {}: {e}", backend.name()));
-    let Some(from) = compiled.plan.run.start_from.clone() else {
+    let Some(from) = compiled.plan.run.start_from.clone().filter(|_| seed) else {
         return Ok((Simulation::on(backend, compiled, threads).map_err(on)?, Vec::new()));
     };
     let seed_error = |e: String| RunError::Scene(SceneError::field("run.start.from", e));

@@ -71,19 +71,19 @@ impl Outputs {
 
 /// One `tumble run` or `tumble resume`: the simulation, its outputs and its books.
 pub(crate) struct Run<'o> {
-    pub(crate) sim: Simulation,
-    pub(crate) out_dir: PathBuf,
-    pub(crate) options: &'o RunOptions,
-    pub(crate) books: Books,
-    pub(crate) outputs: Outputs,
-    pub(crate) scene: Option<SceneRecord>,
-    pub(crate) plan_text: String,
-    pub(crate) resumed_from: Option<u64>,
-    pub(crate) checkpoint_every: Option<u64>,
-    pub(crate) checkpoints: CheckpointReport,
+    sim: Simulation,
+    out_dir: PathBuf,
+    options: &'o RunOptions,
+    books: Books,
+    outputs: Outputs,
+    scene: Option<SceneRecord>,
+    plan_text: String,
+    resumed_from: Option<u64>,
+    checkpoint_every: Option<u64>,
+    checkpoints: CheckpointReport,
     pub(crate) warnings: Vec<String>,
     /// Flow planes and agglomerates need the particle arrays at every output row; nothing else does.
-    pub(crate) rows_need_state: bool,
+    rows_need_state: bool,
 }
 
 impl<'o> Run<'o> {

@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
+use tumble_testkit::run_files::assert_same_files;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -36,30 +37,6 @@ fn mill_scene(dir: &Path, duration: f64) -> PathBuf {
     let path = dir.join("mill.toml");
     std::fs::write(&path, text).unwrap();
     path
-}
-
-/// Every file of a run's folder except summary.json and the checkpoints, with its bytes.
-fn run_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut files = Vec::new();
-    for sub in ["", "snapshots"] {
-        for e in std::fs::read_dir(dir.join(sub)).unwrap() {
-            let path = e.unwrap().path();
-            let name = path.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
-            if path.is_file() && !name.starts_with('.') && name != "summary.json" {
-                files.push((name, std::fs::read(&path).unwrap()));
-            }
-        }
-    }
-    files.sort();
-    files
-}
-
-fn assert_same_files(a: &Path, b: &Path) {
-    let (fa, fb) = (run_files(a), run_files(b));
-    assert_eq!(fa.iter().map(|f| &f.0).collect::<Vec<_>>(), fb.iter().map(|f| &f.0).collect::<Vec<_>>(), "other files");
-    for ((name, x), (_, y)) in fa.iter().zip(&fb) {
-        assert!(x == y, "{name} differs from the uninterrupted run's");
-    }
 }
 
 fn summary(dir: &Path) -> serde_json::Value {

@@ -231,13 +231,15 @@ pub fn run(args: &[String]) -> i32 {
     }
     let seeds: u64 = arg(args, "--seeds").unwrap_or(5).max(1);
     let jobs: usize = arg(args, "--jobs").unwrap_or(2);
-    let backend = match arg::<String>(args, "--backend").as_deref() {
-        None | Some("cpu") => BackendName::Cpu,
-        Some("gpu") => BackendName::Gpu,
-        Some(other) => {
-            eprintln!("--backend {other}: valid are cpu, gpu");
-            return 2;
-        }
+    let backend = match arg::<String>(args, "--backend") {
+        None => BackendName::Cpu,
+        Some(name) => match BackendName::from_name(&name) {
+            Some(b) => b,
+            None => {
+                eprintln!("--backend {name}: valid are cpu, gpu");
+                return 2;
+            }
+        },
     };
     let start = Instant::now();
     let params = |mu: f64| Params { liner_friction: mu, ..Default::default() };

@@ -77,11 +77,8 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--threads" => o.threads = value()?.parse().map_err(|e| format!("--threads: {e}"))?,
             "--backend" => {
-                o.backend = match value()?.as_str() {
-                    "cpu" => BackendName::Cpu,
-                    "gpu" => BackendName::Gpu,
-                    b => return Err(format!("--backend {b}: valid backends are cpu and gpu")),
-                }
+                let b = value()?;
+                o.backend = BackendName::from_name(&b).ok_or_else(|| format!("--backend {b}: valid backends are cpu and gpu"))?;
             }
             "--scene" => o.scene = PathBuf::from(value()?),
             "--out" => o.out = PathBuf::from(value()?),

@@ -314,8 +314,14 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
     for (k, w) in plan.model.walls.iter().enumerate() {
         let extra = (walls_base + entry_words * plan.model.walls.len() + extras.len()) as f32;
         let first_extra = extras.len();
-        // The wall at t: its pose, and the velocities of that instant (timed and oscillating motions).
-        let w = &w.posed(t);
+        // A moving wall at t: its pose, and the velocities of that instant (timed and oscillating motions).
+        let posed;
+        let w = if w.motion.is_some() {
+            posed = w.posed(t);
+            &posed
+        } else {
+            w
+        };
         if moving {
             // ω and the velocity at the domain's centre: v(x) = ω × (x − centre) + v(centre).
             let spin = w.angular_velocity();
@@ -324,9 +330,8 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
             extras.push([v.x as f32, v.y as f32, v.z as f32, 0.0]);
             debug_assert_eq!(extras.len() - first_extra, codes::WALL_MOTION_WORDS as usize);
         }
-        let shape = std::borrow::Cow::Borrowed(&w.shape);
-        let mut entry = wall_entry(shape.as_ref(), w.material as usize, origin);
-        if let SurfaceShape::Prism(p) = shape.as_ref() {
+        let mut entry = wall_entry(&w.shape, w.material as usize, origin);
+        if let SurfaceShape::Prism(p) = &w.shape {
             let rel = |p: DVec3| {
                 let x = p - origin;
                 [x.x as f32, x.y as f32, x.z as f32, 0.0]

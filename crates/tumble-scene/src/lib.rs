@@ -40,7 +40,7 @@ mod walls;
 
 pub use compile::compile;
 pub use error::SceneError;
-pub use load::{parse_scene, read_scene};
+pub use load::{parse_scene, read_scene, read_scene_text};
 pub use particles::InitialParticles;
 pub use plan::{
     CompiledScene, Drag, Drum, Feature, Fluid, Material, PairParams, PhysicsModel, Plan, PlanReport, PolyhedronContact, RunSettings, Timescales,

@@ -50,6 +50,11 @@ const UNTAGGED_FORMS: [(&str, &str); 3] = [
 
 /// Reads and parses a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
+    parse_scene(&read_scene_text(path)?).map_err(|e| e.in_file(path))
+}
+
+/// Reads a scene file's text (a file that cannot be read, or is not UTF-8, is named with where).
+pub fn read_scene_text(path: &Path) -> Result<String, SceneError> {
     let bytes = std::fs::read(path).map_err(|e| SceneError {
         file: Some(path.to_path_buf()),
         line_col: None,
@@ -66,7 +71,7 @@ pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
             message: format!("byte {:#04x} is not UTF-8 text; a scene file is UTF-8", bytes[e.valid_up_to()]),
         }
     })?;
-    parse_scene(text).map_err(|e| e.in_file(path))
+    Ok(text.to_string())
 }
 
 fn line_col(text: &str, offset: usize) -> (usize, usize) {

@@ -13,6 +13,7 @@
 //! ```
 
 pub mod harness;
+pub mod run_files;
 pub mod scenes;
 pub mod suite;
 pub mod tolerance;

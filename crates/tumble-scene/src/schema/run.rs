@@ -168,6 +168,11 @@ impl BackendName {
             BackendName::Gpu => "gpu",
         }
     }
+
+    /// The backend of that name (`cpu`, `gpu`), as [`BackendName::name`] gives it.
+    pub fn from_name(name: &str) -> Option<BackendName> {
+        [BackendName::Cpu, BackendName::Gpu].into_iter().find(|b| b.name() == name)
+    }
 }
 
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]

@@ -1,6 +1,7 @@
 //! Restart: a run continued from a snapshot (through its bytes) is bit-identical to the run
 //! that wrote it, on the same backend (the GPU's snapshot carries the device image).
 
+use crate::run_files::{assert_same_files, run_files};
 use crate::scenes::{compiled, file};
 use tumble::{Simulation, Snapshot};
 use tumble_gpu::GpuSimulation;
@@ -46,22 +47,6 @@ fn continues_bit_identically(backend: BackendName, path: &str, before: u64, afte
 pub fn a_run_continued_from_a_snapshot_is_bit_identical(backend: BackendName) {
     continues_bit_identically(backend, "scenes/conformance/small_mill.toml", 203, 250);
     continues_bit_identically(backend, "scenes/conformance/cube_drum.toml", 200, 200);
-}
-
-/// Every file a run wrote (CSV, .pvd, snapshots, summary aside), by path relative to `dir`.
-fn run_files(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
-    let mut files = Vec::new();
-    for sub in ["", "snapshots"] {
-        for e in std::fs::read_dir(dir.join(sub)).unwrap() {
-            let path = e.unwrap().path();
-            let name = path.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
-            if path.is_file() && !name.starts_with('.') && name != "summary.json" {
-                files.push((name, std::fs::read(&path).unwrap()));
-            }
-        }
-    }
-    files.sort();
-    files
 }
 
 /// The backend's state in the newest checkpoint of the run in `dir`.
@@ -112,11 +97,7 @@ pub fn a_resumed_run_writes_the_files_of_an_uninterrupted_one(backend: BackendNa
     let reference = run_files(&root.join("straight"));
     assert!(reference.iter().any(|(n, _)| n.starts_with("snapshots/particles_")), "{:?}", reference.iter().map(|f| &f.0).collect::<Vec<_>>());
     for out in ["halves", "signalled"] {
-        let files = run_files(&root.join(out));
-        assert_eq!(files.iter().map(|f| &f.0).collect::<Vec<_>>(), reference.iter().map(|f| &f.0).collect::<Vec<_>>(), "{out}: other files");
-        for ((name, a), (_, b)) in reference.iter().zip(&files) {
-            assert!(a == b, "{out}: {name} differs from the uninterrupted run's");
-        }
+        assert_same_files(&root.join("straight"), &root.join(out));
     }
     assert_eq!(final_state(&root.join("halves")), final_state(&root.join("signalled")), "the two resumed runs end in different states");
     let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(root.join("halves/summary.json")).unwrap()).unwrap();
