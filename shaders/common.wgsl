@@ -75,6 +75,11 @@ struct Params {
     // The domain's centre in world coordinates (for the flow field).
     origin: vec3<f32>,
     _pad_origin: f32,
+    // Outlets, and the first entry of their table in `tables`.
+    outlets: u32,
+    outlet_base: u32,
+    _pad_outlets0: u32,
+    _pad_outlets1: u32,
 }
 
 // The flat invocation index of a (possibly 2D) dispatch.

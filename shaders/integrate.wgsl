@@ -114,11 +114,30 @@ fn boundaries(i: u32) {
             props[i].w |= FLAG_DEAD;
         }
     }
+    if (props[i].w & FLAG_DEAD) == 0u {
+        for (var k = 0u; k < params.outlets; k++) {
+            if in_outlet(k, x) {
+                props[i].w |= FLAG_DEAD | ((k + 1u) << OUTLET_SHIFT);
+                break;
+            }
+        }
+    }
     pos[i] = vec4<f32>(x, pos[i].w);
     if PERIODIC && any(wraps != vec3<i32>(0)) {
         let id = props[i].z;
         image[id] = vec4<i32>(image[id].xyz + wraps, 0);
     }
+}
+
+// Whether outlet k holds the point x (relative to the domain's centre, as the table is).
+fn in_outlet(k: u32, x: vec3<f32>) -> bool {
+    let base = params.outlet_base + k * OUTLET_ENTRIES;
+    let a = tables[base + 1u].xyz;
+    let b = tables[base + 2u].xyz;
+    if u32(tables[base].x) == OUTLET_BOX {
+        return all(x >= a) && all(x < b);
+    }
+    return dot(x - a, b) > 0.0;
 }
 
 fn alive(i: u32) -> bool {

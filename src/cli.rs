@@ -117,11 +117,12 @@ pub fn main_with(cli: Cli) -> i32 {
         }
         Command::Plan { scene } => match load_scene(&scene, None, None) {
             Ok(c) => {
-                let n = c.particles.len();
+                // The device reserves a slot for every particle the sources may insert.
+                let n = c.particles.len() + c.plan.inserted_at_most() as usize;
                 let grid = tumble_gpu::Grid::new(&c.plan, n);
                 print_out(&format!(
-                    "{}gpu memory   {:.1} MiB ({} bytes per particle, {} per cell, grid {:?})\n",
-                    c.plan.describe(n),
+                    "{}gpu memory   {:.1} MiB ({} bytes per particle, {} per cell, grid {:?}; slots for every particle at capacity)\n",
+                    c.plan.describe(c.particles.len()),
                     (tumble_gpu::memory_bytes(n as u64, &grid, if c.plan.model.history { c.plan.tuning.history_slots } else { 0 })
                         + n as u64 * tumble_gpu::wall_bytes_per_particle(&c.plan)) as f64
                         / (1 << 20) as f64,

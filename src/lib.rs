@@ -15,6 +15,7 @@
 pub mod agglomerates;
 pub mod checkpoint;
 pub mod cli;
+pub mod feeder;
 mod flow;
 mod monitor;
 mod outdir;

@@ -72,6 +72,12 @@ impl Monitor {
 
     /// Checks one row of observables (step 0 is the starting state); non-finite values are always fatal.
     pub fn check(&self, step: u64, o: &Observables) -> Result<(), Instability> {
+        self.check_with_inserted(step, o, 0.0)
+    }
+
+    /// [`Monitor::check`] for a run whose sources have brought in `inserted` J of kinetic and
+    /// potential energy since t = 0 (booked like the walls' work).
+    pub fn check_with_inserted(&self, step: u64, o: &Observables, inserted: f64) -> Result<(), Instability> {
         let stop =
             |cause: String, remedy: String, suggested_dt: f64| Err(Instability { step, time: o.time, cause, remedy, dt: self.dt, suggested_dt });
         if step == 0 {
@@ -109,7 +115,7 @@ impl Monitor {
             let exchanged = if self.depth_polyhedra { o.dissipated_energy.max(0.0) } else { 0.0 };
             let scale = self.peak_energy.get().max(self.energy_floor) + exchanged;
             // Moving walls are a source whose work is booked: only unbooked gains count.
-            let gain = o.mechanical_energy() + o.dissipated_energy - o.wall_work - self.initial_energy;
+            let gain = o.mechanical_energy() + o.dissipated_energy - o.wall_work - inserted - self.initial_energy;
             if gain > self.energy_growth * scale {
                 let of = if self.depth_polyhedra {
                     "the largest kinetic and elastic energy plus the dissipated energy"

@@ -17,6 +17,11 @@ pub struct ExtraColumns {
     pub drums: Vec<DrumProfile>,
     /// Per flow plane: (rate kg/s over the output interval, net mass since t = 0 kg).
     pub flow: Vec<(f64, f64)>,
+    /// Per source: particles inserted and their mass since t = 0.
+    pub inserted: Vec<(u64, f64)>,
+    /// Per outlet: particles deleted and their mass since t = 0, and the mass rate over the
+    /// output interval, kg/s.
+    pub outlets: Vec<(u64, f64, f64)>,
 }
 
 /// Opens `name` in `dir`: a new file that `header` starts, or, for a resumed run, the file
@@ -43,7 +48,8 @@ pub struct ObservablesCsv(BufWriter<File>);
 impl ObservablesCsv {
     /// Header: the fixed columns, `fluid_work` with a fluid, then `power_<wall>` per moving wall
     /// and `wall_work`, then per wall group `fx_<g>,fy_<g>,fz_<g>,tx_<g>,ty_<g>,tz_<g>`, then per drum `charge_mass_<d>,com_angle_<d>,com_radius_<d>,toe_<d>,shoulder_<d>,torque_arm_power_<d>`,
-    /// then per flow plane `flow_<p>,mass_<p>`.
+    /// then per flow plane `flow_<p>,mass_<p>`, per source `inserted_<s>,inserted_mass_<s>`, per
+    /// outlet `deleted_<o>,deleted_mass_<o>,outlet_rate_<o>`.
     /// The file, new or (`append`) continued.
     pub fn open(dir: &Path, plan: &Plan, append: bool) -> std::io::Result<Self> {
         open_csv(dir, "observables.csv", append, |w| Self::header(w, plan)).map(ObservablesCsv)
@@ -70,6 +76,12 @@ impl ObservablesCsv {
         }
         for p in &plan.model.flow_planes {
             write!(w, ",flow_{0},mass_{0}", p.name)?;
+        }
+        for s in &plan.model.sources {
+            write!(w, ",inserted_{0},inserted_mass_{0}", s.name)?;
+        }
+        for o in &plan.model.outlets {
+            write!(w, ",deleted_{0},deleted_mass_{0},outlet_rate_{0}", o.name)?;
         }
         writeln!(w)
     }
@@ -99,6 +111,12 @@ impl ObservablesCsv {
         }
         for (rate, mass) in &extra.flow {
             write!(self.0, ",{rate},{mass}")?;
+        }
+        for (count, mass) in &extra.inserted {
+            write!(self.0, ",{count},{mass}")?;
+        }
+        for (count, mass, rate) in &extra.outlets {
+            write!(self.0, ",{count},{mass},{rate}")?;
         }
         writeln!(self.0)?;
         // Flushed every row so an interrupted or stopped run leaves complete rows.

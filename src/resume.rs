@@ -65,6 +65,7 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
     // particles, so a seeded GPU run is set up seeded again (its seed must still be there).
     let (mut sim, _) = set_up(backend, compiled, options.threads, backend == BackendName::Gpu)?;
     sim.restore(&snapshot).map_err(|e| refuse(format!("{shown}: {e}")))?;
+    sim.set_feeder_books(books.feeder.clone());
     let total = sim.plan().run.steps;
     if sim.steps() >= total {
         return Err(refuse(format!(

@@ -200,7 +200,7 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
         let state = frame.state.as_deref().expect("asked for the state");
         let monitor_range = potential_range(sim.plan(), state);
         let fluid = sim.plan().model.fluid.is_some();
-        io(&out_dir, outputs.obs.row(&frame.observables, fluid, sim.removed(), &extra.row(sim.plan(), sim.time(), &frame)))?;
+        io(&out_dir, outputs.obs.row(&frame.observables, fluid, sim.removed(), &extra.row(&sim, &frame)))?;
         io(&out_dir, outputs.tracks.rows(0.0, &frame.tracks))?;
         if let Some(w) = outputs.agglo.as_mut() {
             let a = agglomerates_of(sim.plan(), state);
@@ -215,7 +215,7 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
     let monitor = Monitor::new(sim.plan(), &initial, monitor_range);
     // The starting state is checked before step 1.
     let stopped = monitor.check(0, &initial).err().map(Stop::Unstable);
-    let books = Books { initial_particles, monitor, extra, last_agglomerates, files: Vec::new(), series: Vec::new() };
+    let books = Books { initial_particles, monitor, extra, last_agglomerates, files: Vec::new(), series: Vec::new(), feeder: None };
     let checkpoint_every = checkpoint_every(sim.plan(), options.checkpoint_interval.or(scene.as_ref().and_then(|s| s.checkpoint_interval)));
     let mut run = Run::new(sim, out_dir, options, books, outputs, scene, plan_text, None, checkpoint_every);
     run.warnings = seed_warnings;

@@ -4,6 +4,7 @@
 use crate::Simulation;
 use crate::agglomerates::AgglomerateStats;
 use crate::checkpoint::{self, CheckpointHeader, SceneRecord};
+use crate::feeder::FeederBooks;
 use crate::flow::FlowCounter;
 use crate::monitor::Monitor;
 use crate::output::{AgglomeratesCsv, ExtraColumns, ObservablesCsv, TracksCsv};
@@ -28,6 +29,8 @@ pub(crate) struct Books {
     /// Each output file (relative to the folder) and its length in bytes when the books were taken.
     pub(crate) files: Vec<(String, u64)>,
     pub(crate) series: SeriesIndex,
+    /// The sources' books (None without sources).
+    pub(crate) feeder: Option<FeederBooks>,
 }
 
 /// The run's output files.
@@ -142,6 +145,10 @@ impl<'o> Run<'o> {
                 stopped = Some(Stop::Capacity(self.books.monitor.explain_fault(fault.to_string())));
                 break;
             }
+            if let Some(e) = self.sim.feed_error() {
+                stopped = Some(Stop::Capacity(e.to_string()));
+                break;
+            }
             let step = self.sim.steps();
             // Every part of a distributed run stops at the same step.
             let interrupted = self.sim.agree(self.options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))) && step < total;
@@ -192,12 +199,12 @@ impl<'o> Run<'o> {
         let o = frame.observables;
         let mut ended = None;
         if output {
-            if let Err(e) = self.books.monitor.check(step, &o) {
+            if let Err(e) = self.books.monitor.check_with_inserted(step, &o, sim.inserted_energy()) {
                 return Ok(Some(Stop::Unstable(e)));
             }
-            let extra = self.books.extra.row(sim.plan(), sim.time(), &frame);
+            let extra = self.books.extra.row(sim, &frame);
             io(out_dir, self.outputs.obs.row(&o, sim.plan().model.fluid.is_some(), sim.removed(), &extra))?;
-            if let Some(text) = too_many_lost(sim.plan(), sim.removed(), self.books.initial_particles, o.time) {
+            if let Some(text) = too_many_lost(sim.plan(), sim.removed(), self.books.initial_particles + inserted(sim), o.time) {
                 return Ok(Some(Stop::Lost(text)));
             }
             ended =
@@ -230,6 +237,7 @@ impl<'o> Run<'o> {
         let t0 = Instant::now();
         self.books.files = io(&self.out_dir, self.outputs.lengths(&self.out_dir))?;
         self.books.series = self.outputs.snapshots.as_ref().map(|w| w.index().clone()).unwrap_or_default();
+        self.books.feeder = self.sim.feeder_books().cloned();
         let header = CheckpointHeader {
             tumble_version: env!("CARGO_PKG_VERSION").to_string(),
             scene: self.scene.clone(),
@@ -253,7 +261,8 @@ impl<'o> Run<'o> {
     fn finish(self, stopped: Option<Stop>, wall_seconds: f64, particle_steps: u128) -> Result<RunSummary, RunError> {
         let sim = &self.sim;
         let mut warnings = self.warnings;
-        warnings.extend(lost_warning(sim.removed(), self.books.initial_particles));
+        warnings.extend(lost_warning(sim.removed(), self.books.initial_particles + inserted(sim)));
+        warnings.extend(crate::feeder::shortfall_warnings(sim));
         let summary = RunSummary {
             out_dir: self.out_dir.clone(),
             steps: sim.steps(),
@@ -304,25 +313,49 @@ impl<'o> Run<'o> {
     }
 }
 
-/// Wall power (mean over the output interval), drum profiles and flow-plane counts.
+/// Particles the sources have inserted so far.
+pub(crate) fn inserted(sim: &Simulation) -> usize {
+    sim.inserted().iter().map(|s| s.0 as usize).sum()
+}
+
+/// Wall power (mean over the output interval), drum profiles, flow-plane counts, sources and outlets.
 #[derive(Serialize, Deserialize)]
 pub(crate) struct ExtraRows {
     moving: Vec<usize>,
     last: Option<(f64, Vec<f64>)>,
     flow: Option<FlowCounter>,
+    /// The outlets' deleted mass at the last row.
+    last_outlets: Option<(f64, Vec<f64>)>,
 }
 
 impl ExtraRows {
     pub(crate) fn new(plan: &Plan) -> Self {
         let moving = (0..plan.model.wall_groups.len()).filter(|&g| plan.model.wall_groups[g].moving).collect();
-        ExtraRows { moving, last: None, flow: None }
+        ExtraRows { moving, last: None, flow: None, last_outlets: None }
     }
 
-    /// The extra columns of the row at time `t` (the first row starts the flow count).
-    pub(crate) fn row(&mut self, plan: &Plan, t: f64, frame: &Frame) -> ExtraColumns {
-        // Nothing to add.
+    /// The extra columns of `sim`'s row now (the first row starts the flow count).
+    pub(crate) fn row(&mut self, sim: &Simulation, frame: &Frame) -> ExtraColumns {
+        let (plan, t) = (sim.plan(), sim.time());
+        let inserted = sim.inserted();
+        let tallies = sim.outlet_tallies();
+        let outlets = tallies
+            .iter()
+            .enumerate()
+            .map(|(k, o)| {
+                let rate = match &self.last_outlets {
+                    Some((t0, m0)) if t > *t0 => (o.mass - m0[k]) / (t - t0),
+                    _ => 0.0,
+                };
+                (o.count, o.mass, rate)
+            })
+            .collect();
+        if !tallies.is_empty() {
+            self.last_outlets = Some((t, tallies.iter().map(|o| o.mass).collect()));
+        }
+        // Nothing else to add.
         if plan.model.wall_groups.is_empty() && plan.model.drums.is_empty() && plan.model.flow_planes.is_empty() {
-            return ExtraColumns::default();
+            return ExtraColumns { inserted, outlets, ..Default::default() };
         }
         let work = &frame.wall_work;
         let power = match &self.last {
@@ -343,7 +376,7 @@ impl ExtraRows {
             _ => Vec::new(),
         };
         let wall_loads = frame.wall_force.iter().copied().zip(frame.wall_torque.iter().copied()).collect();
-        ExtraColumns { power, wall_loads, drums: frame.drums.clone(), flow }
+        ExtraColumns { power, wall_loads, drums: frame.drums.clone(), flow, inserted, outlets }
     }
 }
 

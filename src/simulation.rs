@@ -6,12 +6,17 @@ use tumble_cpu::CpuSimulation;
 use tumble_gpu::{GpuError, GpuSimulation};
 use tumble_scene::schema::BackendName;
 use tumble_scene::{CompiledScene, Plan};
+use crate::feeder::{Feeder, FeederBooks};
 use tumble_state::{AdapterInfo, Backend, DrumProfile, Fault, Frame, Observables, Snapshot, SnapshotError, State, TrackRow};
 
 /// A simulation on one backend: the CPU reference (f64), the GPU (f32), or any other
 /// [`Backend`].
 pub struct Simulation {
     backend: Box<dyn Backend>,
+    /// The plan's particle sources (None without any).
+    feeder: Option<Feeder>,
+    /// Why an insertion was refused (the backend's capacity); the run stops there.
+    feed_error: Option<String>,
 }
 
 impl Simulation {
@@ -42,9 +47,54 @@ impl Simulation {
         })
     }
 
-    /// Wraps any backend.
+    /// Wraps any backend; the sources' events due at its current step run now.
     pub fn with_backend(backend: Box<dyn Backend>) -> Self {
-        Simulation { backend }
+        let feeder = Feeder::new(backend.plan(), &backend.state());
+        let mut sim = Simulation { backend, feeder, feed_error: None };
+        sim.feed();
+        sim
+    }
+
+    /// Runs the insertion events due now.
+    fn feed(&mut self) {
+        if let Some(f) = self.feeder.as_mut()
+            && self.feed_error.is_none()
+            && let Err(e) = f.feed(self.backend.as_mut())
+        {
+            self.feed_error = Some(e);
+        }
+    }
+
+    /// The sources' books (inserted counts and masses, generator states), for checkpoints.
+    pub fn feeder_books(&self) -> Option<&FeederBooks> {
+        self.feeder.as_ref().map(Feeder::books)
+    }
+
+    /// Continues the sources from books a checkpoint kept.
+    pub fn set_feeder_books(&mut self, books: Option<FeederBooks>) {
+        if let (Some(f), Some(b)) = (self.feeder.as_mut(), books) {
+            f.set_books(b);
+        }
+    }
+
+    /// Per source: particles inserted so far and their mass.
+    pub fn inserted(&self) -> Vec<(u64, f64)> {
+        self.feeder_books().map_or_else(Vec::new, |b| b.sources.iter().map(|s| (s.inserted, s.mass)).collect())
+    }
+
+    /// Kinetic and potential energy the sources have brought in so far, J.
+    pub fn inserted_energy(&self) -> f64 {
+        self.feeder_books().map_or(0.0, |b| b.sources.iter().map(|s| s.energy).sum())
+    }
+
+    /// Per outlet: particles deleted so far and their mass.
+    pub fn outlet_tallies(&self) -> Vec<tumble_state::OutletTally> {
+        if self.plan().model.outlets.is_empty() { Vec::new() } else { self.backend.outlet_tallies() }
+    }
+
+    /// Why a source could not insert (the backend's fixed capacity ran out), if it could not.
+    pub fn feed_error(&self) -> Option<&str> {
+        self.feed_error.as_deref()
     }
 
     /// The backend, for what this handle does not forward.
@@ -73,8 +123,19 @@ impl Simulation {
         self.backend.info().precision
     }
 
+    /// Advances `steps` steps, stopping at each source's insertion steps to insert.
     pub fn advance(&mut self, steps: u64) {
-        self.backend.advance(steps)
+        let end = self.steps() + steps;
+        while self.steps() < end && self.feed_error.is_none() {
+            let next = self.feeder.as_ref().and_then(|f| f.next_step(self.backend.plan())).filter(|&s| s > self.steps());
+            let stop = next.map_or(end, |s| s.min(end));
+            let before = self.steps();
+            self.backend.advance(stop - before);
+            if self.steps() != stop {
+                break;
+            }
+            self.feed();
+        }
     }
 
     /// Why the backend stopped short of the requested steps (a fixed capacity ran out), if it did.

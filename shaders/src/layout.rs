@@ -21,6 +21,18 @@ shared! {
     FLAG_DEAD = 2;
     /// props.w holds the shape index from this bit on (polyhedra scenes).
     SHAPE_SHIFT = 16;
+    /// A particle an outlet deleted: props.w holds the outlet's index + 1 in 8 bits from here.
+    OUTLET_SHIFT = 8;
+    /// Most outlets a scene may have (the 8 bits less the 0 of "not by an outlet").
+    MAX_OUTLETS = 255;
+
+    // ---- Outlets (the tables buffer from params.outlet_base; OUTLET_ENTRIES vec4 each) ----
+    /// vec4 entries per outlet: (kind, 0, 0, 0), (box min or plane point), (box max or plane normal).
+    OUTLET_ENTRIES = 3;
+    /// An axis-aligned box: particles whose centre gets inside are deleted.
+    OUTLET_BOX = 0;
+    /// A plane: particles whose centre gets beyond it (the side its normal points to) are deleted.
+    OUTLET_PLANE = 1;
     /// The shape index of a sphere (tumble-scene's `SPHERE`).
     SPHERE_SHAPE = 0xffff;
 

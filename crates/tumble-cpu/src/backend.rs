@@ -22,6 +22,7 @@ impl CpuSimulation {
             step: r.step,
             time: r.time,
             removed: r.removed,
+            outlets: self.outlet_tally.clone(),
             state: self.state.clone(),
             last_pass: self.sums.clone(),
             walls: r.walls,
@@ -44,6 +45,7 @@ impl CpuSimulation {
             step: self.step,
             time: self.time(),
             removed: self.removed as u64,
+            outlets: &self.outlet_tally,
             state: &self.state,
             last_pass: &self.sums,
             walls: WallState {
@@ -90,6 +92,7 @@ impl CpuSimulation {
         self.state = snap.state.clone();
         self.step = snap.step;
         self.removed = snap.removed as usize;
+        self.outlet_tally.clone_from(&snap.outlets);
         self.sums = snap.last_pass.clone();
         self.pair_out.clear();
         self.history_overflow = snap.fault.map(|Fault::HistoryOverflow(o)| o);
@@ -136,6 +139,13 @@ impl Backend for CpuSimulation {
 
     fn removed(&self) -> usize {
         self.removed
+    }
+    fn outlet_tallies(&self) -> Vec<tumble_state::OutletTally> {
+        self.outlet_tally.clone()
+    }
+    fn insert(&mut self, particles: State) -> Result<(), String> {
+        CpuSimulation::insert(self, particles);
+        Ok(())
     }
 
     fn fault(&self) -> Option<Fault> {

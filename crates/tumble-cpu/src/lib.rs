@@ -69,6 +69,8 @@ pub struct CpuSimulation {
     eval_omega: Vec<DVec3>,
     step: u64,
     removed: usize,
+    /// Per outlet: particles deleted and their mass.
+    outlet_tally: Vec<tumble_state::OutletTally>,
     threads: usize,
     /// The walls in their pose at `walls_time` (moving ones updated every step).
     walls: Vec<tumble_scene::Wall>,
@@ -105,6 +107,7 @@ impl CpuSimulation {
         let walls = scene.plan.model.walls.clone();
         let moving_walls = walls.iter().any(|w| w.motion.is_some());
         let groups = scene.plan.model.wall_groups.len();
+        let outlets = scene.plan.model.outlets.len();
         let mut sim = CpuSimulation {
             plan: scene.plan,
             pool,
@@ -122,6 +125,7 @@ impl CpuSimulation {
             eval_omega: Vec::new(),
             step: 0,
             removed: 0,
+            outlet_tally: vec![Default::default(); outlets],
             threads,
             walls,
             moving_walls,
@@ -163,6 +167,18 @@ impl CpuSimulation {
     /// Particles that left the domain through a non-periodic side.
     pub fn removed(&self) -> usize {
         self.removed
+    }
+
+    /// Adds particles (ids after every id so far, overlapping nothing, no springs) before the
+    /// next step. Touching nothing, their acceleration is gravity's.
+    pub fn insert(&mut self, mut new: State) {
+        let g = self.plan.model.gravity;
+        new.acc.iter_mut().zip(&new.inv_mass).filter(|(_, m)| **m != 0.0).for_each(|(a, _)| *a = g);
+        self.state.append(new);
+        // Everything indexed by the old arrays is stale until the next list build and force pass.
+        self.neighbours.invalidate();
+        self.sums.clear();
+        self.pair_out.clear();
     }
 
     /// Advances `steps` steps, or fewer when a particle runs out of history slots

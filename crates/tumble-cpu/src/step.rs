@@ -402,23 +402,34 @@ impl CpuSimulation {
         });
     }
 
-    /// Wraps periodic axes and removes particles that left through other sides.
+    /// Wraps periodic axes, removes particles that left through other sides and deletes those
+    /// inside an outlet (booked per outlet in slot order, the same for any thread count).
     fn boundaries(&mut self) {
         let domain = self.plan.model.domain;
+        let outlets = &self.plan.model.outlets;
         let s = &mut self.state;
         if domain.periodic.iter().any(|&p| p) {
             let image = &mut s.image;
             self.pool.install(|| s.pos.par_iter_mut().zip(image.par_iter_mut()).for_each(|(x, n)| *x = domain.wrap_counting(*x, n)));
         }
-        if domain.periodic.iter().all(|&p| p) {
+        if domain.periodic.iter().all(|&p| p) && outlets.is_empty() {
             return;
         }
-        if self.pool.install(|| s.pos.par_iter().all(|&x| domain.contains(x))) {
+        let stays = |x: DVec3| domain.contains(x) && !outlets.iter().any(|o| o.region.contains(x));
+        if self.pool.install(|| s.pos.par_iter().all(|&x| stays(x))) {
             return;
         }
-        let keep: Vec<bool> = s.pos.iter().map(|&x| domain.contains(x)).collect();
+        let keep: Vec<bool> = s.pos.iter().map(|&x| stays(x)).collect();
+        for (i, _) in keep.iter().enumerate().filter(|(_, k)| !**k) {
+            match outlets.iter().position(|o| domain.contains(s.pos[i]) && o.region.contains(s.pos[i])) {
+                Some(k) => {
+                    self.outlet_tally[k].count += 1;
+                    self.outlet_tally[k].mass += s.mass[i];
+                }
+                None => self.removed += 1,
+            }
+        }
         s.retain(&keep);
-        self.removed += keep.iter().filter(|&&k| !k).count();
         // Everything indexed by the old arrays is stale until the next list build and force pass.
         self.neighbours.invalidate();
         self.sums.clear();

@@ -43,6 +43,14 @@ impl Backend for GpuSimulation {
         GpuSimulation::removed(self)
     }
 
+    fn outlet_tallies(&self) -> Vec<tumble_state::OutletTally> {
+        GpuSimulation::outlet_tallies(self)
+    }
+
+    fn insert(&mut self, particles: State) -> Result<(), String> {
+        GpuSimulation::insert(self, &particles)
+    }
+
     fn fault(&self) -> Option<Fault> {
         self.history_overflow().map(Fault::from)
     }

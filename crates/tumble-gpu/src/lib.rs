@@ -62,8 +62,11 @@ pub struct GpuSimulation {
     buffers: Buffers,
     kernels: Kernels,
     grid: upload::Grid,
-    /// Particle slots on the device (removed particles keep theirs, flagged).
+    /// Particle slots on the device (removed particles keep theirs, flagged; the slots for
+    /// particles sources insert later wait flagged too, holding the ids they will be given).
     slots: u32,
+    /// Ids given so far (initial and inserted particles): ids at and above it are empty slots.
+    created: u32,
     /// Group and track flag by particle id (the device does not need them).
     group: Vec<u16>,
     track: Vec<bool>,
@@ -114,11 +117,20 @@ impl GpuSimulation {
         }
         let gpu = context::gpu()?;
         let plan = scene.plan;
-        let arrays = upload::ParticleArrays::from_state(&state, &plan);
+        let mut arrays = upload::ParticleArrays::from_state(&state, &plan);
+        // Ids are slots of the history and image tables: every id, inserted ones included, stays below the slot count.
+        let created = state.id.iter().map(|&id| id + 1).max().unwrap_or(0).max(state.len() as u32);
+        let capacity = created as u64 + plan.inserted_at_most();
+        if capacity > u32::MAX as u64 / 2 {
+            return Err(GpuError::Feature(format!("the sources may insert up to {} particles; the GPU backend holds at most 2^31 slots", plan.inserted_at_most())));
+        }
+        arrays.pad_to(capacity as usize, created, &plan);
         let slots = arrays.pos.len() as u32;
         let grid = upload::Grid::new(&plan, arrays.pos.len());
-        let (tables, shape_base) = upload::tables_with_shapes(&plan, &hulls)?;
-        let params = upload::params(&plan, &grid, slots, shape_base);
+        let (mut tables, shape_base) = upload::tables_with_shapes(&plan, &hulls)?;
+        let mut params = upload::params(&plan, &grid, slots, shape_base);
+        params.outlet_base = tables.len() as u32;
+        tables.extend(upload::outlet_table(&plan));
         let moving = upload::moving_walls(&plan);
         // The wall section the stage rewrites each step: the 6-vec4 entries and their extras,
         // never the shape table after them.
@@ -130,10 +142,15 @@ impl GpuSimulation {
         };
         let buffers = Buffers::new(&gpu, &arrays, &tables, &params, &grid, upload::history_slots(&plan), walls)?;
         let kernels = Kernels::new(&gpu, &buffers, &shaders::Switches::from_plan(&plan))?;
-        let reduction = reduce::Reduction::new(&gpu, &buffers, &kernels, &plan, slots, &state.track);
+        let mut group = state.group.clone();
+        let mut track = state.track.clone();
+        group.resize(slots as usize, 0);
+        track.resize(slots as usize, false);
+        let reduction = reduce::Reduction::new(&gpu, &buffers, &kernels, &plan, slots, &track);
         let mut sim = GpuSimulation {
-            group: state.group.clone(),
-            track: state.track.clone(),
+            group,
+            track,
+            created,
             plan,
             gpu,
             buffers,
@@ -147,7 +164,7 @@ impl GpuSimulation {
             readbacks: Cell::new(0),
             readback_bytes: Cell::new(0),
             reduction,
-            alive: Cell::new(Some(slots as usize)),
+            alive: Cell::new(Some(state.len())),
             moving,
             wall_entries,
             pending_walls: Vec::new(),
@@ -263,7 +280,93 @@ impl GpuSimulation {
 
     /// Particles that left the domain through a non-periodic side.
     pub fn removed(&self) -> usize {
-        self.slots as usize - self.particles()
+        let (removed, _) = self.departures();
+        removed
+    }
+
+    /// Per outlet: particles it deleted and their mass (f32 masses summed in f64 in id order).
+    pub fn outlet_tallies(&self) -> Vec<tumble_state::OutletTally> {
+        self.departures().1
+    }
+
+    /// Particles removed through the domain's sides, and the outlets' tallies, from the flags of
+    /// the dead slots (one read-back of props and masses).
+    fn departures(&self) -> (usize, Vec<tumble_state::OutletTally>) {
+        let n = self.slots as usize;
+        let v = self.read_bytes(&[(&self.buffers.props, 16 * n as u64), (&self.buffers.alpha, 16 * n as u64)]);
+        let props: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&v[0]);
+        let alpha: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&v[1]);
+        let mut dead: Vec<(u32, u32, f32)> = (0..n)
+            .filter(|&i| props[i][3] & upload::FLAG_DEAD != 0 && props[i][2] < self.created)
+            .map(|i| (props[i][2], (props[i][3] >> tumble_shaders::OUTLET_SHIFT) & 0xff, alpha[i][3]))
+            .collect();
+        dead.sort_unstable_by_key(|d| d.0);
+        let mut tallies = vec![tumble_state::OutletTally::default(); self.plan.model.outlets.len()];
+        let mut removed = 0;
+        for (_, outlet, mass) in dead {
+            match tallies.get_mut((outlet as usize).wrapping_sub(1)) {
+                Some(t) => {
+                    t.count += 1;
+                    t.mass += mass as f64;
+                }
+                None => removed += 1,
+            }
+        }
+        (removed, tallies)
+    }
+
+    /// Puts `new` (ids `created..`, in id order, no springs) into the empty slots waiting with
+    /// their ids; refused, changing nothing, when the planned capacity cannot hold them.
+    pub fn insert(&mut self, new: &tumble_state::State) -> Result<(), String> {
+        if new.is_empty() {
+            return Ok(());
+        }
+        let last = new.id[new.len() - 1];
+        if new.id.iter().enumerate().any(|(k, &id)| id != self.created + k as u32) || last >= self.slots {
+            return Err(format!(
+                "the GPU backend reserved {} particle slots (the plan's capacity) and the sources asked for id {last}; the run needs more than planned",
+                self.slots
+            ));
+        }
+        let n = self.slots as usize;
+        let props: Vec<[u32; 4]> = self.read(&self.buffers.props, n);
+        let mut slot_of = vec![u32::MAX; new.len()];
+        for (i, p) in props.iter().enumerate() {
+            if p[3] & upload::FLAG_DEAD != 0 && p[2] >= self.created && p[2] <= last {
+                slot_of[(p[2] - self.created) as usize] = i as u32;
+            }
+        }
+        let mut a = upload::ParticleArrays::from_state(new, &self.plan);
+        // Touching nothing, an inserted particle's acceleration is gravity's.
+        let g = self.plan.model.gravity;
+        for (k, acc) in a.acc.iter_mut().enumerate() {
+            if new.inv_mass[k] != 0.0 {
+                acc[0] = g.x as f32;
+                acc[1] = g.y as f32;
+                acc[2] = g.z as f32;
+            }
+        }
+        let b = &self.buffers;
+        let q = &self.gpu.queue;
+        let put = |buffer: &wgpu::Buffer, slot: u32, bytes: &[u8]| q.write_buffer(buffer, slot as u64 * bytes.len() as u64, bytes);
+        for (k, &slot) in slot_of.iter().enumerate() {
+            put(&b.pos, slot, bytemuck::bytes_of(&a.pos[k]));
+            put(&b.vel, slot, bytemuck::bytes_of(&a.vel[k]));
+            put(&b.omega, slot, bytemuck::bytes_of(&a.omega[k]));
+            put(&b.acc, slot, bytemuck::bytes_of(&a.acc[k]));
+            put(&b.alpha, slot, bytemuck::bytes_of(&a.alpha[k]));
+            put(&b.energy, slot, bytemuck::bytes_of(&a.energy[k]));
+            put(&b.props, slot, bytemuck::bytes_of(&a.props[k]));
+            if self.plan.model.polyhedra {
+                put(&b.orient, slot, bytemuck::bytes_of(&a.orient[k]));
+            }
+        }
+        self.gpu.queue.submit([]);
+        let first = self.created as usize;
+        self.group[first..first + new.len()].copy_from_slice(&new.group);
+        self.created = last + 1;
+        self.alive.set(None);
+        Ok(())
     }
 
     /// Read-backs from the device so far: each is one submission, one mapping and one wait.

@@ -61,7 +61,7 @@ impl GpuSimulation {
         let device = DeviceImage {
             adapter: self.adapter().to_string(),
             buffers: buffers.into_iter().map(|(name, _)| name).zip(bytes).collect(),
-            counters: vec![("slots".into(), self.slots as u64), ("generation".into(), self.generation)],
+            counters: vec![("slots".into(), self.slots as u64), ("generation".into(), self.generation), ("created".into(), self.created as u64)],
         };
         Snapshot {
             version: SNAPSHOT_VERSION,
@@ -72,6 +72,7 @@ impl GpuSimulation {
             step: self.steps(),
             time: self.time(),
             removed: self.removed() as u64,
+            outlets: self.outlet_tallies(),
             state: self.with_springs(frame.state.map(Cow::into_owned).unwrap_or_default()),
             last_pass: Vec::new(),
             walls: WallState {
@@ -125,6 +126,10 @@ impl GpuSimulation {
             return Err(SnapshotError::Mismatch(format!("written for {:?} particle slots, this run has {}", image.counter("slots"), self.slots)));
         }
         let generation = image.counter("generation").ok_or_else(|| SnapshotError::Corrupt("the device image has no history generation".into()))?;
+        let created = image.counter("created").ok_or_else(|| SnapshotError::Corrupt("the device image has no count of the ids given".into()))?;
+        if created > self.slots as u64 || snap.state.id.iter().any(|&id| id as u64 >= created) {
+            return Err(SnapshotError::Corrupt(format!("the device image gave {created} ids, more than its slots or fewer than its particles")));
+        }
         let buffers = self.persistent_buffers();
         // Check everything before writing anything.
         let mut writes = Vec::with_capacity(buffers.len());
@@ -149,6 +154,11 @@ impl GpuSimulation {
         self.wait();
         self.step = snap.step;
         self.generation = generation;
+        self.created = created as u32;
+        // Inserted particles' groups (the device does not keep them).
+        for (&id, &g) in snap.state.id.iter().zip(&snap.state.group) {
+            self.group[id as usize] = g;
+        }
         self.last_resort = snap.last_resort;
         self.wall_time = snap.walls.time;
         self.pending_walls.clear();

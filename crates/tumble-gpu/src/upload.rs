@@ -59,6 +59,11 @@ pub struct Params {
     /// The domain's centre in world coordinates (for the flow field).
     pub origin: [f32; 3],
     pub _pad_origin: f32,
+    /// Outlets, and the first vec4 entry of their table in the tables buffer.
+    pub outlets: u32,
+    pub outlet_base: u32,
+    pub _pad_outlets0: u32,
+    pub _pad_outlets1: u32,
 }
 
 /// One level of the scan (scan.wgsl `ScanParams`).
@@ -138,8 +143,25 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params
         gravity: f3(plan.model.gravity),
         flow,
         origin: f3(centre(plan)),
+        outlets: plan.model.outlets.len() as u32,
         ..Params::default()
     }
+}
+
+/// The outlets as the device reads them (relative to the domain's centre), OUTLET_ENTRIES each.
+pub fn outlet_table(plan: &Plan) -> Vec<[f32; 4]> {
+    let origin = centre(plan);
+    let f4 = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+    let mut t = Vec::new();
+    for o in &plan.model.outlets {
+        match o.region {
+            tumble_scene::OutletRegion::Box { min, max } => t.extend([[code(codes::OUTLET_BOX), 0.0, 0.0, 0.0], f4(min - origin), f4(max - origin)]),
+            tumble_scene::OutletRegion::Beyond { point, normal } => {
+                t.extend([[code(codes::OUTLET_PLANE), 0.0, 0.0, 0.0], f4(point - origin), f4(normal)])
+            }
+        }
+    }
+    t
 }
 
 /// Contact-history slots per particle on the device (0 without history).
@@ -176,6 +198,28 @@ pub struct ParticleArrays {
 }
 
 impl ParticleArrays {
+    /// Empty slots for particles inserted later: flagged dead, holding the ids `first_id..`
+    /// they will be inserted with, up to `capacity` slots and ids.
+    pub fn pad_to(&mut self, capacity: usize, first_id: u32, plan: &Plan) {
+        let mut id = first_id;
+        while self.pos.len() < capacity {
+            self.pos.push([0.0; 4]);
+            self.vel.push([0.0; 4]);
+            self.omega.push([0.0; 4]);
+            self.acc.push([0.0; 4]);
+            self.alpha.push([0.0; 4]);
+            self.props.push([0, 0, id, FLAG_DEAD]);
+            self.energy.push([0.0; 4]);
+            if plan.model.polyhedra {
+                self.orient.push([0.0, 0.0, 0.0, 1.0]);
+            }
+            id += 1;
+        }
+        if plan.model.domain.periodic.iter().any(|&p| p) {
+            self.image.resize(capacity, [0; 4]);
+        }
+    }
+
     pub fn from_state(s: &State, plan: &Plan) -> Self {
         let origin = centre(plan);
         let mut a = ParticleArrays::default();

@@ -33,6 +33,8 @@ mod plan;
 mod rng;
 pub mod schema;
 mod shapes;
+mod sizes;
+mod sources;
 mod start;
 pub mod targets;
 mod timescales;
@@ -49,4 +51,5 @@ pub use plan::{
 pub use rng::Rng;
 pub use schema::Scene;
 pub use shapes::{ParticleShape, SPHERE};
+pub use sources::{Body, InsertRegion, Outlet, OutletRegion, Rate, Source, SourceKind, Total};
 pub use timescales::{ACCURATE_STEPS_PER_COLLISION, ImpactSpeed, STEPS_PER_COLLISION};

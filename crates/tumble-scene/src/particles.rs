@@ -1,9 +1,9 @@
 //! Turning particle groups (explicit, lattice, random) into initial particle arrays.
 
-use crate::compile::{non_negative, positive};
+use crate::compile::non_negative;
 use crate::rng::Rng;
 use crate::schema::{
-    DiameterSpec, DomainSection, FlowSection, LatticeSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, V3, VelocitySpec,
+    DomainSection, FlowSection, LatticeSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, V3, VelocitySpec,
 };
 use crate::shapes::{ParticleShape, SPHERE};
 use crate::{Scene, SceneError};
@@ -73,10 +73,7 @@ pub fn generate(
         };
         let mut diameter = |rng: &mut Rng| match (shape, sphere) {
             (Some((_, s)), _) => 2.0 * s.body.bounding_radius(),
-            (None, Some(sphere)) => match sphere.diameter {
-                DiameterSpec::Fixed(d) => d,
-                DiameterSpec::Uniform(r) => rng.range(r.min, r.max),
-            },
+            (None, Some(sphere)) => sphere.diameter.sample(rng),
             (None, None) => unreachable!("every non-sphere group has a shape"),
         };
         if shape.is_none() && group.orientation.is_some() {
@@ -175,17 +172,7 @@ pub(crate) fn compile_particles(
     for (g, group) in scene.particles.iter().enumerate() {
         let ShapeSection::Sphere(s) = &group.shape else { continue };
         let f = |x: &str| format!("particles[{g}].shape.sphere.{x}");
-        match s.diameter {
-            DiameterSpec::Fixed(d) => {
-                positive(&f("diameter"), d)?;
-            }
-            DiameterSpec::Uniform(r) => {
-                positive(&f("diameter.min"), r.min)?;
-                if !(r.max >= r.min) {
-                    return Err(SceneError::field(f("diameter.max"), format!("must be at least diameter.min = {}, got {}", r.min, r.max)));
-                }
-            }
-        }
+        s.diameter.check(&f("diameter"))?;
         if let Some(de) = s.effect_diameter {
             let d_max = s.diameter.max();
             if !(de >= d_max) {
@@ -203,8 +190,8 @@ pub(crate) fn compile_particles(
         }
     }
     let particles = generate(scene, material_index, &group_shape, &shapes)?;
-    if particles.is_empty() {
-        return Err(SceneError::field("particles", "the scene has no particles; add a [[particles]] group"));
+    if particles.is_empty() && scene.sources.is_empty() {
+        return Err(SceneError::field("particles", "the scene has no particles; add a [[particles]] group or a [[sources]] entry"));
     }
     for i in 0..particles.len() {
         if !particles.position[i].is_finite() || !particles.velocity[i].is_finite() {

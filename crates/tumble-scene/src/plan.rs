@@ -324,7 +324,12 @@ pub struct PhysicsModel {
     pub wall_groups: Vec<WallGroup>,
     pub drums: Vec<Drum>,
     pub flow_planes: Vec<FlowPlane>,
+    /// The `[[particles]]` groups, then one group per source.
     pub group_names: Vec<String>,
+    /// Particles added during the run.
+    pub sources: Vec<crate::Source>,
+    /// Regions that delete the particles entering them.
+    pub outlets: Vec<crate::Outlet>,
 }
 
 impl PhysicsModel {
@@ -421,6 +426,12 @@ impl Plan {
         tumble_broad::CellGrid::layout(&self.model.domain, (self.tuning.cell_size + self.tuning.skin).max(f64::MIN_POSITIVE)).0
     }
 
+    /// Particles the sources may insert over the run at most (a backend with fixed arrays
+    /// reserves this many slots).
+    pub fn inserted_at_most(&self) -> u64 {
+        self.model.sources.iter().map(|s| s.most_particles(self.model.dt)).sum()
+    }
+
     /// Steps per shortest collision, when there is one.
     pub fn steps_per_collision(&self) -> Option<f64> {
         self.report.timescales.collision_time.map(|t| t / self.model.dt)
@@ -433,6 +444,40 @@ impl Plan {
         let mut s = String::new();
         let _ = writeln!(s, "scene        {}", run.name);
         let _ = writeln!(s, "particles    {particles}");
+        let capacity = particles + self.inserted_at_most() as usize;
+        for src in &model.sources {
+            let rate = match src.rate {
+                Some(crate::Rate::ParticlesPerSecond(r)) => format!("{r} particles/s"),
+                Some(crate::Rate::KgPerSecond(r)) => format!("{r} kg/s"),
+                None => "all at once".into(),
+            };
+            let total = match src.total {
+                Some(crate::Total::Particles(n)) => format!(" up to {n} particles"),
+                Some(crate::Total::Kg(m)) => format!(" up to {m} kg"),
+                None => String::new(),
+            };
+            let _ = writeln!(
+                s,
+                "source       {}: {rate}{total}, every {} steps ({:.4e} s) from t = {:.4e} s to {:.4e} s; mean particle {:.4e} kg; at most {} particles",
+                src.name,
+                src.every,
+                src.every as f64 * model.dt,
+                src.first_step as f64 * model.dt,
+                src.last_step as f64 * model.dt,
+                src.mean_mass,
+                src.most_particles(model.dt)
+            );
+        }
+        if !model.sources.is_empty() {
+            let _ = writeln!(s, "capacity     {capacity} particles (those at the start and all the sources may insert)");
+        }
+        for o in &model.outlets {
+            let region = match o.region {
+                crate::OutletRegion::Box { min, max } => format!("the box [{min} .. {max}]"),
+                crate::OutletRegion::Beyond { point, normal } => format!("the side of the plane through {point} that its normal {normal} points to"),
+            };
+            let _ = writeln!(s, "outlet       {}: deletes particles whose centre enters {region}", o.name);
+        }
         let _ = writeln!(s, "integrator   {}", model.integrator.name());
         let _ = writeln!(s, "dt           {:.6e} s ({} steps to t = {} s)", model.dt, run.steps, run.duration);
         if let Some(t) = ts.collision_time {
@@ -467,7 +512,7 @@ impl Plan {
         let _ = writeln!(
             s,
             "memory       {:.1} MiB on the cpu at most ({} bytes per particle; the grid spans the particles, here the whole domain)",
-            self.memory_bytes(particles) as f64 / (1 << 20) as f64,
+            self.memory_bytes(capacity) as f64 / (1 << 20) as f64,
             tuning.bytes_per_particle
         );
         let _ = writeln!(s, "features");

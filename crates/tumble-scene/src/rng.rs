@@ -7,6 +7,16 @@ impl Rng {
         Rng(seed ^ 0x9E37_79B9_7F4A_7C15)
     }
 
+    /// The generator's state, to continue its sequence later ([`Rng::from_state`]).
+    pub fn state(&self) -> u64 {
+        self.0
+    }
+
+    /// A generator continuing from [`Rng::state`].
+    pub fn from_state(state: u64) -> Self {
+        Rng(state)
+    }
+
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;

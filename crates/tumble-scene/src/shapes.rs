@@ -55,7 +55,12 @@ impl ParticleShape {
 
 /// The polyhedron of group `g`, or `None` for spheres.
 pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<ParticleShape>, SceneError> {
-    let field = |f: &str| format!("particles[{g}].shape.{f}");
+    shape_of(&group.shape, &format!("particles[{g}].shape"))
+}
+
+/// The polyhedron a shape section describes, or `None` for spheres; `at` names the section.
+pub(crate) fn shape_of(section: &ShapeSection, at: &str) -> Result<Option<ParticleShape>, SceneError> {
+    let field = |f: &str| format!("{at}.{f}");
     // A length from 1 nm to 1 km: outside that no granular solid is meant, and the hull's
     // volume and inertia (length⁵) leave the range of f64.
     let positive = |f: &str, v: f64| {
@@ -65,7 +70,7 @@ pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<Part
             Err(SceneError::field(field(f), format!("must be a length from {MIN_LENGTH:e} to {MAX_LENGTH:e} m, got {v:e}")))
         }
     };
-    let (name, body) = match &group.shape {
+    let (name, body) = match section {
         ShapeSection::Sphere(_) => return Ok(None),
         ShapeSection::Polyhedron(p) => {
             let points: Vec<DVec3> = p.vertices.iter().map(|v| DVec3::from_array(*v)).collect();
@@ -131,7 +136,7 @@ pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<Part
             ("prism", body)
         }
     };
-    Ok(Some(ParticleShape::new(format!("particles[{g}].shape.{name}"), body)))
+    Ok(Some(ParticleShape::new(format!("{at}.{name}"), body)))
 }
 
 #[cfg(test)]

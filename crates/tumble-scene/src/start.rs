@@ -187,6 +187,9 @@ fn check_pair_overlaps(
     start: &StartSection,
 ) -> Result<(), SceneError> {
     let n = p.len();
+    if n == 0 {
+        return Ok(());
+    }
     let r_max = p.radius.iter().fold(0.0f64, |a, &r| a.max(r));
     // The grid spans the particles (a large domain around a small bed would put them all in a
     // few cells), with cells at least one largest diameter wide and about one particle each.

@@ -66,6 +66,12 @@ pub trait Backend: Any {
     fn particles(&self) -> usize;
     /// Particles that left the domain through a non-periodic side.
     fn removed(&self) -> usize;
+    /// Per outlet of the plan: particles it deleted and their mass, since t = 0.
+    fn outlet_tallies(&self) -> Vec<crate::OutletTally>;
+    /// Adds `particles` (arrays of this plan's model, ids after every id so far, no springs,
+    /// overlapping nothing) before the next step. Refused, changing nothing, when a backend's
+    /// fixed capacity cannot hold them.
+    fn insert(&mut self, particles: State) -> Result<(), String>;
     /// Why the backend stopped short of the requested steps, if it did.
     fn fault(&self) -> Option<Fault>;
     /// One output row: observables, tracked particles, wall power and work, drum

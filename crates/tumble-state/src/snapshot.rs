@@ -6,8 +6,8 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 /// The layout version written into every snapshot; a reader refuses any other.
-/// 4: contact springs carry the EPSD2 rolling torque and its energy.
-pub const SNAPSHOT_VERSION: u32 = 4;
+/// 4: contact springs carry the EPSD2 rolling torque and its energy; 5: outlet tallies.
+pub const SNAPSHOT_VERSION: u32 = 5;
 
 /// The first bytes of an encoded snapshot.
 const MAGIC: &[u8; 8] = b"TUMBLESN";
@@ -29,6 +29,8 @@ pub struct Snapshot {
     pub time: f64,
     /// Particles that left the domain through a non-periodic side so far.
     pub removed: u64,
+    /// Per outlet of the plan: what it deleted so far.
+    pub outlets: Vec<OutletTally>,
     /// Every per-particle array, contact springs with their stored energies included.
     pub state: State,
     /// Each particle's share of the last contact pass (empty when a removal made it stale).
@@ -45,6 +47,13 @@ pub struct Snapshot {
     pub device: Option<DeviceImage>,
 }
 
+/// What one outlet deleted: particles and their mass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct OutletTally {
+    pub count: u64,
+    pub mass: f64,
+}
+
 /// A [`Snapshot`] borrowed from a backend's own arrays: it encodes to the same bytes without
 /// copying them first (a state of a million particles is a gigabyte to copy).
 #[derive(Serialize)]
@@ -57,6 +66,7 @@ pub struct SnapshotRef<'a> {
     pub step: u64,
     pub time: f64,
     pub removed: u64,
+    pub outlets: &'a [OutletTally],
     pub state: &'a State,
     pub last_pass: &'a [ContactSum],
     pub walls: WallState,
@@ -201,6 +211,9 @@ impl Snapshot {
         }
         if self.dt.to_bits() != plan.model.dt.to_bits() {
             return Err(SnapshotError::Mismatch(format!("written with dt = {:e} s, this run has dt = {:e} s", self.dt, plan.model.dt)));
+        }
+        if self.outlets.len() != plan.model.outlets.len() {
+            return Err(SnapshotError::Mismatch(format!("written with {} outlets, this run has {}", self.outlets.len(), plan.model.outlets.len())));
         }
         Ok(())
     }

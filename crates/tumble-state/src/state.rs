@@ -47,14 +47,17 @@ pub struct State {
 
 impl State {
     pub fn from_scene(scene: &CompiledScene) -> State {
-        let plan = &scene.plan;
-        let p = &scene.particles;
+        State::from_particles(&scene.plan, &scene.particles, 0)
+    }
+
+    /// The arrays of particles `p` of `plan`'s model, with ids from `first_id` on.
+    pub fn from_particles(plan: &tumble_scene::Plan, p: &tumble_scene::InitialParticles, first_id: u32) -> State {
         let n = p.len();
         let mut s = State::default();
         for i in 0..n {
             let density = plan.model.materials[p.material[i] as usize].density;
             let m = density * p.volume[i];
-            s.id.push(i as u32);
+            s.id.push(first_id + i as u32);
             s.pos.push(p.position[i]);
             s.vel.push(p.velocity[i]);
             s.acc.push(DVec3::ZERO);
@@ -194,6 +197,33 @@ impl State {
             |v| permute(v, order),
         );
         self.history.permute(order);
+    }
+
+    /// Appends `other`'s particles (arrays of the same model) after this state's; they hold no springs.
+    pub fn append(&mut self, mut other: State) {
+        let n = self.len() + other.len();
+        self.pos.append(&mut other.pos);
+        self.vel.append(&mut other.vel);
+        self.acc.append(&mut other.acc);
+        self.omega.append(&mut other.omega);
+        self.alpha.append(&mut other.alpha);
+        self.inv_inertia_body.append(&mut other.inv_inertia_body);
+        self.radius.append(&mut other.radius);
+        self.reach.append(&mut other.reach);
+        self.mass.append(&mut other.mass);
+        self.inv_mass.append(&mut other.inv_mass);
+        self.inv_inertia.append(&mut other.inv_inertia);
+        self.drag.append(&mut other.drag);
+        self.dissipated.append(&mut other.dissipated);
+        self.fluid_work.append(&mut other.fluid_work);
+        self.id.append(&mut other.id);
+        self.material.append(&mut other.material);
+        self.group.append(&mut other.group);
+        self.shape.append(&mut other.shape);
+        self.orient.append(&mut other.orient);
+        self.track.append(&mut other.track);
+        self.image.append(&mut other.image);
+        self.history.resize(n);
     }
 
     /// Keeps only the particles for which `keep` is true, preserving order.

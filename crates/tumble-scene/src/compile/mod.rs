@@ -26,20 +26,26 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let table = materials::materials(scene)?;
     let domain = model::domain(scene)?;
     let pair_laws = pairs::pair_laws(scene, &table)?;
-    let (particles, shapes) = compile_particles(scene, &table.index, &domain)?;
+    let (particles, mut shapes) = compile_particles(scene, &table.index, &domain)?;
+    let densities: Vec<f64> = table.materials.iter().map(|m| m.density).collect();
+    let gravity = model::gravity(scene)?;
+    let (mut sources, prototypes) =
+        crate::sources::compile_sources(scene, &table.index, &densities, &mut shapes, &domain, gravity, scene.particles.len() as u16)?;
+    let outlets = crate::sources::compile_outlets(scene)?;
+    // Every kind of particle the run will hold: Δt, the cell size and the features are planned for these.
+    let kinds = with_prototypes(&particles, &prototypes);
     let (walls, wall_groups, drums) = crate::walls::compile_walls(scene, &|field: String, name: &str| table.lookup(scene, field, name), &domain)?;
     non_negative("run.start.max_overlap", scene.run.start.max_overlap)?;
     crate::start::check_starting_state(scene, &particles, &shapes, &walls, &wall_groups, &domain)?;
     let flow_planes = model::flow_planes(scene)?;
-    let means = MovableMeans::new(&particles, &table.materials);
+    let means = MovableMeans::new(&kinds, &table.materials);
     let (fluid, taylor_green) = fluid::fluid(scene, &means)?;
-    let first_material = means.first.map(|i| particles.material[i]);
+    let first_material = means.first.map(|i| kinds.material[i]);
     let flow_speed = taylor_green.map(|t| t.mean_flow_speed);
     let (pairs, stickiness) = pairs::pair_table(&pair_laws, &means, first_material, table.materials.len(), flow_speed)?;
-    let gravity = model::gravity(scene)?;
     let history_slots = tuning::history_slots(scene)?;
-    let mechanics = model::mechanics(scene, &pairs, &shapes, &particles, fluid.as_ref())?;
-    let (cell_size, skin) = tuning::search(scene, &particles, mechanics.cohesion, &domain)?;
+    let mechanics = model::mechanics(scene, &pairs, &shapes, &kinds, fluid.as_ref())?;
+    let (cell_size, skin) = tuning::search(scene, &kinds, mechanics.cohesion, &domain)?;
 
     positive("run.duration", scene.run.duration)?;
     let integrator = model::integrator(scene);
@@ -47,9 +53,9 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         Some(PolyhedronModelName::Depth) => PolyhedronContact::Depth,
         _ => PolyhedronContact::Volume,
     };
-    let wall_step_limit = run::wall_step_limit(&walls, &wall_groups, &particles);
+    let wall_step_limit = run::wall_step_limit(&walls, &wall_groups, &kinds);
     let timescales = crate::timescales::timescales(
-        &particles,
+        &kinds,
         &shapes,
         &table.materials,
         &pairs,
@@ -64,6 +70,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     );
     let dt = run::step(scene, &timescales, wall_step_limit.as_ref())?;
     let schedule = run::schedule(scene, dt)?;
+    crate::sources::schedule_sources(scene, &mut sources, dt, schedule.steps, gravity, &shapes);
     let resort_interval = tuning::resort_interval(scene)?;
     let monitor = run::monitor(scene)?;
 
@@ -86,7 +93,15 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         wall_groups,
         drums,
         flow_planes,
-        group_names: scene.particles.iter().enumerate().map(|(g, p)| p.name.clone().unwrap_or_else(|| format!("group{g}"))).collect(),
+        group_names: scene
+            .particles
+            .iter()
+            .enumerate()
+            .map(|(g, p)| p.name.clone().unwrap_or_else(|| format!("group{g}")))
+            .chain(sources.iter().map(|s| s.name.clone()))
+            .collect(),
+        sources,
+        outlets,
     };
     let run = RunSettings {
         name: scene.name.clone(),
@@ -108,14 +123,35 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let tuning = Tuning { cell_size, skin, resort_interval, history_slots, bytes_per_particle: tuning::bytes_per_particle(&model, history_slots) };
     let report = PlanReport {
         features: report::features(scene, &model, &mechanics, &tuning, &run),
-        warnings: report::warnings(&model, &timescales, &particles),
+        warnings: report::warnings(&model, &timescales, &kinds),
         timescales,
         wall_step_limit,
         targets: Targets { taylor_green, stickiness },
     };
     let plan = Plan { model, run, tuning, report };
-    check_memory(&plan, particles.len())?;
+    check_memory(&plan, particles.len() + plan.inserted_at_most() as usize)?;
     Ok(CompiledScene { plan, particles })
+}
+
+/// The scene's particles followed by the sources' representative ones.
+fn with_prototypes(particles: &crate::InitialParticles, prototypes: &crate::InitialParticles) -> crate::InitialParticles {
+    if prototypes.is_empty() {
+        return particles.clone();
+    }
+    let mut all = particles.clone();
+    all.position.extend(&prototypes.position);
+    all.velocity.extend(&prototypes.velocity);
+    all.angular_velocity.extend(&prototypes.angular_velocity);
+    all.radius.extend(&prototypes.radius);
+    all.volume.extend(&prototypes.volume);
+    all.shape.extend(&prototypes.shape);
+    all.orientation.extend(&prototypes.orientation);
+    all.effect_radius.extend(&prototypes.effect_radius);
+    all.material.extend(&prototypes.material);
+    all.group.extend(&prototypes.group);
+    all.fixed.extend(&prototypes.fixed);
+    all.track.extend(&prototypes.track);
+    all
 }
 
 /// The run's memory (the plan's estimate) must fit the memory this machine has free.

@@ -3,7 +3,9 @@
 use serde::Deserialize;
 
 mod run;
+mod sources;
 pub use run::*;
+pub use sources::*;
 
 pub type V3 = [f64; 3];
 
@@ -21,6 +23,12 @@ pub struct Scene {
     pub particles: Vec<ParticleGroup>,
     #[serde(default)]
     pub walls: Vec<WallSection>,
+    /// Particles added during the run.
+    #[serde(default)]
+    pub sources: Vec<SourceSection>,
+    /// Regions that delete the particles entering them.
+    #[serde(default)]
+    pub outlets: Vec<OutletSection>,
     #[serde(default)]
     pub output: OutputSection,
 }
@@ -296,37 +304,51 @@ pub struct SphereSection {
     pub effect_ratio: Option<f64>,
 }
 
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+/// A sphere's diameter: one value or a distribution (sampled in crate::sizes).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(untagged)]
 pub enum DiameterSpec {
     Fixed(f64),
+    /// `{ min, max }`: uniform in diameter.
     Uniform(DiameterRange),
+    /// `{ normal = { mean, std } }`, truncated at mean ± 3 std.
+    Normal(NormalWrapper),
+    /// `{ log_normal = { median, sigma } }`: ln d normal around ln median with `sigma`, truncated at ±3 sigma.
+    LogNormal(LogNormalWrapper),
+    /// `{ sieve = [[d_lo, d_hi, mass_fraction], …] }`: a sieve analysis; uniform in d within a class.
+    Sieve(SieveWrapper),
 }
 
-impl DiameterSpec {
-    /// ⟨d³⟩ over the diameters the spec gives.
-    // Not inlined: inlined into a match on the group's shape, LLVM (rustc 1.95) turned this
-    // match into one load whose address comes from the variant word and hoisted it above the
-    // shape check, so for a polyhedron group it read at an address made of a float's bits and
-    // crashed (the miscompile of rust-lang/rust#159035). A call is never speculated.
-    #[inline(never)]
-    pub fn mean_cube(&self) -> f64 {
-        match *self {
-            DiameterSpec::Fixed(d) => d * d * d,
-            // ⟨d³⟩ of a uniform draw on [a, b].
-            DiameterSpec::Uniform(r) if r.max > r.min => (r.max.powi(4) - r.min.powi(4)) / (4.0 * (r.max - r.min)),
-            DiameterSpec::Uniform(r) => r.min.powi(3),
-        }
-    }
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NormalWrapper {
+    pub normal: NormalSize,
+}
 
-    /// The largest diameter the spec gives (not inlined, as `mean_cube`).
-    #[inline(never)]
-    pub fn max(&self) -> f64 {
-        match *self {
-            DiameterSpec::Fixed(d) => d,
-            DiameterSpec::Uniform(r) => r.max,
-        }
-    }
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NormalSize {
+    pub mean: f64,
+    pub std: f64,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LogNormalWrapper {
+    pub log_normal: LogNormalSize,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LogNormalSize {
+    pub median: f64,
+    pub sigma: f64,
+}
+
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SieveWrapper {
+    pub sieve: Vec<[f64; 3]>,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]

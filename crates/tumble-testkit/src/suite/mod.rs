@@ -15,7 +15,9 @@
 //! - `restore`: a run continued from a snapshot bit-identical to the one that wrote it; a run
 //!   stopped and resumed from its checkpoints writing the files of one that went straight through;
 //! - `periodic`: energy across wraps of a periodic axis, a flow plane on one, image counts
-//!   through a snapshot.
+//!   through a snapshot;
+//! - `sources`: insertion on the rate's schedule and clear of every particle, outlets deleting
+//!   at the step a projectile's closed form gives.
 //!
 //! Each stays at CI size: a few thousand steps, on scenes whose GPU shader variants the
 //! backends binary compiles anyway (docs/verification.md lists what each measures).
@@ -26,6 +28,7 @@ mod invariants;
 mod periodic;
 mod polyhedra;
 mod restore;
+mod sources;
 mod verification;
 mod walls;
 
@@ -70,6 +73,7 @@ behaviours![
     periodic::a_sphere_sliding_round_a_periodic_incline_keeps_its_energy,
     periodic::a_flow_plane_on_a_periodic_axis_measures_the_mass_flux_of_a_stream,
     periodic::a_periodic_run_continued_from_a_snapshot_keeps_its_image_counts,
+    sources::sources_insert_on_schedule_and_outlets_delete_at_the_projectile_step,
 ];
 
 /// One trial per behaviour on `backend`, named `backend::module::behaviour`.

@@ -1,0 +1,470 @@
+//! Particle sources and outlets as the plan holds them: compiled from `[[sources]]` and
+//! `[[outlets]]`, with the candidate generator every backend draws the same sequence from.
+
+use crate::compile::{finite3, non_negative, positive, unit};
+use crate::rng::Rng;
+use crate::schema::{DiameterSpec, OrientationSpec, RateSpec, Scene, ShapeSection, SourceRegion, SourceSection, TotalSpec};
+use crate::shapes::{ParticleShape, SPHERE, shape_of};
+use crate::{InitialParticles, SceneError};
+use glam::{DQuat, DVec3};
+use std::collections::HashMap;
+use tumble_geom::PeriodicBox;
+
+/// Default simulated seconds between a volume source's insertions.
+pub const DEFAULT_INTERVAL: f64 = 0.01;
+
+/// One kind of particle a source makes: a sphere with a diameter distribution, or a polyhedron.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SourceKind {
+    /// [`SPHERE`] or the index of the polyhedron in the plan's shape table.
+    pub shape: u16,
+    /// Spheres: the diameter distribution.
+    pub diameter: Option<DiameterSpec>,
+    /// Spheres with cohesion: the effect diameter (absolute, or as a multiple of d).
+    pub effect_diameter: Option<f64>,
+    pub effect_ratio: Option<f64>,
+    /// Share of the source's particles by number (the kinds' shares add up to 1).
+    pub fraction: f64,
+}
+
+/// Where a source's particles appear.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum InsertRegion {
+    Box { min: DVec3, max: DVec3 },
+    Cylinder { base: DVec3, axis: DVec3, radius: f64, length: f64 },
+    /// A rectangle through `point` with normal `normal`, `width` along `u` and `height` along `v`.
+    Plane { point: DVec3, normal: DVec3, u: DVec3, v: DVec3, width: f64, height: f64 },
+}
+
+impl InsertRegion {
+    /// A point where a body of bounding radius `r` lies wholly inside the region (on the
+    /// rectangle for a plane), uniform over those points; three draws from `rng`.
+    pub fn sample(&self, rng: &mut Rng, r: f64) -> DVec3 {
+        let (a, b, c) = (rng.uniform(), rng.uniform(), rng.uniform());
+        match *self {
+            InsertRegion::Box { min, max } => {
+                let lo = min + DVec3::splat(r);
+                let hi = max - DVec3::splat(r);
+                lo + (hi - lo).max(DVec3::ZERO) * DVec3::new(a, b, c)
+            }
+            InsertRegion::Cylinder { base, axis, radius, length } => {
+                let (u, v) = axis.any_orthonormal_pair();
+                let rho = (radius - r).max(0.0) * a.sqrt();
+                let phi = std::f64::consts::TAU * b;
+                let along = r + (length - 2.0 * r).max(0.0) * c;
+                base + axis * along + (u * phi.cos() + v * phi.sin()) * rho
+            }
+            InsertRegion::Plane { point, u, v, width, height, .. } => {
+                let _ = c;
+                point + u * ((width - 2.0 * r).max(0.0) * (a - 0.5)) + v * ((height - 2.0 * r).max(0.0) * (b - 0.5))
+            }
+        }
+    }
+
+    /// The region's axis-aligned bounding box.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        match *self {
+            InsertRegion::Box { min, max } => (min, max),
+            InsertRegion::Cylinder { base, axis, radius, length } => {
+                // A disc of radius R across the axis reaches R √(1 − a_k²) along world axis k.
+                let reach = (DVec3::ONE - axis * axis).max(DVec3::ZERO).powf(0.5) * radius;
+                let (a, b) = (base, base + axis * length);
+                (a.min(b) - reach, a.max(b) + reach)
+            }
+            InsertRegion::Plane { point, u, v, width, height, .. } => {
+                let corners = [-0.5, 0.5].map(|a| [-0.5, 0.5].map(|b| point + u * (a * width) + v * (b * height)));
+                corners.iter().flatten().fold((point, point), |(lo, hi), c| (lo.min(*c), hi.max(*c)))
+            }
+        }
+    }
+
+    /// The region's volume (a plane's area times nothing: zero).
+    pub fn volume(&self) -> f64 {
+        match *self {
+            InsertRegion::Box { min, max } => (max - min).element_product(),
+            InsertRegion::Cylinder { radius, length, .. } => std::f64::consts::PI * radius * radius * length,
+            InsertRegion::Plane { .. } => 0.0,
+        }
+    }
+}
+
+/// How fast a source inserts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Rate {
+    ParticlesPerSecond(f64),
+    KgPerSecond(f64),
+}
+
+/// When a source has inserted enough.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Total {
+    Particles(u64),
+    Kg(f64),
+}
+
+/// A compiled `[[sources]]` entry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Source {
+    pub name: String,
+    pub material: u16,
+    /// The particle group its particles belong to (after the scene's `[[particles]]` groups).
+    pub group: u16,
+    pub kinds: Vec<SourceKind>,
+    pub region: InsertRegion,
+    pub velocity: DVec3,
+    /// Polyhedra: a fixed orientation, or `None` for uniformly random ones.
+    pub orientation: Option<DQuat>,
+    pub rate: Option<Rate>,
+    pub total: Option<Total>,
+    /// First insertion step, steps between insertions, and the last step an insertion may happen.
+    pub first_step: u64,
+    pub every: u64,
+    pub last_step: u64,
+    /// Mean mass of one particle (over the kinds and the distributions), kg.
+    pub mean_mass: f64,
+    /// Seed of the source's own generator (the run's seed and the source's index).
+    pub seed: u64,
+}
+
+/// A particle a source has drawn, before it is placed: its kind, size and orientation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Body {
+    /// Sphere radius, or the polyhedron's bounding radius.
+    pub radius: f64,
+    pub volume: f64,
+    /// [`SPHERE`] or the polyhedron's index in the plan's shape table.
+    pub shape: u16,
+    pub orientation: DQuat,
+    pub effect_radius: f64,
+}
+
+impl Source {
+    /// The next body of the source's sequence: its kind, size and orientation.
+    pub fn draw_body(&self, rng: &mut Rng, shapes: &[ParticleShape]) -> Body {
+        let mut u = rng.uniform();
+        let kind = self
+            .kinds
+            .iter()
+            .find(|k| {
+                let hit = u < k.fraction;
+                u -= k.fraction;
+                hit
+            })
+            .unwrap_or(&self.kinds[self.kinds.len() - 1]);
+        match kind.shape {
+            SPHERE => {
+                let d = kind.diameter.as_ref().map_or(0.0, |s| s.sample(rng));
+                let effect = kind.effect_diameter.or(kind.effect_ratio.map(|k| k * d)).unwrap_or(d);
+                Body { radius: 0.5 * d, volume: std::f64::consts::PI / 6.0 * d * d * d, shape: SPHERE, orientation: DQuat::IDENTITY, effect_radius: 0.5 * effect }
+            }
+            k => {
+                let s = &shapes[k as usize];
+                let user = self.orientation.unwrap_or_else(|| rng.rotation());
+                let r = s.body.bounding_radius();
+                Body { radius: r, volume: s.body.volume(), shape: k, orientation: (user * s.as_given).normalize(), effect_radius: r }
+            }
+        }
+    }
+
+    /// Particles the source inserts over the whole run at most (for the GPU's capacity): the
+    /// total, or the rate over its active time, with a margin of 4 standard deviations for
+    /// sizes drawn at random against a mass target.
+    pub fn most_particles(&self, dt: f64) -> u64 {
+        let active = (self.last_step.saturating_sub(self.first_step) + self.every) as f64 * dt;
+        let by_rate = match self.rate {
+            Some(Rate::ParticlesPerSecond(r)) => r * active,
+            Some(Rate::KgPerSecond(m)) => m * active / self.mean_mass,
+            None => f64::INFINITY,
+        };
+        let by_total = match self.total {
+            Some(Total::Particles(n)) => n as f64,
+            Some(Total::Kg(m)) => m / self.mean_mass,
+            None => f64::INFINITY,
+        };
+        let n = by_rate.min(by_total);
+        let mass_target = matches!(self.rate, Some(Rate::KgPerSecond(_))) || matches!(self.total, Some(Total::Kg(_)));
+        let margin = if mass_target { 4.0 * n.sqrt() + 8.0 } else { 1.0 };
+        (n + margin).ceil().min(u32::MAX as f64) as u64
+    }
+}
+
+/// A compiled `[[outlets]]` entry: particles whose centre gets inside are deleted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outlet {
+    pub name: String,
+    pub region: OutletRegion,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OutletRegion {
+    Box { min: DVec3, max: DVec3 },
+    /// The half-space the normal points into, beyond the plane.
+    Beyond { point: DVec3, normal: DVec3 },
+}
+
+impl OutletRegion {
+    #[inline]
+    pub fn contains(&self, x: DVec3) -> bool {
+        match *self {
+            OutletRegion::Box { min, max } => x.cmpge(min).all() && x.cmplt(max).all(),
+            OutletRegion::Beyond { point, normal } => (x - point).dot(normal) > 0.0,
+        }
+    }
+}
+
+/// The sources and their particle kinds (polyhedra join `shapes`), and one representative
+/// particle per extreme size of each kind, so Δt, the cell size and the model's features are
+/// planned for the particles the sources will make.
+pub(crate) fn compile_sources(
+    scene: &Scene,
+    material_index: &HashMap<String, u16>,
+    densities: &[f64],
+    shapes: &mut Vec<ParticleShape>,
+    domain: &PeriodicBox,
+    gravity: DVec3,
+    first_group: u16,
+) -> Result<(Vec<Source>, InitialParticles), SceneError> {
+    let mut sources = Vec::new();
+    let mut prototypes = InitialParticles::default();
+    for (k, s) in scene.sources.iter().enumerate() {
+        let at = |f: &str| format!("sources[{k}].{f}");
+        let material = *material_index.get(&s.material).ok_or_else(|| {
+            let known: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+            SceneError::field(at("material"), format!("unknown material \"{}\"; defined materials: {}", s.material, known.join(", ")))
+        })?;
+        let entries: Vec<(String, &ShapeSection, f64)> = match (&s.shape, &s.mixture) {
+            (Some(shape), None) => vec![(at("shape"), shape, 1.0)],
+            (None, Some(list)) if !list.is_empty() => {
+                list.iter().enumerate().map(|(j, e)| (at(&format!("mixture[{j}].shape")), &e.shape, e.fraction)).collect()
+            }
+            _ => return Err(SceneError::field(at("shape"), "give one shape, or a non-empty mixture = [{ shape, fraction }, …]")),
+        };
+        let total_fraction: f64 = entries.iter().map(|e| e.2).sum();
+        for (j, e) in entries.iter().enumerate() {
+            if !(e.2.is_finite() && e.2 >= 0.0) || !(total_fraction > 0.0 && total_fraction.is_finite()) {
+                return Err(SceneError::field(at(&format!("mixture[{j}].fraction")), format!("must be zero or positive and some positive, got {}", e.2)));
+            }
+        }
+        let density = densities[material as usize];
+        let mut kinds = Vec::new();
+        let mut mean_mass = 0.0;
+        // (radius, volume, shape, effect radius) of the smallest and largest particle of each kind.
+        let mut sizes = Vec::new();
+        for (field, section, fraction) in &entries {
+            let fraction = fraction / total_fraction;
+            let kind = match shape_of(section, field)? {
+                Some(poly) => {
+                    let volume = poly.body.volume();
+                    mean_mass += fraction * density * volume;
+                    shapes.push(poly);
+                    let index = (shapes.len() - 1) as u16;
+                    let r = shapes[index as usize].body.bounding_radius();
+                    sizes.push((r, volume, index, r));
+                    SourceKind { shape: index, diameter: None, effect_diameter: None, effect_ratio: None, fraction }
+                }
+                None => {
+                    let ShapeSection::Sphere(sphere) = section else { unreachable!("shape_of gives None for spheres only") };
+                    sphere.diameter.check(&format!("{field}.sphere.diameter"))?;
+                    mean_mass += fraction * density * std::f64::consts::PI / 6.0 * sphere.diameter.mean_cube();
+                    for d in [sphere.diameter.min(), sphere.diameter.max()] {
+                        let effect = sphere.effect_diameter.or(sphere.effect_ratio.map(|k| k * d)).unwrap_or(d);
+                        let volume = std::f64::consts::PI / 6.0 * d * d * d;
+                        sizes.push((0.5 * d, volume, SPHERE, 0.5 * effect));
+                    }
+                    SourceKind {
+                        shape: SPHERE,
+                        diameter: Some(sphere.diameter.clone()),
+                        effect_diameter: sphere.effect_diameter,
+                        effect_ratio: sphere.effect_ratio,
+                        fraction,
+                    }
+                }
+            };
+            kinds.push(kind);
+        }
+        let region = region(s, &at, domain)?;
+        let velocity = match s.velocity {
+            Some(v) => finite3(&at("velocity"), v)?,
+            None => DVec3::ZERO,
+        };
+        // The prototypes start at the region's highest corner with the source's velocity, so the
+        // impact speed estimate covers their fall.
+        let (lo, hi) = region.bounds();
+        let top = DVec3::from_array([0, 1, 2].map(|a| if gravity[a] > 0.0 { lo[a] } else { hi[a] }));
+        for (r, volume, shape, effect) in sizes {
+            push_prototype(&mut prototypes, top, velocity, (r, volume, shape, effect), material, first_group + k as u16);
+        }
+        let orientation = match s.orientation {
+            Some(OrientationSpec::Quaternion(q)) => {
+                let q = DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
+                if !q.is_finite() || q.length() < 1e-12 {
+                    return Err(SceneError::field(at("orientation"), "must be a non-zero quaternion [w, x, y, z] or \"random\""));
+                }
+                Some(q.normalize())
+            }
+            _ => None,
+        };
+        let rate = match s.rate {
+            Some(RateSpec::ParticlesPerSecond(r)) => Some(Rate::ParticlesPerSecond(positive(&at("rate.particles_per_second"), r)?)),
+            Some(RateSpec::KgPerSecond(r)) => Some(Rate::KgPerSecond(positive(&at("rate.kg_per_second"), r)?)),
+            None => None,
+        };
+        let total = match s.total {
+            Some(TotalSpec::Particles(0)) => return Err(SceneError::field(at("total.particles"), "must be at least 1")),
+            Some(TotalSpec::Particles(n)) => Some(Total::Particles(n)),
+            Some(TotalSpec::Kg(m)) => Some(Total::Kg(positive(&at("total.kg"), m)?)),
+            None => None,
+        };
+        if rate.is_none() && total.is_none() {
+            return Err(SceneError::field(at("rate"), "give a rate (particles_per_second or kg_per_second), a total (particles or kg), or both"));
+        }
+        sources.push(Source {
+            name: s.name.clone().unwrap_or_else(|| format!("source{k}")),
+            material,
+            group: first_group + k as u16,
+            kinds,
+            region,
+            velocity,
+            orientation,
+            rate,
+            total,
+            first_step: 0,
+            every: 1,
+            last_step: 0,
+            mean_mass,
+            seed: scene.run.seed ^ (0xA076_1D64_78BD_642F_u64.wrapping_mul(k as u64 + 1)),
+        });
+        non_negative(&at("start"), s.start)?;
+        if let Some(stop) = s.stop
+            && !(stop >= s.start)
+        {
+            return Err(SceneError::field(at("stop"), format!("must be at least start = {}, got {stop}", s.start)));
+        }
+        if let Some(i) = s.interval {
+            positive(&at("interval"), i)?;
+        }
+    }
+    Ok((sources, prototypes))
+}
+
+/// Sets each source's steps once Δt is known: the first at `start`, then every `interval`
+/// (at least one step) until `stop` or the end of the run.
+pub(crate) fn schedule_sources(scene: &Scene, sources: &mut [Source], dt: f64, steps: u64, gravity: DVec3, shapes: &[ParticleShape]) {
+    for (s, section) in sources.iter_mut().zip(&scene.sources) {
+        let interval = section.interval.unwrap_or_else(|| default_interval(s, gravity, shapes));
+        s.first_step = (section.start / dt).round() as u64;
+        s.every = ((interval / dt).round() as u64).max(1);
+        s.last_step = section.stop.map_or(steps, |t| ((t / dt).round() as u64).min(steps));
+    }
+}
+
+/// A plane source inserts again once its particles have moved one largest diameter off the
+/// plane (at their speed, or falling from rest); a volume source every [`DEFAULT_INTERVAL`].
+fn default_interval(s: &Source, gravity: DVec3, shapes: &[ParticleShape]) -> f64 {
+    let InsertRegion::Plane { normal, .. } = s.region else { return DEFAULT_INTERVAL };
+    let d = s
+        .kinds
+        .iter()
+        .map(|k| match k.shape {
+            SPHERE => k.diameter.as_ref().map_or(0.0, |d| d.max()),
+            i => 2.0 * shapes[i as usize].body.bounding_radius(),
+        })
+        .fold(0.0, f64::max);
+    let v = s.velocity.dot(normal).abs();
+    let g = gravity.dot(normal).abs();
+    // d = v t + g t² / 2, solved for t.
+    let t = if g > 0.0 { (-v + (v * v + 2.0 * g * d).sqrt()) / g } else if v > 0.0 { d / v } else { DEFAULT_INTERVAL };
+    t.min(DEFAULT_INTERVAL)
+}
+
+fn region(s: &SourceSection, at: &impl Fn(&str) -> String, domain: &PeriodicBox) -> Result<InsertRegion, SceneError> {
+    let inside = |field: String, lo: DVec3, hi: DVec3| {
+        let slack = 1e-9 * domain.extent().max_element();
+        if lo.cmpge(domain.min - slack).all() && hi.cmple(domain.max + slack).all() {
+            Ok(())
+        } else {
+            Err(SceneError::field(field, format!("reaches outside the domain [{} .. {}]", domain.min, domain.max)))
+        }
+    };
+    Ok(match &s.region {
+        SourceRegion::Box(b) => {
+            let (min, max) = (finite3(&at("region.box.min"), b.min)?, finite3(&at("region.box.max"), b.max)?);
+            if !min.cmplt(max).all() {
+                return Err(SceneError::field(at("region.box"), "min must be below max on every axis"));
+            }
+            inside(at("region.box"), min, max)?;
+            InsertRegion::Box { min, max }
+        }
+        SourceRegion::Cylinder(c) => {
+            let base = finite3(&at("region.cylinder.base"), c.base)?;
+            let axis = unit(&at("region.cylinder.axis"), c.axis)?;
+            let radius = positive(&at("region.cylinder.radius"), c.radius)?;
+            let length = positive(&at("region.cylinder.length"), c.length)?;
+            let r = InsertRegion::Cylinder { base, axis, radius, length };
+            let (lo, hi) = r.bounds();
+            inside(at("region.cylinder"), lo, hi)?;
+            r
+        }
+        SourceRegion::Plane(p) => {
+            let point = finite3(&at("region.plane.point"), p.point)?;
+            let normal = unit(&at("region.plane.normal"), p.normal)?;
+            let width = positive(&at("region.plane.width"), p.width)?;
+            let height = positive(&at("region.plane.height"), p.height)?;
+            let u = if normal.cross(DVec3::Z).length() > 1e-6 { normal.cross(DVec3::Z).normalize() } else { normal.cross(DVec3::X).normalize() };
+            let v = normal.cross(u);
+            let r = InsertRegion::Plane { point, normal, u, v, width, height };
+            let (lo, hi) = r.bounds();
+            inside(at("region.plane"), lo, hi)?;
+            r
+        }
+    })
+}
+
+fn push_prototype(
+    p: &mut InitialParticles,
+    position: DVec3,
+    velocity: DVec3,
+    (radius, volume, shape, effect): (f64, f64, u16, f64),
+    material: u16,
+    group: u16,
+) {
+    p.position.push(position);
+    p.velocity.push(velocity);
+    p.angular_velocity.push(DVec3::ZERO);
+    p.radius.push(radius);
+    p.volume.push(volume);
+    p.shape.push(shape);
+    p.orientation.push(DQuat::IDENTITY);
+    p.effect_radius.push(effect);
+    p.material.push(material);
+    p.group.push(group);
+    p.fixed.push(false);
+    p.track.push(false);
+}
+
+/// Compiles `[[outlets]]`.
+pub(crate) fn compile_outlets(scene: &Scene) -> Result<Vec<Outlet>, SceneError> {
+    let mut out = Vec::new();
+    for (k, o) in scene.outlets.iter().enumerate() {
+        let at = |f: &str| format!("outlets[{k}].{f}");
+        if o.name.trim().is_empty() {
+            return Err(SceneError::field(at("name"), "must not be empty"));
+        }
+        if scene.outlets[..k].iter().any(|p| p.name == o.name) {
+            return Err(SceneError::field(at("name"), format!("\"{}\" names two outlets", o.name)));
+        }
+        let region = match (&o.box_, &o.plane) {
+            (Some(b), None) => {
+                let (min, max) = (finite3(&at("box.min"), b.min)?, finite3(&at("box.max"), b.max)?);
+                if !min.cmplt(max).all() {
+                    return Err(SceneError::field(at("box"), "min must be below max on every axis"));
+                }
+                OutletRegion::Box { min, max }
+            }
+            (None, Some(p)) => OutletRegion::Beyond { point: finite3(&at("plane.point"), p.point)?, normal: unit(&at("plane.normal"), p.normal)? },
+            _ => return Err(SceneError::field(at("box"), "give exactly one of box = { min, max } or plane = { point, normal }")),
+        };
+        out.push(Outlet { name: o.name.clone(), region });
+    }
+    Ok(out)
+}
