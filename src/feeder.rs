@@ -83,7 +83,16 @@ impl Feeder {
             .model
             .sources
             .iter()
-            .map(|s| SourceBooks { rng: Rng::new(s.seed).state(), events: 0, inserted: 0, mass: 0.0, energy: 0.0, deferred: 0, pending: None, done: false })
+            .map(|s| SourceBooks {
+                rng: Rng::new(s.seed).state(),
+                events: 0,
+                inserted: 0,
+                mass: 0.0,
+                energy: 0.0,
+                deferred: 0,
+                pending: None,
+                done: false,
+            })
             .collect();
         Some(Feeder { books: FeederBooks { sources, next_id } })
     }
@@ -106,7 +115,8 @@ impl Feeder {
     pub fn feed(&mut self, backend: &mut dyn Backend) -> Result<(), String> {
         let plan = backend.plan().clone();
         let step = backend.steps();
-        let due: Vec<usize> = (0..plan.model.sources.len()).filter(|&k| event_step(&plan.model.sources[k], &self.books.sources[k]) == Some(step)).collect();
+        let due: Vec<usize> =
+            (0..plan.model.sources.len()).filter(|&k| event_step(&plan.model.sources[k], &self.books.sources[k]) == Some(step)).collect();
         if due.is_empty() {
             return Ok(());
         }

@@ -1,12 +1,12 @@
 //! The backend-independent handle on a running simulation: one [`Backend`] object.
 
+use crate::feeder::{Feeder, FeederBooks};
 use glam::DVec3;
 use std::borrow::Cow;
 use tumble_cpu::CpuSimulation;
 use tumble_gpu::{GpuError, GpuSimulation};
 use tumble_scene::schema::BackendName;
 use tumble_scene::{CompiledScene, Plan};
-use crate::feeder::{Feeder, FeederBooks};
 use tumble_state::{AdapterInfo, Backend, DrumProfile, Fault, Frame, Observables, Snapshot, SnapshotError, State, TrackRow};
 
 /// A simulation on one backend: the CPU reference (f64), the GPU (f32), or any other

@@ -14,6 +14,7 @@ fn every_example_scene_runs() {
     scenes.push(root.join("lab_mill/lab_mill_30.toml"));
     // mill_at_speed starts from mill_settle's checkpoint: the_mill_settled_once_… runs it.
     scenes.push(root.join("protocols/hopper_gate.toml"));
+    scenes.push(root.join("protocols/hopper_pour.toml"));
     scenes.push(root.join("protocols/mill_settle.toml"));
     scenes.sort();
     assert!(scenes.len() >= 5);

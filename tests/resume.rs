@@ -144,6 +144,50 @@ fn sigterm_writes_a_checkpoint_that_resumes_to_the_uninterrupted_run() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn a_run_with_a_source_and_an_outlet_stopped_midway_resumes_to_the_uninterrupted_files() {
+    // The pouring hopper with its outlet raised into the stream, so particles are inserted and
+    // deleted within 0.1 s: the sources' generators and counts and the outlets' tallies must
+    // travel in the checkpoint.
+    let dir = tmp("pour");
+    let text = std::fs::read_to_string(root().join("scenes/protocols/hopper_pour.toml")).unwrap();
+    let text = text.replace("plane = { point = [0.0, 0.0, -0.06]", "plane = { point = [0.0, 0.0, 0.12]");
+    let scene = dir.join("pour.toml");
+    std::fs::write(&scene, text).unwrap();
+    let scene = scene.to_str().unwrap();
+    let straight = dir.join("straight");
+    let args = |out: &Path, duration: &'static str| {
+        vec![
+            "run".to_string(),
+            scene.to_string(),
+            "--quiet".into(),
+            "--duration".into(),
+            duration.into(),
+            "--checkpoint-interval".into(),
+            "0.01".into(),
+            "--out".into(),
+            out.to_str().unwrap().to_string(),
+        ]
+    };
+    let run_args = |a: Vec<String>| run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(run_args(args(&straight, "0.1")).status.success());
+    let halves = dir.join("halves");
+    assert!(run_args(args(&halves, "0.05")).status.success());
+    let out = run(&["resume", halves.to_str().unwrap(), "--quiet", "--duration", "0.1", "--threads", "1"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let last = |dir: &Path, column: &str| {
+        let text = std::fs::read_to_string(dir.join("observables.csv")).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let k = header.iter().position(|h| *h == column).unwrap();
+        text.lines().last().unwrap().split(',').nth(k).unwrap().parse::<f64>().unwrap()
+    };
+    let (inserted, deleted) = (last(&straight, "inserted_feed"), last(&straight, "deleted_bin"));
+    println!("uninterrupted: {inserted} inserted, {deleted} deleted by t = 0.1 s");
+    assert!(inserted > 500.0 && deleted > 20.0, "the test must insert and delete particles on both sides of the stop");
+    assert_same_files(&straight, &halves);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Every file in `dir` with its bytes, checkpoints and summary included.
 fn everything(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     let mut all = Vec::new();

@@ -23,8 +23,6 @@ shared! {
     SHAPE_SHIFT = 16;
     /// A particle an outlet deleted: props.w holds the outlet's index + 1 in 8 bits from here.
     OUTLET_SHIFT = 8;
-    /// Most outlets a scene may have (the 8 bits less the 0 of "not by an outlet").
-    MAX_OUTLETS = 255;
 
     // ---- Outlets (the tables buffer from params.outlet_base; OUTLET_ENTRIES vec4 each) ----
     /// vec4 entries per outlet: (kind, 0, 0, 0), (box min or plane point), (box max or plane normal).

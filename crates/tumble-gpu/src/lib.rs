@@ -122,7 +122,10 @@ impl GpuSimulation {
         let created = state.id.iter().map(|&id| id + 1).max().unwrap_or(0).max(state.len() as u32);
         let capacity = created as u64 + plan.inserted_at_most();
         if capacity > u32::MAX as u64 / 2 {
-            return Err(GpuError::Feature(format!("the sources may insert up to {} particles; the GPU backend holds at most 2^31 slots", plan.inserted_at_most())));
+            return Err(GpuError::Feature(format!(
+                "the sources may insert up to {} particles; the GPU backend holds at most 2^31 slots",
+                plan.inserted_at_most()
+            )));
         }
         arrays.pad_to(capacity as usize, created, &plan);
         let slots = arrays.pos.len() as u32;

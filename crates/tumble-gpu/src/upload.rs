@@ -148,6 +148,9 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params
     }
 }
 
+// A deleted particle's flags hold its outlet's index + 1 in the 8 bits from OUTLET_SHIFT, below the shape index.
+const _: () = assert!(tumble_scene::MAX_OUTLETS < 256 && codes::OUTLET_SHIFT + 8 <= codes::SHAPE_SHIFT);
+
 /// The outlets as the device reads them (relative to the domain's centre), OUTLET_ENTRIES each.
 pub fn outlet_table(plan: &Plan) -> Vec<[f32; 4]> {
     let origin = centre(plan);
@@ -531,6 +534,10 @@ mod tests {
             ("_pad_flow", offset_of!(Params, _pad_flow)),
             ("origin", offset_of!(Params, origin)),
             ("_pad_origin", offset_of!(Params, _pad_origin)),
+            ("outlets", offset_of!(Params, outlets)),
+            ("outlet_base", offset_of!(Params, outlet_base)),
+            ("_pad_outlets0", offset_of!(Params, _pad_outlets0)),
+            ("_pad_outlets1", offset_of!(Params, _pad_outlets1)),
         ]
         .map(|(n, o)| (n.to_string(), o));
         for module in ["broad", "reorder", "forces", "integrate"] {

@@ -51,5 +51,5 @@ pub use plan::{
 pub use rng::Rng;
 pub use schema::Scene;
 pub use shapes::{ParticleShape, SPHERE};
-pub use sources::{Body, InsertRegion, Outlet, OutletRegion, Rate, Source, SourceKind, Total};
+pub use sources::{Body, InsertRegion, MAX_OUTLETS, Outlet, OutletRegion, Rate, Source, SourceKind, Total};
 pub use timescales::{ACCURATE_STEPS_PER_COLLISION, ImpactSpeed, STEPS_PER_COLLISION};

@@ -2,9 +2,7 @@
 
 use crate::compile::non_negative;
 use crate::rng::Rng;
-use crate::schema::{
-    DomainSection, FlowSection, LatticeSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, V3, VelocitySpec,
-};
+use crate::schema::{DomainSection, FlowSection, LatticeSection, NamedVelocity, OrientationSpec, ParticleGroup, ShapeSection, V3, VelocitySpec};
 use crate::shapes::{ParticleShape, SPHERE};
 use crate::{Scene, SceneError};
 use glam::{DQuat, DVec3};

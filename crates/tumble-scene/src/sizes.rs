@@ -18,9 +18,7 @@ impl DiameterSpec {
         match self {
             DiameterSpec::Fixed(d) if !(d.is_finite() && *d > 0.0) => bad(format!("must be a positive number, got {d}")),
             DiameterSpec::Uniform(r) if !(r.min.is_finite() && r.min > 0.0) => bad(format!("min must be a positive number, got {}", r.min)),
-            DiameterSpec::Uniform(r) if !(r.max >= r.min && r.max.is_finite()) => {
-                bad(format!("max must be at least min = {}, got {}", r.min, r.max))
-            }
+            DiameterSpec::Uniform(r) if !(r.max >= r.min && r.max.is_finite()) => bad(format!("max must be at least min = {}, got {}", r.min, r.max)),
             DiameterSpec::Normal(n) if !(n.normal.std.is_finite() && n.normal.std >= 0.0) => {
                 bad(format!("normal.std must be zero or positive, got {}", n.normal.std))
             }
@@ -141,7 +139,13 @@ fn truncated_mean(f: impl Fn(f64) -> f64) -> f64 {
     let (mut num, mut den) = (0.0, 0.0);
     for k in 0..=N {
         let z = -TRUNCATION + k as f64 * h;
-        let w = if k == 0 || k == N { 1.0 } else if k % 2 == 1 { 4.0 } else { 2.0 };
+        let w = if k == 0 || k == N {
+            1.0
+        } else if k % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
         let p = (-0.5 * z * z).exp();
         num += w * p * f(z);
         den += w * p;

@@ -30,10 +30,25 @@ pub struct SourceKind {
 /// Where a source's particles appear.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum InsertRegion {
-    Box { min: DVec3, max: DVec3 },
-    Cylinder { base: DVec3, axis: DVec3, radius: f64, length: f64 },
+    Box {
+        min: DVec3,
+        max: DVec3,
+    },
+    Cylinder {
+        base: DVec3,
+        axis: DVec3,
+        radius: f64,
+        length: f64,
+    },
     /// A rectangle through `point` with normal `normal`, `width` along `u` and `height` along `v`.
-    Plane { point: DVec3, normal: DVec3, u: DVec3, v: DVec3, width: f64, height: f64 },
+    Plane {
+        point: DVec3,
+        normal: DVec3,
+        u: DVec3,
+        v: DVec3,
+        width: f64,
+        height: f64,
+    },
 }
 
 impl InsertRegion {
@@ -155,7 +170,13 @@ impl Source {
             SPHERE => {
                 let d = kind.diameter.as_ref().map_or(0.0, |s| s.sample(rng));
                 let effect = kind.effect_diameter.or(kind.effect_ratio.map(|k| k * d)).unwrap_or(d);
-                Body { radius: 0.5 * d, volume: std::f64::consts::PI / 6.0 * d * d * d, shape: SPHERE, orientation: DQuat::IDENTITY, effect_radius: 0.5 * effect }
+                Body {
+                    radius: 0.5 * d,
+                    volume: std::f64::consts::PI / 6.0 * d * d * d,
+                    shape: SPHERE,
+                    orientation: DQuat::IDENTITY,
+                    effect_radius: 0.5 * effect,
+                }
             }
             k => {
                 let s = &shapes[k as usize];
@@ -197,9 +218,15 @@ pub struct Outlet {
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum OutletRegion {
-    Box { min: DVec3, max: DVec3 },
+    Box {
+        min: DVec3,
+        max: DVec3,
+    },
     /// The half-space the normal points into, beyond the plane.
-    Beyond { point: DVec3, normal: DVec3 },
+    Beyond {
+        point: DVec3,
+        normal: DVec3,
+    },
 }
 
 impl OutletRegion {
@@ -242,7 +269,10 @@ pub(crate) fn compile_sources(
         let total_fraction: f64 = entries.iter().map(|e| e.2).sum();
         for (j, e) in entries.iter().enumerate() {
             if !(e.2.is_finite() && e.2 >= 0.0) || !(total_fraction > 0.0 && total_fraction.is_finite()) {
-                return Err(SceneError::field(at(&format!("mixture[{j}].fraction")), format!("must be zero or positive and some positive, got {}", e.2)));
+                return Err(SceneError::field(
+                    at(&format!("mixture[{j}].fraction")),
+                    format!("must be zero or positive and some positive, got {}", e.2),
+                ));
             }
         }
         let density = densities[material as usize];
@@ -373,7 +403,13 @@ fn default_interval(s: &Source, gravity: DVec3, shapes: &[ParticleShape]) -> f64
     let v = s.velocity.dot(normal).abs();
     let g = gravity.dot(normal).abs();
     // d = v t + g t² / 2, solved for t.
-    let t = if g > 0.0 { (-v + (v * v + 2.0 * g * d).sqrt()) / g } else if v > 0.0 { d / v } else { DEFAULT_INTERVAL };
+    let t = if g > 0.0 {
+        (-v + (v * v + 2.0 * g * d).sqrt()) / g
+    } else if v > 0.0 {
+        d / v
+    } else {
+        DEFAULT_INTERVAL
+    };
     t.min(DEFAULT_INTERVAL)
 }
 
@@ -444,6 +480,10 @@ fn push_prototype(
 
 /// Compiles `[[outlets]]`.
 pub(crate) fn compile_outlets(scene: &Scene) -> Result<Vec<Outlet>, SceneError> {
+    let most = MAX_OUTLETS;
+    if scene.outlets.len() > most {
+        return Err(SceneError::field("outlets", format!("at most {most} outlets, got {}", scene.outlets.len())));
+    }
     let mut out = Vec::new();
     for (k, o) in scene.outlets.iter().enumerate() {
         let at = |f: &str| format!("outlets[{k}].{f}");
@@ -468,3 +508,6 @@ pub(crate) fn compile_outlets(scene: &Scene) -> Result<Vec<Outlet>, SceneError> 
     }
     Ok(out)
 }
+
+/// Most outlets (the GPU backend's flag word holds an outlet's index + 1 in 8 bits).
+pub const MAX_OUTLETS: usize = 255;
