@@ -14,7 +14,7 @@ impl CpuSimulation {
 
     /// The charge profile of each drum of the plan (NaN angles without gravity across the axis).
     pub fn drum_profiles(&self) -> Vec<DrumProfile> {
-        tumble_state::drum_profiles(self.plan(), self.state())
+        tumble_state::drum_profiles(self.plan(), self.state(), self.time())
     }
 
     /// Tracked particles, by id.

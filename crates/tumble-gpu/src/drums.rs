@@ -52,7 +52,7 @@ pub(crate) fn histogram_quantile(bins: &[u32], q: f64) -> f64 {
 }
 
 /// Each drum's profile from its lane (charge mass, Σ m·radial) and its histogram.
-pub(crate) fn profiles(plan: &Plan, lanes: &[Partial], bins: &[u32]) -> Vec<DrumProfile> {
+pub(crate) fn profiles(plan: &Plan, t: f64, lanes: &[Partial], bins: &[u32]) -> Vec<DrumProfile> {
     plan.model
         .drums
         .iter()
@@ -62,7 +62,7 @@ pub(crate) fn profiles(plan: &Plan, lanes: &[Partial], bins: &[u32]) -> Vec<Drum
             let lane = &lanes[k];
             let counts = &bins[k * DRUM_BINS as usize..(k + 1) * DRUM_BINS as usize];
             let moment = DVec3::new(lane.sum(1), lane.sum(2), lane.sum(3));
-            frame.profile(d, lane.sum(0), moment, histogram_quantile(counts, 0.05), histogram_quantile(counts, 0.95))
+            frame.profile(d, t, lane.sum(0), moment, histogram_quantile(counts, 0.05), histogram_quantile(counts, 0.95))
         })
         .collect()
 }

@@ -168,7 +168,7 @@ impl GpuSimulation {
         let wall_work = self.group_sums_of(work, crate::walls::wall_work_value);
         let s = self.state_from(a);
         let observables = self.observables_of(a, &s, &wall_work);
-        let drums = if self.plan.model.drums.is_empty() { Vec::new() } else { tumble_state::drum_profiles(&self.plan, &s) };
+        let drums = if self.plan.model.drums.is_empty() { Vec::new() } else { tumble_state::drum_profiles(&self.plan, &s, self.time()) };
         Frame {
             observables,
             tracks: tumble_state::tracks(&s),

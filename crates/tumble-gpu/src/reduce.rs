@@ -293,7 +293,7 @@ impl GpuSimulation {
         let observables = self.observables_of_partial(&lanes[0], &wall_work);
         self.alive.set(Some(observables.particles));
         let tracks = self.track_rows(&bytemuck::pod_collect_to_vec(&v[1]));
-        let drums = crate::drums::profiles(&self.plan, &lanes[1 + r.wall_lanes..], &bytemuck::pod_collect_to_vec(&v[2]));
+        let drums = crate::drums::profiles(&self.plan, self.time(), &lanes[1 + r.wall_lanes..], &bytemuck::pod_collect_to_vec(&v[2]));
         let state = with_state.then(|| {
             let arrays = crate::readback::DeviceArrays::from_bytes(std::array::from_fn(|k| v[3 + k].as_slice()));
             std::borrow::Cow::Owned(self.state_from(&arrays))

@@ -251,8 +251,10 @@ pub struct Drum {
     pub axis: DVec3,
     pub radius: f64,
     pub length: f64,
-    /// Signed angular speed about `axis`, rad/s.
+    /// Signed angular speed about `axis` at full speed, rad/s.
     pub omega: f64,
+    /// When it turns: `omega` × `timing.rate(t)` at time t.
+    pub timing: Timing,
 }
 
 /// A plane whose mass flow is reported.

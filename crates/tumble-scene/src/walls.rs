@@ -104,7 +104,7 @@ pub(crate) fn compile_walls(
                 && c.inside
                 && coaxial(&cyl, point, axis)
             {
-                drums.push(Drum { name: name.clone(), point: cyl.point, axis, radius: cyl.radius, length: cyl.length, omega });
+                drums.push(Drum { name: name.clone(), point: cyl.point, axis, radius: cyl.radius, length: cyl.length, omega, timing: timings[k] });
             }
             shapes.push((name.clone(), SurfaceShape::Cylinder(cyl)));
         } else if let Some(l) = &w.lifters {

@@ -155,14 +155,14 @@ impl DrumFrame {
 
     /// The profile from the charge's mass, Σ m·radial and the shell layer's 5th and 95th
     /// percentile angles (NaN when the layer is empty).
-    pub fn profile(&self, d: &tumble_scene::Drum, charge_mass: f64, moment: DVec3, toe: f64, shoulder: f64) -> DrumProfile {
+    pub fn profile(&self, d: &tumble_scene::Drum, t: f64, charge_mass: f64, moment: DVec3, toe: f64, shoulder: f64) -> DrumProfile {
         let mut p = DrumProfile { charge_mass, com_angle: f64::NAN, toe, shoulder, ..Default::default() };
         if charge_mass > 0.0 {
             let com = moment / charge_mass;
             p.com_radius = com.length();
             let theta = com.dot(self.along).atan2(com.dot(self.down));
             p.com_angle = theta.to_degrees();
-            p.torque_arm_power = charge_mass * self.g_across * p.com_radius * theta.sin() * d.omega.abs();
+            p.torque_arm_power = charge_mass * self.g_across * p.com_radius * theta.sin() * d.omega.abs() * d.timing.rate(t);
         }
         p
     }
@@ -178,9 +178,9 @@ pub fn quantile_rank(q: f64, n: usize) -> usize {
     ((q * (n - 1) as f64).round() as usize).min(n - 1)
 }
 
-/// The charge profile of each drum of `plan` from any backend's state (NaN angles without gravity
-/// across the axis).
-pub fn drum_profiles(plan: &tumble_scene::Plan, s: &State) -> Vec<DrumProfile> {
+/// The charge profile of each drum of `plan` from any backend's state at time `t` (NaN angles
+/// without gravity across the axis).
+pub fn drum_profiles(plan: &tumble_scene::Plan, s: &State, t: f64) -> Vec<DrumProfile> {
     plan.model
         .drums
         .iter()
@@ -207,7 +207,7 @@ pub fn drum_profiles(plan: &tumble_scene::Plan, s: &State) -> Vec<DrumProfile> {
             }
             shell.sort_by(f64::total_cmp);
             let pick = |q: f64| if shell.is_empty() { f64::NAN } else { shell[quantile_rank(q, shell.len())] };
-            frame.profile(d, mass, moment, pick(0.05), pick(0.95))
+            frame.profile(d, t, mass, moment, pick(0.05), pick(0.95))
         })
         .collect()
 }
