@@ -179,7 +179,7 @@ fn place(plan: &Plan, source: &Source, books: &mut SourceBooks, space: &mut Spac
             break;
         };
         space.add(x, body.radius);
-        push(new, x, source, &body);
+        new.push_body(x, source.velocity, &body, source.material, source.group);
         let m = density * body.volume;
         books.inserted += 1;
         books.mass += m;
@@ -192,21 +192,6 @@ fn place(plan: &Plan, source: &Source, books: &mut SourceBooks, space: &mut Spac
     };
     books.done = total_met;
     books.rng = rng.state();
-}
-
-fn push(p: &mut InitialParticles, x: DVec3, source: &Source, body: &Body) {
-    p.position.push(x);
-    p.velocity.push(source.velocity);
-    p.angular_velocity.push(DVec3::ZERO);
-    p.radius.push(body.radius);
-    p.volume.push(body.volume);
-    p.shape.push(body.shape);
-    p.orientation.push(body.orientation);
-    p.effect_radius.push(body.effect_radius);
-    p.material.push(source.material);
-    p.group.push(source.group);
-    p.fixed.push(false);
-    p.track.push(false);
 }
 
 /// The particles and walls a candidate must clear, on a hash grid of bounding spheres.

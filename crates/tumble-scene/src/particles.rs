@@ -41,6 +41,38 @@ impl InitialParticles {
         self.position.is_empty()
     }
 
+    /// Appends a movable, untracked particle: `body` at `position` with `velocity`, no spin.
+    pub fn push_body(&mut self, position: DVec3, velocity: DVec3, body: &crate::Body, material: u16, group: u16) {
+        self.position.push(position);
+        self.velocity.push(velocity);
+        self.angular_velocity.push(DVec3::ZERO);
+        self.radius.push(body.radius);
+        self.volume.push(body.volume);
+        self.shape.push(body.shape);
+        self.orientation.push(body.orientation);
+        self.effect_radius.push(body.effect_radius);
+        self.material.push(material);
+        self.group.push(group);
+        self.fixed.push(false);
+        self.track.push(false);
+    }
+
+    /// Appends `other`'s particles after these.
+    pub fn append(&mut self, other: &InitialParticles) {
+        self.position.extend(&other.position);
+        self.velocity.extend(&other.velocity);
+        self.angular_velocity.extend(&other.angular_velocity);
+        self.radius.extend(&other.radius);
+        self.volume.extend(&other.volume);
+        self.shape.extend(&other.shape);
+        self.orientation.extend(&other.orientation);
+        self.effect_radius.extend(&other.effect_radius);
+        self.material.extend(&other.material);
+        self.group.extend(&other.group);
+        self.fixed.extend(&other.fixed);
+        self.track.extend(&other.track);
+    }
+
     /// Radius of the sphere of equal volume (the radius itself for spheres).
     pub fn equivalent_radius(&self, i: usize) -> f64 {
         if self.shape[i] == SPHERE { self.radius[i] } else { crate::shapes::equivalent_radius(self.volume[i]) }
@@ -101,16 +133,7 @@ pub fn generate(
             }
             _ => None,
         };
-        let given = match group.orientation {
-            Some(OrientationSpec::Quaternion(q)) => {
-                let q = DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
-                if !q.is_finite() || q.length() < 1e-12 {
-                    return Err(SceneError::field(field("orientation"), "must be a non-zero quaternion [w, x, y, z] or \"random\""));
-                }
-                Some(q.normalize())
-            }
-            _ => None,
-        };
+        let given = given_orientation(group.orientation, &field("orientation"))?;
         for (x, d) in centres {
             let effect = match sphere.map(|s| (s.effect_diameter, s.effect_ratio)) {
                 Some((Some(de), _)) => de,
@@ -204,6 +227,20 @@ pub(crate) fn compile_particles(
         }
     }
     Ok((particles, shapes))
+}
+
+/// A fixed orientation `[w, x, y, z]` normalised, or None for `"random"` or none given.
+pub(crate) fn given_orientation(spec: Option<OrientationSpec>, field: &str) -> Result<Option<DQuat>, SceneError> {
+    match spec {
+        Some(OrientationSpec::Quaternion(q)) => {
+            let q = DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
+            if !q.is_finite() || q.length() < 1e-12 {
+                return Err(SceneError::field(field, "must be a non-zero quaternion [w, x, y, z] or \"random\""));
+            }
+            Ok(Some(q.normalize()))
+        }
+        _ => Ok(None),
+    }
 }
 
 /// The most particles a scene may hold: ids are 32-bit.

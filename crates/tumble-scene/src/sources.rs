@@ -3,7 +3,7 @@
 
 use crate::compile::{finite3, non_negative, positive, unit};
 use crate::rng::Rng;
-use crate::schema::{DiameterSpec, OrientationSpec, RateSpec, Scene, ShapeSection, SourceRegion, SourceSection, TotalSpec};
+use crate::schema::{DiameterSpec, RateSpec, Scene, ShapeSection, SourceRegion, SourceSection, TotalSpec};
 use crate::shapes::{ParticleShape, SPHERE, shape_of};
 use crate::{InitialParticles, SceneError};
 use glam::{DQuat, DVec3};
@@ -278,7 +278,7 @@ pub(crate) fn compile_sources(
         let density = densities[material as usize];
         let mut kinds = Vec::new();
         let mut mean_mass = 0.0;
-        // (radius, volume, shape, effect radius) of the smallest and largest particle of each kind.
+        // The smallest and largest particle of each kind.
         let mut sizes = Vec::new();
         for (field, section, fraction) in &entries {
             let fraction = fraction / total_fraction;
@@ -289,7 +289,7 @@ pub(crate) fn compile_sources(
                     shapes.push(poly);
                     let index = (shapes.len() - 1) as u16;
                     let r = shapes[index as usize].body.bounding_radius();
-                    sizes.push((r, volume, index, r));
+                    sizes.push(Body { radius: r, volume, shape: index, orientation: DQuat::IDENTITY, effect_radius: r });
                     SourceKind { shape: index, diameter: None, effect_diameter: None, effect_ratio: None, fraction }
                 }
                 None => {
@@ -299,7 +299,7 @@ pub(crate) fn compile_sources(
                     for d in [sphere.diameter.min(), sphere.diameter.max()] {
                         let effect = sphere.effect_diameter.or(sphere.effect_ratio.map(|k| k * d)).unwrap_or(d);
                         let volume = std::f64::consts::PI / 6.0 * d * d * d;
-                        sizes.push((0.5 * d, volume, SPHERE, 0.5 * effect));
+                        sizes.push(Body { radius: 0.5 * d, volume, shape: SPHERE, orientation: DQuat::IDENTITY, effect_radius: 0.5 * effect });
                     }
                     SourceKind {
                         shape: SPHERE,
@@ -321,19 +321,10 @@ pub(crate) fn compile_sources(
         // impact speed estimate covers their fall.
         let (lo, hi) = region.bounds();
         let top = DVec3::from_array([0, 1, 2].map(|a| if gravity[a] > 0.0 { lo[a] } else { hi[a] }));
-        for (r, volume, shape, effect) in sizes {
-            push_prototype(&mut prototypes, top, velocity, (r, volume, shape, effect), material, first_group + k as u16);
+        for body in &sizes {
+            prototypes.push_body(top, velocity, body, material, first_group + k as u16);
         }
-        let orientation = match s.orientation {
-            Some(OrientationSpec::Quaternion(q)) => {
-                let q = DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
-                if !q.is_finite() || q.length() < 1e-12 {
-                    return Err(SceneError::field(at("orientation"), "must be a non-zero quaternion [w, x, y, z] or \"random\""));
-                }
-                Some(q.normalize())
-            }
-            _ => None,
-        };
+        let orientation = crate::particles::given_orientation(s.orientation, &at("orientation"))?;
         let rate = match s.rate {
             Some(RateSpec::ParticlesPerSecond(r)) => Some(Rate::ParticlesPerSecond(positive(&at("rate.particles_per_second"), r)?)),
             Some(RateSpec::KgPerSecond(r)) => Some(Rate::KgPerSecond(positive(&at("rate.kg_per_second"), r)?)),
@@ -454,28 +445,6 @@ fn region(s: &SourceSection, at: &impl Fn(&str) -> String, domain: &PeriodicBox)
             r
         }
     })
-}
-
-fn push_prototype(
-    p: &mut InitialParticles,
-    position: DVec3,
-    velocity: DVec3,
-    (radius, volume, shape, effect): (f64, f64, u16, f64),
-    material: u16,
-    group: u16,
-) {
-    p.position.push(position);
-    p.velocity.push(velocity);
-    p.angular_velocity.push(DVec3::ZERO);
-    p.radius.push(radius);
-    p.volume.push(volume);
-    p.shape.push(shape);
-    p.orientation.push(DQuat::IDENTITY);
-    p.effect_radius.push(effect);
-    p.material.push(material);
-    p.group.push(group);
-    p.fixed.push(false);
-    p.track.push(false);
 }
 
 /// Compiles `[[outlets]]`.

@@ -33,7 +33,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         crate::sources::compile_sources(scene, &table.index, &densities, &mut shapes, &domain, gravity, scene.particles.len() as u16)?;
     let outlets = crate::sources::compile_outlets(scene)?;
     // Every kind of particle the run will hold: Δt, the cell size and the features are planned for these.
-    let kinds = with_prototypes(&particles, &prototypes);
+    let mut kinds = particles.clone();
+    kinds.append(&prototypes);
     let (walls, wall_groups, drums) = crate::walls::compile_walls(scene, &|field: String, name: &str| table.lookup(scene, field, name), &domain)?;
     non_negative("run.start.max_overlap", scene.run.start.max_overlap)?;
     crate::start::check_starting_state(scene, &particles, &shapes, &walls, &wall_groups, &domain)?;
@@ -131,27 +132,6 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let plan = Plan { model, run, tuning, report };
     check_memory(&plan, particles.len() + plan.inserted_at_most() as usize)?;
     Ok(CompiledScene { plan, particles })
-}
-
-/// The scene's particles followed by the sources' representative ones.
-fn with_prototypes(particles: &crate::InitialParticles, prototypes: &crate::InitialParticles) -> crate::InitialParticles {
-    if prototypes.is_empty() {
-        return particles.clone();
-    }
-    let mut all = particles.clone();
-    all.position.extend(&prototypes.position);
-    all.velocity.extend(&prototypes.velocity);
-    all.angular_velocity.extend(&prototypes.angular_velocity);
-    all.radius.extend(&prototypes.radius);
-    all.volume.extend(&prototypes.volume);
-    all.shape.extend(&prototypes.shape);
-    all.orientation.extend(&prototypes.orientation);
-    all.effect_radius.extend(&prototypes.effect_radius);
-    all.material.extend(&prototypes.material);
-    all.group.extend(&prototypes.group);
-    all.fixed.extend(&prototypes.fixed);
-    all.track.extend(&prototypes.track);
-    all
 }
 
 /// The run's memory (the plan's estimate) must fit the memory this machine has free.
