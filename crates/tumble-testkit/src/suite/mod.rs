@@ -17,7 +17,8 @@
 //! - `periodic`: energy across wraps of a periodic axis, a flow plane on one, image counts
 //!   through a snapshot;
 //! - `sources`: insertion on the rate's schedule and clear of every particle, outlets deleting
-//!   at the step a projectile's closed form gives.
+//!   at the step a projectile's closed form gives; a run with both continued from a snapshot
+//!   bit-identically.
 //!
 //! Each stays at CI size: a few thousand steps, on scenes whose GPU shader variants the
 //! backends binary compiles anyway (docs/verification.md lists what each measures).
@@ -74,6 +75,7 @@ behaviours![
     periodic::a_flow_plane_on_a_periodic_axis_measures_the_mass_flux_of_a_stream,
     periodic::a_periodic_run_continued_from_a_snapshot_keeps_its_image_counts,
     sources::sources_insert_on_schedule_and_outlets_delete_at_the_projectile_step,
+    sources::a_run_with_sources_continued_from_a_snapshot_is_bit_identical,
 ];
 
 /// One trial per behaviour on `backend`, named `backend::module::behaviour`.

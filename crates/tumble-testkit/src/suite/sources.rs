@@ -16,20 +16,14 @@ fn steps_to_fall(z0: f64, v0: f64, z: f64, dt: f64) -> u64 {
     (1..).find(|&n| z0 - v0 * n as f64 * dt - 0.5 * G * (n as f64 * dt).powi(2) < z).unwrap()
 }
 
-/// Two sources on the belt scene: a stream falling from a rectangle into a box outlet, and a
-/// sideways stream thrown at 5 m/s through an outlet plane. Every row's inserted count is the
-/// rate's schedule exactly; each new particle clears every other by more than contact; and
-/// each outlet deletes every particle at the step the projectile's closed form gives (the
-/// outlets' bounds sit half a step from a crossing, so f32 rounding cannot move one), booking
-/// count × mass.
-pub fn sources_insert_on_schedule_and_outlets_delete_at_the_projectile_step(backend: BackendName) {
-    // The scene's Δt depends on the sources' particles (same size here): compile once to learn it.
-    let text = |box_top: f64, plane_x: f64| {
+/// The belt scene with the two streams and their outlets (`box_top`: the box outlet's top;
+/// `plane_x`: where the outlet plane crosses x).
+fn text(box_top: f64, plane_x: f64) -> String {
+    format!(
+        "{}\n{}",
+        test_scene("belt"),
         format!(
-            "{}\n{}",
-            test_scene("belt"),
-            format!(
-                r#"
+            r#"
 [[sources]]
 name = "down"
 material = "steel"
@@ -57,9 +51,18 @@ box = {{ min = [-1.6, -0.4, 0.1], max = [-0.8, 0.4, {box_top}] }}
 name = "wall"
 plane = {{ point = [{plane_x}, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
 "#
-            )
         )
-    };
+    )
+}
+
+/// Two sources on the belt scene: a stream falling from a rectangle into a box outlet, and a
+/// sideways stream thrown at 5 m/s through an outlet plane. Every row's inserted count is the
+/// rate's schedule exactly; each new particle clears every other by more than contact; and
+/// each outlet deletes every particle at the step the projectile's closed form gives (the
+/// outlets' bounds sit half a step from a crossing, so f32 rounding cannot move one), booking
+/// count × mass.
+pub fn sources_insert_on_schedule_and_outlets_delete_at_the_projectile_step(backend: BackendName) {
+    // The scene's Δt depends on the sources' particles (same size here): compile once to learn it.
     let dt = compiled(&text(0.3, 0.7)).plan.model.dt;
     // Outlet bounds half a step from a crossing.
     let n_fall = steps_to_fall(Z0, V0, 0.3, dt);
@@ -137,4 +140,32 @@ plane = {{ point = [{plane_x}, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
         assert!((t.mass / (t.count as f64 * mass) - 1.0).abs() < 1e-6, "{backend:?}: deleted mass {} for {} particles of {mass} kg", t.mass, t.count);
     }
     assert_eq!(sim.particles() as u64 + sim.removed() as u64 + expect_box + expect_wall, 1 + last.iter().sum::<u64>());
+}
+
+/// The two streams stopped between insertion events, snapshotted with the sources' books, and
+/// continued in a new simulation: its final state (on the GPU the device image too) is the
+/// uninterrupted run's, inserted and deleted particles included.
+pub fn a_run_with_sources_continued_from_a_snapshot_is_bit_identical(backend: BackendName) {
+    let scene = compiled(&text(0.3, 0.7));
+    let (total, every) = (scene.plan.run.steps, scene.plan.model.sources[0].every);
+    let middle = 3 * every + every / 2;
+    let mut straight = Simulation::on(backend, scene.clone(), 2).unwrap();
+    straight.advance(middle);
+    let snapshot = straight.snapshot();
+    let books = straight.feeder_books().cloned();
+    straight.advance(total - middle);
+    let mut continued = Simulation::on(backend, scene, 1).unwrap();
+    continued.restore(&snapshot).unwrap();
+    continued.set_feeder_books(books);
+    continued.advance(total - middle);
+    let (a, b) = (straight.snapshot(), continued.snapshot());
+    println!(
+        "{backend:?}: continued from step {middle} to {total}: {} particles, inserted {:?}, outlets {:?}",
+        a.state.len(),
+        continued.inserted(),
+        continued.outlet_tallies().iter().map(|t| t.count).collect::<Vec<_>>()
+    );
+    assert!(continued.outlet_tallies().iter().all(|t| t.count > 0), "the test must delete particles after the snapshot");
+    assert_eq!(straight.inserted(), continued.inserted());
+    assert!(a.to_bytes() == b.to_bytes(), "{backend:?}: the continued run's final snapshot differs from the uninterrupted run's");
 }
