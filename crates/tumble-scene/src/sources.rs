@@ -480,3 +480,83 @@ pub(crate) fn compile_outlets(scene: &Scene) -> Result<Vec<Outlet>, SceneError> 
 
 /// Most outlets (the GPU backend's flag word holds an outlet's index + 1 in 8 bits).
 pub const MAX_OUTLETS: usize = 255;
+
+#[cfg(test)]
+mod tests {
+    use crate::rng::Rng;
+    use crate::{SPHERE, compile, parse_scene};
+
+    fn source(body: &str) -> crate::CompiledScene {
+        let text = format!(
+            r#"
+name = "s"
+[run]
+duration = 0.1
+[domain]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[[materials]]
+name = "m"
+density = 1000.0
+[contact]
+normal = {{ model = "linear", stiffness = 1000.0 }}
+restitution = 0.5
+[[sources]]
+material = "m"
+{body}
+"#
+        );
+        compile(&parse_scene(&text).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn a_mixture_draws_each_kind_at_its_share_by_number() {
+        let c = source(
+            "mixture = [{ fraction = 1.0, shape = { cube = { edge = 0.05 } } }, { fraction = 3.0, shape = { sphere = { diameter = 0.05 } } }]\nregion = { box = { min = [-0.5, -0.5, -0.5], max = [0.5, 0.5, 0.5] } }\ntotal = { particles = 10 }",
+        );
+        let s = &c.plan.model.sources[0];
+        let mut rng = Rng::new(1);
+        let n = 200_000;
+        let cubes = (0..n).filter(|_| s.draw_body(&mut rng, &c.plan.model.shapes).shape != SPHERE).count();
+        // Binomial standard error 0.001.
+        assert!((cubes as f64 / n as f64 - 0.25).abs() < 0.004, "{cubes} cubes in {n}");
+    }
+
+    #[test]
+    fn region_samples_keep_the_body_inside_and_cover_the_region() {
+        for region in [
+            "{ box = { min = [-0.5, -0.2, 0.0], max = [0.5, 0.2, 0.3] } }",
+            "{ cylinder = { base = [0.1, 0.0, -0.4], axis = [1.0, 1.0, 0.0], radius = 0.2, length = 0.5 } }",
+            "{ plane = { point = [0.0, 0.0, 0.5], normal = [0.0, 1.0, 1.0], width = 0.6, height = 0.3 } }",
+        ] {
+            let c = source(&format!("shape = {{ sphere = {{ diameter = 0.1 }} }}\nregion = {region}\ntotal = {{ particles = 10 }}"));
+            let r = 0.05;
+            let reg = c.plan.model.sources[0].region;
+            let mut rng = Rng::new(2);
+            let points: Vec<glam::DVec3> = (0..20_000).map(|_| reg.sample(&mut rng, r)).collect();
+            let mean = points.iter().sum::<glam::DVec3>() / points.len() as f64;
+            for x in &points {
+                let inside = match reg {
+                    super::InsertRegion::Box { min, max } => (*x - r).cmpge(min - 1e-12).all() && (*x + r).cmple(max + 1e-12).all(),
+                    super::InsertRegion::Cylinder { base, axis, radius, length } => {
+                        let along = (*x - base).dot(axis);
+                        let across = (*x - base - axis * along).length();
+                        along >= r - 1e-12 && along <= length - r + 1e-12 && across <= radius - r + 1e-12
+                    }
+                    super::InsertRegion::Plane { point, normal, u, v, width, height } => {
+                        let d = *x - point;
+                        d.dot(normal).abs() < 1e-12 && d.dot(u).abs() <= 0.5 * width - r + 1e-12 && d.dot(v).abs() <= 0.5 * height - r + 1e-12
+                    }
+                };
+                assert!(inside, "{region}: {x} leaves the body outside the region");
+            }
+            // Uniform sampling puts the mean at the region's centre (standard error ~ 0.002 here).
+            let centre = match reg {
+                super::InsertRegion::Box { min, max } => 0.5 * (min + max),
+                super::InsertRegion::Cylinder { base, axis, length, .. } => base + axis * (0.5 * length),
+                super::InsertRegion::Plane { point, .. } => point,
+            };
+            assert!((mean - centre).length() < 0.01, "{region}: mean {mean}, centre {centre}");
+        }
+    }
+}
