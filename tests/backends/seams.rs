@@ -27,6 +27,10 @@ pub fn an_output_row_is_one_read_back() {
     let before = readbacks(&sim);
     let frame = sim.frame(false);
     assert_eq!(readbacks(&sim) - before, 1, "an output row without the particle arrays");
+    // What the run loop asks beside the frame: the particles removed, the outlets' tallies.
+    let before = readbacks(&sim);
+    let _ = (sim.removed(), sim.particles(), sim.outlet_tallies());
+    assert_eq!(readbacks(&sim), before, "the removed count after an output row costs a read-back");
     assert!(!frame.tracks.is_empty() && frame.drums.len() == 1 && frame.drums[0].charge_mass > 0.0, "tracks and the drum's charge are in the frame");
     let before = readbacks(&sim);
     let with_state = sim.frame(true);

@@ -67,6 +67,8 @@ pub struct GpuSimulation {
     slots: u32,
     /// Ids given so far (initial and inserted particles): ids at and above it are empty slots.
     created: u32,
+    /// Particles removed and the outlets' tallies, counted at the step held (outlets only).
+    departed: std::cell::RefCell<Option<(u64, usize, Vec<tumble_state::OutletTally>)>>,
     /// Group and track flag by particle id (the device does not need them).
     group: Vec<u16>,
     track: Vec<bool>,
@@ -154,6 +156,7 @@ impl GpuSimulation {
             group,
             track,
             created,
+            departed: Default::default(),
             plan,
             gpu,
             buffers,
@@ -283,18 +286,35 @@ impl GpuSimulation {
 
     /// Particles that left the domain through a non-periodic side.
     pub fn removed(&self) -> usize {
-        let (removed, _) = self.departures();
-        removed
+        if self.plan.model.outlets.is_empty() {
+            // Every id given is alive or removed (no read-back after an output row).
+            return self.created as usize - self.particles();
+        }
+        self.departures().0
     }
 
     /// Per outlet: particles it deleted and their mass (f32 masses summed in f64 in id order).
     pub fn outlet_tallies(&self) -> Vec<tumble_state::OutletTally> {
+        if self.plan.model.outlets.is_empty() {
+            return Vec::new();
+        }
         self.departures().1
     }
 
     /// Particles removed through the domain's sides, and the outlets' tallies, from the flags of
-    /// the dead slots (one read-back of props and masses).
+    /// the dead slots: one read-back of props and masses per step at most.
     fn departures(&self) -> (usize, Vec<tumble_state::OutletTally>) {
+        if let Some((step, removed, tallies)) = self.departed.borrow().as_ref()
+            && *step == self.step
+        {
+            return (*removed, tallies.clone());
+        }
+        let counted = self.count_departures();
+        *self.departed.borrow_mut() = Some((self.step, counted.0, counted.1.clone()));
+        counted
+    }
+
+    fn count_departures(&self) -> (usize, Vec<tumble_state::OutletTally>) {
         let n = self.slots as usize;
         let v = self.read_bytes(&[(&self.buffers.props, 16 * n as u64), (&self.buffers.alpha, 16 * n as u64)]);
         let props: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&v[0]);

@@ -155,6 +155,7 @@ impl GpuSimulation {
         self.step = snap.step;
         self.generation = generation;
         self.created = created as u32;
+        *self.departed.borrow_mut() = None;
         // Inserted particles' groups (the device does not keep them).
         for (&id, &g) in snap.state.id.iter().zip(&snap.state.group) {
             self.group[id as usize] = g;

@@ -26,6 +26,7 @@
 //! ```
 
 mod compile;
+mod describe;
 mod error;
 mod load;
 mod particles;

@@ -1,0 +1,112 @@
+//! The plan as text: what `tumble plan` prints and summary.json keeps.
+
+use crate::plan::{Plan, WALL_ADVANCE_FRACTION};
+use std::fmt::Write as _;
+
+impl Plan {
+    /// The plan as text, for `tumble plan`.
+    pub fn describe(&self, particles: usize) -> String {
+        let (model, run, tuning, report) = (&self.model, &self.run, &self.tuning, &self.report);
+        let ts = &report.timescales;
+        let mut s = String::new();
+        let _ = writeln!(s, "scene        {}", run.name);
+        let _ = writeln!(s, "particles    {particles}");
+        let capacity = particles + self.inserted_at_most() as usize;
+        for src in &model.sources {
+            let rate = match src.rate {
+                Some(crate::Rate::ParticlesPerSecond(r)) => format!("{r} particles/s"),
+                Some(crate::Rate::KgPerSecond(r)) => format!("{r} kg/s"),
+                None => "all at once".into(),
+            };
+            let total = match src.total {
+                Some(crate::Total::Particles(n)) => format!(" up to {n} particles"),
+                Some(crate::Total::Kg(m)) => format!(" up to {m} kg"),
+                None => String::new(),
+            };
+            let _ = writeln!(
+                s,
+                "source       {}: {rate}{total}, every {} steps ({:.4e} s) from t = {:.4e} s to {:.4e} s; mean particle {:.4e} kg; at most {} particles",
+                src.name,
+                src.every,
+                src.every as f64 * model.dt,
+                src.first_step as f64 * model.dt,
+                src.last_step as f64 * model.dt,
+                src.mean_mass,
+                src.most_particles(model.dt)
+            );
+        }
+        if !model.sources.is_empty() {
+            let _ = writeln!(s, "capacity     {capacity} particles (those at the start and all the sources may insert)");
+        }
+        for o in &model.outlets {
+            let region = match o.region {
+                crate::OutletRegion::Box { min, max } => format!("the box [{min} .. {max}]"),
+                crate::OutletRegion::Beyond { point, normal } => format!("the side of the plane through {point} that its normal {normal} points to"),
+            };
+            let _ = writeln!(s, "outlet       {}: deletes particles whose centre enters {region}", o.name);
+        }
+        let _ = writeln!(s, "integrator   {}", model.integrator.name());
+        let _ = writeln!(s, "dt           {:.6e} s ({} steps to t = {} s)", model.dt, run.steps, run.duration);
+        if let Some(t) = ts.collision_time {
+            let _ = writeln!(s, "t_col        {:.6e} s ({:.1} steps per collision)", t, t / model.dt);
+        }
+        let i = &ts.impact;
+        let _ = writeln!(
+            s,
+            "impact       {:.4} m/s (estimate: initial {:.4} m/s, drop {:.4} m under gravity, walls {:.4} m/s; Hertz contact times and quadratic drag are taken at it)",
+            i.speed, i.initial, i.drop_height, i.wall
+        );
+        if let Some(t) = ts.rayleigh_time {
+            let _ = writeln!(s, "rayleigh     {t:.6e} s");
+        }
+        if let Some(t) = ts.tangential_time {
+            let _ = writeln!(s, "tau_t        {t:.6e} s (viscous tangential relaxation m*_t / c_t)");
+        }
+        if let Some(t) = ts.drag_time {
+            let _ = writeln!(s, "tau_p        {t:.6e} s (shortest drag relaxation time)");
+        }
+        if let Some(t) = ts.stability_limit {
+            let _ = writeln!(s, "limit        {t:.6e} s (largest stable dt)");
+        }
+        if let Some(w) = &report.wall_step_limit {
+            let _ = writeln!(
+                s,
+                "wall limit   {:.6e} s (moving geometry: wall \"{}\" moves at up to {:.4} m/s; dt <= {} r_min / v_wall with r_min = {:.4e} m)",
+                w.dt, w.wall, w.speed, WALL_ADVANCE_FRACTION, w.r_min
+            );
+        }
+        let _ = writeln!(s, "cell size    {:.6e} m + skin {:.3e} m, grid {:?}", tuning.cell_size, tuning.skin, self.grid_dims());
+        let _ = writeln!(
+            s,
+            "memory       {:.1} MiB on the cpu at most ({} bytes per particle; the grid spans the particles, here the whole domain)",
+            self.memory_bytes(capacity) as f64 / (1 << 20) as f64,
+            tuning.bytes_per_particle
+        );
+        let _ = writeln!(s, "features");
+        for f in &report.features {
+            let _ = writeln!(s, "  {:<12} {:<4} {}", f.name, if f.active { "on" } else { "off" }, f.reason);
+        }
+        if let Some(tg) = &report.targets.taylor_green {
+            let _ = write!(s, "taylor-green u_0 = {:.6} m/s (mean |u|), l_0 = pi/a = {:.6} m", tg.mean_flow_speed, tg.vortex_size);
+            match (tg.stokes_number, tg.viscosity) {
+                (Some(stk), Some(mu)) => {
+                    let _ = writeln!(s, ", Stk = {stk:.6} (mu = {mu:.6e} Pa s)");
+                }
+                _ => {
+                    let _ = writeln!(s);
+                }
+            }
+        }
+        if let Some(sy) = &report.targets.stickiness {
+            let _ = writeln!(
+                s,
+                "stickiness   Sy = {:.6} (k_c = {:.6e} N/m, e = {}, L_e = {:.4e} m, m* = {:.4e} kg, collision speed {:.6} m/s)",
+                sy.number, sy.stiffness, sy.restitution, sy.effect_length, sy.reduced_mass, sy.collision_speed
+            );
+        }
+        for w in &report.warnings {
+            let _ = writeln!(s, "warning: {w}");
+        }
+        s
+    }
+}
