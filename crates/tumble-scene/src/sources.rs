@@ -268,7 +268,7 @@ pub(crate) fn compile_sources(
         };
         let total_fraction: f64 = entries.iter().map(|e| e.2).sum();
         for (j, e) in entries.iter().enumerate() {
-            if !(e.2.is_finite() && e.2 >= 0.0) || !(total_fraction > 0.0 && total_fraction.is_finite()) {
+            if !(e.2.is_finite() && e.2 >= 0.0 && total_fraction > 0.0 && total_fraction.is_finite()) {
                 return Err(SceneError::field(
                     at(&format!("mixture[{j}].fraction")),
                     format!("must be zero or positive and some positive, got {}", e.2),
