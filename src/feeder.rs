@@ -73,12 +73,14 @@ pub struct Feeder {
 }
 
 impl Feeder {
-    /// The feeder of `plan`'s sources, ids continuing after `state`'s; None without sources.
-    pub fn new(plan: &Plan, state: &State) -> Option<Feeder> {
+    /// The feeder of the backend's sources, ids continuing after its particles'; None without
+    /// sources (and then no state is read: a device's read-back).
+    pub fn new(backend: &dyn Backend) -> Option<Feeder> {
+        let plan = backend.plan();
         if plan.model.sources.is_empty() {
             return None;
         }
-        let next_id = state.id.iter().map(|&id| id + 1).max().unwrap_or(0).max(state.len() as u32);
+        let next_id = backend.state().next_id();
         let sources = plan
             .model
             .sources
@@ -113,29 +115,29 @@ impl Feeder {
 
     /// Runs every insertion event due at the backend's current step.
     pub fn feed(&mut self, backend: &mut dyn Backend) -> Result<(), String> {
-        let plan = backend.plan().clone();
-        let step = backend.steps();
-        let due: Vec<usize> =
-            (0..plan.model.sources.len()).filter(|&k| event_step(&plan.model.sources[k], &self.books.sources[k]) == Some(step)).collect();
-        if due.is_empty() {
-            return Ok(());
-        }
-        let state = backend.state();
-        let mut space = Space::new(&plan, &state, backend.time());
-        drop(state);
-        let mut new = InitialParticles::default();
-        for k in due {
-            let source = &plan.model.sources[k];
-            let books = &mut self.books.sources[k];
-            place(&plan, source, books, &mut space, &mut new);
-            books.events += 1;
-        }
-        if new.is_empty() {
-            return Ok(());
-        }
-        let state = State::from_particles(&plan, &new, self.books.next_id);
+        let new = {
+            let plan = backend.plan();
+            let step = backend.steps();
+            let due: Vec<usize> =
+                (0..plan.model.sources.len()).filter(|&k| event_step(&plan.model.sources[k], &self.books.sources[k]) == Some(step)).collect();
+            if due.is_empty() {
+                return Ok(());
+            }
+            let mut space = Space::new(plan, &backend.state(), backend.time());
+            let mut new = InitialParticles::default();
+            for k in due {
+                let source = &plan.model.sources[k];
+                let books = &mut self.books.sources[k];
+                place(plan, source, books, &mut space, &mut new);
+                books.events += 1;
+            }
+            if new.is_empty() {
+                return Ok(());
+            }
+            State::from_particles(plan, &new, self.books.next_id)
+        };
         self.books.next_id += new.len() as u32;
-        backend.insert(state)
+        backend.insert(new)
     }
 }
 
@@ -209,10 +211,7 @@ struct Space {
 
 impl Space {
     fn new(plan: &Plan, state: &State, t: f64) -> Space {
-        let largest_source = plan.model.sources.iter().flat_map(|s| &s.kinds).map(|k| match k.shape {
-            tumble_scene::SPHERE => 0.5 * k.diameter.as_ref().map_or(0.0, |d| d.max()),
-            i => plan.model.shapes[i as usize].body.bounding_radius(),
-        });
+        let largest_source = plan.model.sources.iter().map(|s| s.largest_radius(&plan.model.shapes));
         let largest = state.radius.iter().copied().chain(largest_source).fold(0.0, f64::max);
         let domain = plan.model.domain;
         let cell = (2.0 * largest).max(1e-12);

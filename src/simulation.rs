@@ -49,8 +49,7 @@ impl Simulation {
 
     /// Wraps any backend; the sources' events due at its current step run now.
     pub fn with_backend(backend: Box<dyn Backend>) -> Self {
-        // Only a plan with sources reads the state (a device's read-back).
-        let feeder = if backend.plan().model.sources.is_empty() { None } else { Feeder::new(backend.plan(), &backend.state()) };
+        let feeder = Feeder::new(backend.as_ref());
         let mut sim = Simulation { backend, feeder, feed_error: None };
         sim.feed();
         sim

@@ -421,7 +421,8 @@ impl CpuSimulation {
         }
         let keep: Vec<bool> = s.pos.iter().map(|&x| stays(x)).collect();
         for (i, _) in keep.iter().enumerate().filter(|(_, k)| !**k) {
-            match outlets.iter().position(|o| domain.contains(s.pos[i]) && o.region.contains(s.pos[i])) {
+            // Outside the domain it is removed, whatever outlet also holds it.
+            match outlets.iter().position(|o| o.region.contains(s.pos[i])).filter(|_| domain.contains(s.pos[i])) {
                 Some(k) => {
                     self.outlet_tally[k].count += 1;
                     self.outlet_tally[k].mass += s.mass[i];

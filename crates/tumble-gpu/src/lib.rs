@@ -121,7 +121,7 @@ impl GpuSimulation {
         let plan = scene.plan;
         let mut arrays = upload::ParticleArrays::from_state(&state, &plan);
         // Ids are slots of the history and image tables: every id, inserted ones included, stays below the slot count.
-        let created = state.id.iter().map(|&id| id + 1).max().unwrap_or(0).max(state.len() as u32);
+        let created = state.next_id();
         let capacity = created as u64 + plan.inserted_at_most();
         if capacity > u32::MAX as u64 / 2 {
             return Err(GpuError::Feature(format!(

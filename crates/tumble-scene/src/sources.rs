@@ -187,6 +187,17 @@ impl Source {
         }
     }
 
+    /// The largest (bounding) radius of the particles the source makes.
+    pub fn largest_radius(&self, shapes: &[ParticleShape]) -> f64 {
+        self.kinds
+            .iter()
+            .map(|k| match k.shape {
+                SPHERE => 0.5 * k.diameter.as_ref().map_or(0.0, |d| d.max()),
+                i => shapes[i as usize].body.bounding_radius(),
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Particles the source inserts over the whole run at most (for the GPU's capacity): the
     /// total, or the rate over its active time, with a margin of 4 standard deviations for
     /// sizes drawn at random against a mass target.
@@ -383,14 +394,7 @@ pub(crate) fn schedule_sources(scene: &Scene, sources: &mut [Source], dt: f64, s
 /// plane (at their speed, or falling from rest); a volume source every [`DEFAULT_INTERVAL`].
 fn default_interval(s: &Source, gravity: DVec3, shapes: &[ParticleShape]) -> f64 {
     let InsertRegion::Plane { normal, .. } = s.region else { return DEFAULT_INTERVAL };
-    let d = s
-        .kinds
-        .iter()
-        .map(|k| match k.shape {
-            SPHERE => k.diameter.as_ref().map_or(0.0, |d| d.max()),
-            i => 2.0 * shapes[i as usize].body.bounding_radius(),
-        })
-        .fold(0.0, f64::max);
+    let d = 2.0 * s.largest_radius(shapes);
     let v = s.velocity.dot(normal).abs();
     let g = gravity.dot(normal).abs();
     // d = v t + g t² / 2, solved for t.

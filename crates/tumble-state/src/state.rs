@@ -199,6 +199,11 @@ impl State {
         self.history.permute(order);
     }
 
+    /// The id the next particle added gets: after every id held, and at least the count.
+    pub fn next_id(&self) -> u32 {
+        self.id.iter().map(|&id| id + 1).max().unwrap_or(0).max(self.len() as u32)
+    }
+
     /// Appends `other`'s particles (arrays of the same model) after this state's; they hold no springs.
     pub fn append(&mut self, mut other: State) {
         let n = self.len() + other.len();
