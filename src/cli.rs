@@ -117,15 +117,15 @@ pub fn main_with(cli: Cli) -> i32 {
         }
         Command::Plan { scene } => match load_scene(&scene, None, None) {
             Ok(c) => {
-                // The device reserves a slot for every particle the sources may insert.
-                let n = c.particles.len() + c.plan.inserted_at_most() as usize;
-                let grid = tumble_gpu::Grid::new(&c.plan, n);
+                // The device's cell grid is sized for the capacity; its arrays grow to it in chunks.
+                let (start, n) = (c.particles.len() as u64, c.particles.len() as u64 + c.plan.inserted_at_most());
+                let grid = tumble_gpu::Grid::new(&c.plan, n as usize);
+                let mib = |slots: u64| tumble_gpu::device_bytes(&c.plan, slots, &grid) as f64 / (1 << 20) as f64;
+                let growth = if c.plan.model.sources.is_empty() { String::new() } else { format!(" at the start, {:.1} MiB at capacity", mib(n)) };
                 print_out(&format!(
-                    "{}gpu memory   {:.1} MiB ({} bytes per particle, {} per cell, grid {:?}; slots for every particle at capacity)\n",
+                    "{}gpu memory   {:.1} MiB{growth} ({} bytes per particle, {} per cell, grid {:?})\n",
                     c.plan.describe(c.particles.len()),
-                    (tumble_gpu::memory_bytes(n as u64, &grid, if c.plan.model.history { c.plan.tuning.history_slots } else { 0 })
-                        + n as u64 * tumble_gpu::wall_bytes_per_particle(&c.plan)) as f64
-                        / (1 << 20) as f64,
+                    mib(start + c.plan.tuning.capacity_chunk),
                     tumble_gpu::bytes_per_particle(&c.plan),
                     tumble_gpu::BYTES_PER_CELL,
                     grid.dims

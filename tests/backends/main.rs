@@ -64,6 +64,7 @@ fn main() {
         polyhedra_step::a_mixture_of_spheres_and_cubes_settles_as_on_the_cpu,
         restore::a_snapshot_that_does_not_fit_is_refused_and_changes_nothing,
         restore::a_charge_settled_on_one_backend_seeds_the_other_with_its_springs,
+        restore::arrays_grown_in_chunks_end_where_one_reservation_ends,
         seams::an_output_row_is_one_read_back,
         seams::tracked_polyhedra_carry_the_cpus_orientation,
         reduced_rows::device_reduced_rows_match_the_host_sums_of_the_full_arrays,

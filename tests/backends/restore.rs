@@ -74,3 +74,72 @@ pub fn a_charge_settled_on_one_backend_seeds_the_other_with_its_springs() {
     let back = tumble::Simulation::from_state(BackendName::Cpu, scene_back, state_back, 1).unwrap();
     assert!(back.observables().elastic_energy > 0.0);
 }
+
+/// The sources suite's two streams on the GPU with the arrays grown 8 slots at a time end in
+/// the state (positions, velocities, spins, by id, bit for bit) of a run that reserved one
+/// chunk for everything. A snapshot of the grown run taken mid-way continues on a run planned
+/// with the large chunk: the restore resizes that run's arrays to the snapshot's, and it ends
+/// there too. Growth keeps the dead slots after the live ones, so no sum changes order.
+pub fn arrays_grown_in_chunks_end_where_one_reservation_ends() {
+    let grown_scene = scene(&tumble_testkit::suite::streams(0.3, 0.7, Some(8)));
+    let reserved_scene = scene(&tumble_testkit::suite::streams(0.3, 0.7, None));
+    let (total, every) = (grown_scene.plan.run.steps, grown_scene.plan.model.sources[0].every);
+    assert_eq!(reserved_scene.plan.tuning.capacity_chunk, reserved_scene.plan.inserted_at_most(), "the default chunk holds every insertion here");
+    let middle = 5 * every + every / 3;
+    let mut grown = tumble::Simulation::on(BackendName::Gpu, grown_scene, 1).unwrap();
+    let mut reserved = tumble::Simulation::on(BackendName::Gpu, reserved_scene.clone(), 1).unwrap();
+    let (start_grown, start_reserved) = (gpu_of(&mut grown).slots(), gpu_of(&mut reserved).slots());
+    // Each insertion event reads the state back once (the feeder's look at the particles gives
+    // the insertion its slots too); each stretch between events ends with the history check.
+    let events = {
+        let mut steps: Vec<u64> = grown
+            .plan()
+            .model
+            .sources
+            .iter()
+            .flat_map(|s| (s.first_step..=s.last_step).step_by(s.every as usize))
+            .filter(|&s| s > 0 && s <= middle)
+            .collect();
+        steps.sort_unstable();
+        steps.dedup();
+        steps.len() as u64
+    };
+    let before = gpu_of(&mut grown).readbacks();
+    grown.advance(middle);
+    let readbacks = gpu_of(&mut grown).readbacks() - before;
+    println!("{events} insertion events up to step {middle}: {readbacks} read-backs");
+    assert!(readbacks <= 2 * events + 1, "{readbacks} read-backs for {events} insertion events");
+    let snapshot = grown.snapshot();
+    let books = grown.feeder_books().cloned();
+    grown.advance(total - middle);
+    reserved.advance(total);
+    let mut continued = tumble::Simulation::on(BackendName::Gpu, reserved_scene, 1).unwrap();
+    continued.restore(&snapshot).unwrap();
+    assert_eq!(gpu_of(&mut continued).slots(), snapshot.device.as_ref().unwrap().counter("slots").unwrap() as u32, "the restore resized the arrays");
+    continued.set_feeder_books(books);
+    continued.advance(total - middle);
+    let inserted = grown.inserted();
+    let reserved_bytes = gpu_of(&mut reserved).memory_bytes();
+    let g = gpu_of(&mut grown);
+    let (times, slots, bytes) = (g.times_grown(), g.slots(), g.memory_bytes());
+    println!(
+        "grown 8 at a time: {times} times, {start_grown} → {slots} slots ({:.1} KiB); one reservation: {start_reserved} slots ({:.1} KiB); inserted {inserted:?}",
+        bytes as f64 / 1024.0,
+        reserved_bytes as f64 / 1024.0,
+    );
+    assert!(times >= 5, "the test must grow the arrays several times: {times}");
+    assert!(start_grown < start_reserved);
+    let end = grown.snapshot();
+    for (name, other) in [("one reservation", reserved.snapshot()), ("continued on the other plan", continued.snapshot())] {
+        let (a, b) = (&end.state, &other.state);
+        assert_eq!(a.id, b.id, "{name}: other particles alive");
+        let bits = |v: &[glam::DVec3]| v.iter().flat_map(|x| x.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+        assert!(bits(&a.pos) == bits(&b.pos) && bits(&a.vel) == bits(&b.vel) && bits(&a.omega) == bits(&b.omega), "{name}: the states differ");
+        assert_eq!(end.outlets, other.outlets, "{name}");
+        assert_eq!(end.walls.work, other.walls.work, "{name}");
+    }
+}
+
+fn gpu_of(sim: &mut tumble::Simulation) -> &GpuSimulation {
+    sim.gpu_simulation().expect("a GPU run")
+}

@@ -45,6 +45,12 @@ pub fn memory_bytes(particles: u64, grid: &Grid, history_slots: usize) -> u64 {
     particles * (BYTES_PER_PARTICLE + history_bytes_per_particle(history_slots)) + cells * BYTES_PER_CELL + cells.div_ceil(SCAN_BLOCK as u64) * 4 * 2
 }
 
+/// Device memory of `plan` with `slots` particle slots on `grid`, bytes (every per-particle
+/// array the plan needs and the grid's).
+pub fn device_bytes(plan: &tumble_scene::Plan, slots: u64, grid: &Grid) -> u64 {
+    memory_bytes(0, grid, 0) + slots * bytes_per_particle(plan)
+}
+
 /// Sizes of the wall buffers (zero without walls).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct WallBuffers {

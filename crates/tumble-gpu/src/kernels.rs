@@ -191,6 +191,25 @@ impl Kernels {
         for (shader, layout) in shaders.iter().zip(&layouts) {
             create_pipelines(gpu, shader, layout, switches, &mut pipelines);
         }
+        Ok(Self::bound(gpu, pipelines, &shaders, &layouts, buffers, switches))
+    }
+
+    /// The same pipelines bound to other buffers (the arrays grown or resized): no compilation.
+    pub fn rebound(&self, gpu: &Gpu, buffers: &Buffers, switches: &Switches) -> Kernels {
+        let shaders = sources_for(switches);
+        // A pipeline made with an explicit layout hands that layout back.
+        let layouts: Vec<wgpu::BindGroupLayout> = shaders.iter().map(|s| self.pipeline(s.entry_points[0]).get_bind_group_layout(0)).collect();
+        Self::bound(gpu, self.pipelines.clone(), &shaders, &layouts, buffers, switches)
+    }
+
+    fn bound(
+        gpu: &Gpu,
+        pipelines: HashMap<&'static str, wgpu::ComputePipeline>,
+        shaders: &[ShaderSource],
+        layouts: &[wgpu::BindGroupLayout],
+        buffers: &Buffers,
+        switches: &Switches,
+    ) -> Kernels {
         let module = |name: &str| {
             let k = shaders.iter().position(|s| s.name == name).expect("a module of the backend");
             (&shaders[k], &layouts[k])
@@ -244,7 +263,7 @@ impl Kernels {
             }));
             scan_params.push(u);
         }
-        Ok(Kernels { pipelines, broad, forces, integrate, reorder, scan, _scan_params: scan_params })
+        Kernels { pipelines, broad, forces, integrate, reorder, scan, _scan_params: scan_params }
     }
 
     pub fn pipeline(&self, entry: &str) -> &wgpu::ComputePipeline {

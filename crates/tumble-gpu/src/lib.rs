@@ -27,6 +27,7 @@ mod backend;
 mod buffers;
 mod context;
 mod drums;
+mod grow;
 mod history;
 mod kernels;
 mod prisms;
@@ -40,7 +41,9 @@ mod step;
 mod upload;
 mod walls;
 
-pub use buffers::{BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, history_bytes_per_particle, memory_bytes, wall_bytes_per_particle};
+pub use buffers::{
+    BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, device_bytes, history_bytes_per_particle, memory_bytes, wall_bytes_per_particle,
+};
 pub use context::{AdapterDescription, GpuError, available, gpu};
 pub use kernels::{ShaderCompileStats, shader_compile_stats};
 pub use upload::Grid;
@@ -67,6 +70,8 @@ pub struct GpuSimulation {
     slots: u32,
     /// Ids given so far (initial and inserted particles): ids at and above it are empty slots.
     created: u32,
+    /// The slot of each id waiting for insertion (`created..slots`), as read at a step.
+    waiting: std::cell::RefCell<Option<(u64, Vec<u32>)>>,
     /// Particles removed and the outlets' tallies, counted at the step held (outlets only).
     departed: std::cell::RefCell<Option<(u64, usize, Vec<tumble_state::OutletTally>)>>,
     /// Group and track flag by particle id (the device does not need them).
@@ -90,6 +95,10 @@ pub struct GpuSimulation {
     moving: bool,
     /// Entries (vec4) of the wall section of the table (moving walls only).
     wall_entries: usize,
+    /// Sizes of the wall buffers.
+    wall_buffers: buffers::WallBuffers,
+    /// Times the arrays grew for the sources.
+    grown: u32,
     /// The wall tables of the steps recorded since the last submission (moving walls only).
     pending_walls: Vec<[f32; 4]>,
     /// The time of the walls' pose in the last recorded contact pass.
@@ -120,22 +129,21 @@ impl GpuSimulation {
         let gpu = context::gpu()?;
         let plan = scene.plan;
         let mut arrays = upload::ParticleArrays::from_state(&state, &plan);
-        // Ids are slots of the history and image tables: every id, inserted ones included, stays below the slot count.
+        // Ids are slots of the history and image tables: every id, inserted ones included, stays
+        // below the slot count. One chunk is reserved for the sources; insert grows by chunks.
         let created = state.next_id();
-        let capacity = created as u64 + plan.inserted_at_most();
+        let capacity = created as u64 + plan.tuning.capacity_chunk;
         if capacity > u32::MAX as u64 / 2 {
             return Err(GpuError::Feature(format!(
-                "the sources may insert up to {} particles; the GPU backend holds at most 2^31 slots",
-                plan.inserted_at_most()
+                "the scene starts with {created} particle ids and a chunk of {} slots; the GPU backend holds at most 2^31 slots",
+                plan.tuning.capacity_chunk
             )));
         }
-        arrays.pad_to(capacity as usize, created, &plan);
+        arrays.pad_to(capacity as usize, &plan);
         let slots = arrays.pos.len() as u32;
-        let grid = upload::Grid::new(&plan, arrays.pos.len());
-        let (mut tables, shape_base) = upload::tables_with_shapes(&plan, &hulls)?;
-        let mut params = upload::params(&plan, &grid, slots, shape_base);
-        params.outlet_base = tables.len() as u32;
-        tables.extend(upload::outlet_table(&plan));
+        // The grid is planned for the capacity, so growing never changes it.
+        let grid = upload::Grid::new(&plan, (created as u64 + plan.inserted_at_most()).min(u32::MAX as u64) as usize);
+        let (tables, params) = upload::tables_and_params(&plan, &hulls, &grid, slots)?;
         let moving = upload::moving_walls(&plan);
         // The wall section the stage rewrites each step: the 6-vec4 entries and their extras,
         // never the shape table after them.
@@ -157,6 +165,7 @@ impl GpuSimulation {
             track,
             created,
             departed: Default::default(),
+            waiting: Default::default(),
             plan,
             gpu,
             buffers,
@@ -173,6 +182,8 @@ impl GpuSimulation {
             alive: Cell::new(Some(state.len())),
             moving,
             wall_entries,
+            wall_buffers: walls,
+            grown: 0,
             pending_walls: Vec::new(),
             wall_time: 0.0,
             hulls,
@@ -209,9 +220,12 @@ impl GpuSimulation {
 
     /// Device memory this simulation holds, bytes.
     pub fn memory_bytes(&self) -> u64 {
-        memory_bytes(self.slots as u64, &self.grid, upload::history_slots(&self.plan))
-            + self.slots as u64 * buffers::wall_bytes_per_particle(&self.plan)
-            + if self.plan.model.polyhedra { 16 * self.slots as u64 } else { 0 }
+        device_bytes(&self.plan, self.slots as u64, &self.grid)
+    }
+
+    /// Particle slots on the device (at most the plan's capacity, grown in chunks).
+    pub fn slots(&self) -> u32 {
+        self.slots
     }
 
     /// Submits recorded steps, with the wall poses they copy from the stage (moving walls).
@@ -339,25 +353,31 @@ impl GpuSimulation {
     }
 
     /// Puts `new` (ids `created..`, in id order, no springs) into the empty slots waiting with
-    /// their ids; refused, changing nothing, when the planned capacity cannot hold them.
+    /// their ids, growing the arrays by the plan's chunk when they are full; refused, changing
+    /// nothing, when the device cannot hold them.
     pub fn insert(&mut self, new: &tumble_state::State) -> Result<(), String> {
         if new.is_empty() {
             return Ok(());
         }
         let last = new.id[new.len() - 1];
-        if new.id.iter().enumerate().any(|(k, &id)| id != self.created + k as u32) || last >= self.slots {
-            return Err(format!(
-                "the GPU backend reserved {} particle slots (the plan's capacity) and the sources asked for id {last}; the run needs more than planned",
-                self.slots
-            ));
+        if new.id.iter().enumerate().any(|(k, &id)| id != self.created + k as u32) {
+            return Err(format!("inserted particles must take the ids {}.. in order; got {:?}", self.created, &new.id[..new.len().min(4)]));
         }
-        let n = self.slots as usize;
-        let props: Vec<[u32; 4]> = self.read(&self.buffers.props, n);
-        let mut slot_of = vec![u32::MAX; new.len()];
-        for (i, p) in props.iter().enumerate() {
-            if p[3] & upload::FLAG_DEAD != 0 && p[2] >= self.created && p[2] <= last {
-                slot_of[(p[2] - self.created) as usize] = i as u32;
+        let seen = self.waiting.take().filter(|(step, _)| *step == self.step);
+        self.grow_to_hold(last)?;
+        let waiting = match seen {
+            Some((_, slots)) => slots,
+            _ => {
+                let props: Vec<[u32; 4]> = self.read(&self.buffers.props, self.slots as usize);
+                self.remember_slots(&props);
+                self.waiting.take().expect("just remembered").1
             }
+        };
+        // Slots added since the read hold their own index as id.
+        let slot_of = |id: u32| waiting.get((id - self.created) as usize).copied().unwrap_or(id);
+        let slot_of: Vec<u32> = new.id.iter().map(|&id| slot_of(id)).collect();
+        if let Some(k) = slot_of.iter().position(|&slot| slot >= self.slots) {
+            return Err(format!("no empty slot on the GPU holds id {}", new.id[k]));
         }
         let mut a = upload::ParticleArrays::from_state(new, &self.plan);
         // Touching nothing, an inserted particle's acceleration is gravity's.
@@ -390,6 +410,22 @@ impl GpuSimulation {
         self.created = last + 1;
         self.alive.set(None);
         Ok(())
+    }
+
+    /// Keeps the slots of the ids waiting for insertion from `props` read at this step.
+    pub(crate) fn remember_slots(&self, props: &[[u32; 4]]) {
+        let mut slots = vec![u32::MAX; props.len().saturating_sub(self.created as usize)];
+        for (i, p) in props.iter().enumerate() {
+            if p[3] & upload::FLAG_DEAD != 0 && p[2] >= self.created {
+                slots[(p[2] - self.created) as usize] = i as u32;
+            }
+        }
+        *self.waiting.borrow_mut() = Some((self.step, slots));
+    }
+
+    /// Times the particle arrays grew because the sources needed more slots.
+    pub fn times_grown(&self) -> u32 {
+        self.grown
     }
 
     /// Read-backs from the device so far: each is one submission, one mapping and one wait.

@@ -183,7 +183,10 @@ impl GpuSimulation {
 
     /// The particles still in the domain as a host [`State`] in f64, in id order.
     pub fn state(&self) -> State {
-        self.state_from(&self.device_arrays())
+        let a = self.device_arrays();
+        // An insertion right after this read (the feeder's) finds its slots here, not in another read-back.
+        self.remember_slots(&a.props);
+        self.state_from(&a)
     }
 
     pub(crate) fn state_from(&self, a: &DeviceArrays) -> State {

@@ -10,37 +10,7 @@ impl GpuSimulation {
     /// Every buffer whose contents carry over from one step to the next, named, in a fixed
     /// order. The uniform `params` and the wall stage (rewritten before each batch) are not.
     fn persistent_buffers(&self) -> Vec<(String, &wgpu::Buffer)> {
-        let b = &self.buffers;
-        let mut out: Vec<(String, &wgpu::Buffer)> = [
-            ("pos", &b.pos),
-            ("vel", &b.vel),
-            ("omega", &b.omega),
-            ("acc", &b.acc),
-            ("alpha", &b.alpha),
-            ("props", &b.props),
-            ("energy", &b.energy),
-            ("force", &b.force),
-            ("torque", &b.torque),
-            ("stats", &b.stats),
-            ("scratch", &b.scratch),
-            ("cell", &b.cell),
-            ("cell_list", &b.cell_list),
-            ("count", &b.count),
-            ("cursor", &b.cursor),
-            ("cell_start", &b.cell_start),
-            ("tables", &b.tables),
-            ("orient", &b.orient),
-            ("image", &b.image),
-            ("history a", &b.history[0]),
-            ("history b", &b.history[1]),
-            ("wall_load", &b.wall_load),
-            ("wall_work", &b.wall_work),
-        ]
-        .into_iter()
-        .map(|(name, buffer)| (name.to_string(), buffer))
-        .collect();
-        out.extend(b.scan_levels.iter().enumerate().map(|(k, buffer)| (format!("scan level {}", k + 1), buffer)));
-        out
+        persistent(&self.buffers)
     }
 
     /// The run between two steps: the device image (one read-back of every persistent buffer)
@@ -61,7 +31,14 @@ impl GpuSimulation {
         let device = DeviceImage {
             adapter: self.adapter().to_string(),
             buffers: buffers.into_iter().map(|(name, _)| name).zip(bytes).collect(),
-            counters: vec![("slots".into(), self.slots as u64), ("generation".into(), self.generation), ("created".into(), self.created as u64)],
+            counters: vec![
+                ("slots".into(), self.slots as u64),
+                ("generation".into(), self.generation),
+                ("created".into(), self.created as u64),
+                ("grid x".into(), self.grid.dims[0] as u64),
+                ("grid y".into(), self.grid.dims[1] as u64),
+                ("grid z".into(), self.grid.dims[2] as u64),
+            ],
         };
         Snapshot {
             version: SNAPSHOT_VERSION,
@@ -122,15 +99,31 @@ impl GpuSimulation {
             return Err(SnapshotError::Mismatch(format!("written by the {} backend; restore it there", snap.backend)));
         }
         let image = snap.device.as_ref().ok_or_else(|| SnapshotError::Corrupt("a GPU snapshot without its device image".into()))?;
-        if image.counter("slots") != Some(self.slots as u64) {
-            return Err(SnapshotError::Mismatch(format!("written for {:?} particle slots, this run has {}", image.counter("slots"), self.slots)));
-        }
+        let slots = image.counter("slots").ok_or_else(|| SnapshotError::Corrupt("the device image has no slot count".into()))?;
         let generation = image.counter("generation").ok_or_else(|| SnapshotError::Corrupt("the device image has no history generation".into()))?;
         let created = image.counter("created").ok_or_else(|| SnapshotError::Corrupt("the device image has no count of the ids given".into()))?;
-        if created > self.slots as u64 || snap.state.id.iter().any(|&id| id as u64 >= created) {
-            return Err(SnapshotError::Corrupt(format!("the device image gave {created} ids, more than its slots or fewer than its particles")));
+        if slots > u32::MAX as u64 / 2 || created > slots || snap.state.id.iter().any(|&id| id as u64 >= created) {
+            return Err(SnapshotError::Corrupt(format!(
+                "the device image gave {created} ids, more than its {slots} slots or fewer than its particles"
+            )));
         }
-        let buffers = self.persistent_buffers();
+        let dims = match (image.counter("grid x"), image.counter("grid y"), image.counter("grid z")) {
+            (Some(x), Some(y), Some(z)) if [x, y, z].iter().all(|&d| (1..=1 << 20).contains(&d)) => [x as u32, y as u32, z as u32],
+            // Written before images named their grid: the buffer sizes below still check it.
+            (None, None, None) => self.grid.dims,
+            _ => return Err(SnapshotError::Corrupt("the device image has no valid cell grid".into())),
+        };
+        // The run grew (sources) or was planned for another duration: match its slots and grid first.
+        let grid = crate::upload::Grid::with_dims(self.plan(), dims);
+        let resized = if slots != self.slots as u64 || grid != self.grid {
+            Some(
+                self.resized(slots as u32, grid)
+                    .map_err(|e| SnapshotError::Mismatch(format!("its {slots} particle slots do not fit on this device: {e}")))?,
+            )
+        } else {
+            None
+        };
+        let buffers = persistent(resized.as_ref().map_or(&self.buffers, |r| &r.buffers));
         // Check everything before writing anything.
         let mut writes = Vec::with_capacity(buffers.len());
         for (name, buffer) in &buffers {
@@ -142,13 +135,17 @@ impl GpuSimulation {
                     buffer.size()
                 )));
             }
-            writes.push((*buffer, bytes));
+            writes.push(((*buffer).clone(), bytes));
         }
         if image.buffers.len() != buffers.len() {
             return Err(SnapshotError::Mismatch(format!("the device image has {} buffers, this run {}", image.buffers.len(), buffers.len())));
         }
+        drop(buffers);
+        if let Some(r) = resized {
+            self.commit(r);
+        }
         for (buffer, bytes) in writes {
-            self.gpu.queue.write_buffer(buffer, 0, bytes);
+            self.gpu.queue.write_buffer(&buffer, 0, bytes);
         }
         self.gpu.queue.submit([]);
         self.wait();
@@ -156,6 +153,7 @@ impl GpuSimulation {
         self.generation = generation;
         self.created = created as u32;
         *self.departed.borrow_mut() = None;
+        *self.waiting.borrow_mut() = None;
         // Inserted particles' groups (the device does not keep them).
         for (&id, &g) in snap.state.id.iter().zip(&snap.state.group) {
             self.group[id as usize] = g;
@@ -167,4 +165,38 @@ impl GpuSimulation {
         self.alive.set(None);
         Ok(())
     }
+}
+
+/// Every buffer whose contents carry over from one step to the next, named, in a fixed order.
+fn persistent(b: &crate::buffers::Buffers) -> Vec<(String, &wgpu::Buffer)> {
+    let mut out: Vec<(String, &wgpu::Buffer)> = [
+        ("pos", &b.pos),
+        ("vel", &b.vel),
+        ("omega", &b.omega),
+        ("acc", &b.acc),
+        ("alpha", &b.alpha),
+        ("props", &b.props),
+        ("energy", &b.energy),
+        ("force", &b.force),
+        ("torque", &b.torque),
+        ("stats", &b.stats),
+        ("scratch", &b.scratch),
+        ("cell", &b.cell),
+        ("cell_list", &b.cell_list),
+        ("count", &b.count),
+        ("cursor", &b.cursor),
+        ("cell_start", &b.cell_start),
+        ("tables", &b.tables),
+        ("orient", &b.orient),
+        ("image", &b.image),
+        ("history a", &b.history[0]),
+        ("history b", &b.history[1]),
+        ("wall_load", &b.wall_load),
+        ("wall_work", &b.wall_work),
+    ]
+    .into_iter()
+    .map(|(name, buffer)| (name.to_string(), buffer))
+    .collect();
+    out.extend(b.scan_levels.iter().enumerate().map(|(k, buffer)| (format!("scan level {}", k + 1), buffer)));
+    out
 }

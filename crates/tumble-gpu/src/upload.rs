@@ -101,7 +101,13 @@ impl Grid {
             let shrink = (total / max_cells).cbrt();
             dims = dims.map(|d| (d / shrink).floor().max(1.0));
         }
-        Grid { dims: dims.map(|d| d as u32), inv_width: [0, 1, 2].map(|k| dims[k] / extent[k]) }
+        Grid::with_dims(plan, dims.map(|d| d as u32))
+    }
+
+    /// The grid of `dims` cells over the plan's domain.
+    pub fn with_dims(plan: &Plan, dims: [u32; 3]) -> Grid {
+        let extent = plan.model.domain.extent();
+        Grid { dims, inv_width: [0, 1, 2].map(|k| dims[k] as f64 / extent[k]) }
     }
 
     pub fn cells(&self) -> u32 {
@@ -114,6 +120,20 @@ pub fn dispatch(threads: u32, per_group: u32) -> (u32, u32) {
     let groups = threads.div_ceil(per_group).max(1);
     let x = groups.min(MAX_GROUPS_X);
     (x, groups.div_ceil(x))
+}
+
+/// The tables (walls, shapes, outlets) and the step parameters for `slots` slots on `grid`.
+pub fn tables_and_params(
+    plan: &Plan,
+    hulls: &crate::prisms::PrismHulls,
+    grid: &Grid,
+    slots: u32,
+) -> Result<(Vec<[f32; 4]>, Params), crate::GpuError> {
+    let (mut tables, shape_base) = tables_with_shapes(plan, hulls)?;
+    let mut params = params(plan, grid, slots, shape_base);
+    params.outlet_base = tables.len() as u32;
+    tables.extend(outlet_table(plan));
+    Ok((tables, params))
 }
 
 /// The step parameters; `shape_base`: the first word of the shape table in the tables buffer.
@@ -201,11 +221,17 @@ pub struct ParticleArrays {
 }
 
 impl ParticleArrays {
-    /// Empty slots for particles inserted later: flagged dead, holding the ids `first_id..`
-    /// they will be inserted with, up to `capacity` slots and ids.
-    pub fn pad_to(&mut self, capacity: usize, first_id: u32, plan: &Plan) {
-        let mut id = first_id;
+    /// Empty slots for particles inserted later, flagged dead, up to `capacity` slots: they
+    /// hold, in increasing order, the ids below `capacity` that no slot holds yet, so every id
+    /// below the slot count has exactly one slot (ids at or above `next_id` wait for insertion).
+    pub fn pad_to(&mut self, capacity: usize, plan: &Plan) {
+        let mut held = vec![false; capacity];
+        for p in &self.props {
+            held[p[2] as usize] = true;
+        }
+        let mut free = (0..capacity as u32).filter(|&id| !held[id as usize]);
         while self.pos.len() < capacity {
+            let id = free.next().expect("ids below the capacity for every empty slot");
             self.pos.push([0.0; 4]);
             self.vel.push([0.0; 4]);
             self.omega.push([0.0; 4]);
@@ -216,7 +242,6 @@ impl ParticleArrays {
             if plan.model.polyhedra {
                 self.orient.push([0.0, 0.0, 0.0, 1.0]);
             }
-            id += 1;
         }
         if plan.model.domain.periodic.iter().any(|&p| p) {
             self.image.resize(capacity, [0; 4]);

@@ -36,7 +36,12 @@ impl Plan {
             );
         }
         if !model.sources.is_empty() {
-            let _ = writeln!(s, "capacity     {capacity} particles (those at the start and all the sources may insert)");
+            let _ = writeln!(
+                s,
+                "capacity     {capacity} particles (those at the start and all the sources may insert); the GPU starts with {} slots and adds {} at a time as the sources need them",
+                particles as u64 + self.tuning.capacity_chunk,
+                self.tuning.capacity_chunk
+            );
         }
         for o in &model.outlets {
             let region = match o.region {

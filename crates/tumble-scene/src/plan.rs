@@ -399,6 +399,9 @@ pub struct Tuning {
     /// Contacts with history each particle can hold.
     pub history_slots: usize,
     pub bytes_per_particle: usize,
+    /// Slots a backend with device arrays reserves for inserted particles at a time (0 without
+    /// sources): it starts with one chunk beyond the initial particles and grows by chunks.
+    pub capacity_chunk: u64,
 }
 
 /// What the plan found about the scene, for people: time scales, features and why, warnings.
@@ -427,8 +430,8 @@ impl Plan {
         tumble_broad::CellGrid::layout(&self.model.domain, (self.tuning.cell_size + self.tuning.skin).max(f64::MIN_POSITIVE)).0
     }
 
-    /// Particles the sources may insert over the run at most (a backend with fixed arrays
-    /// reserves this many slots).
+    /// Particles the sources may insert over the run at most (the run's capacity beyond its
+    /// initial particles).
     pub fn inserted_at_most(&self) -> u64 {
         self.model.sources.iter().map(|s| s.most_particles(self.model.dt)).sum()
     }

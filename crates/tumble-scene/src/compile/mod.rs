@@ -121,7 +121,16 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         snapshot_format: scene.output.snapshot_format,
         contacts: scene.output.contacts,
     };
-    let tuning = Tuning { cell_size, skin, resort_interval, history_slots, bytes_per_particle: tuning::bytes_per_particle(&model, history_slots) };
+    let inserted_at_most = model.sources.iter().map(|s| s.most_particles(model.dt)).sum();
+    let capacity_chunk = tuning::capacity_chunk(scene, inserted_at_most, !model.sources.is_empty())?;
+    let tuning = Tuning {
+        cell_size,
+        skin,
+        resort_interval,
+        history_slots,
+        bytes_per_particle: tuning::bytes_per_particle(&model, history_slots),
+        capacity_chunk,
+    };
     let report = PlanReport {
         features: report::features(scene, &model, &mechanics, &tuning, &run),
         warnings: report::warnings(&model, &timescales, &kinds),

@@ -68,6 +68,22 @@ pub(super) fn resort_interval(scene: &Scene) -> Result<u32, SceneError> {
     }
 }
 
+/// Default chunk: an eighth of what the sources may insert, at least 1,024 slots (growing
+/// copies every per-particle array on the device, so a few large chunks beat many small ones).
+const MIN_CAPACITY_CHUNK: u64 = 1024;
+
+/// Slots per growth of the device arrays: `run.capacity_chunk`, or the default, never more than
+/// the sources may insert (0 without sources).
+pub(super) fn capacity_chunk(scene: &Scene, inserted_at_most: u64, sources: bool) -> Result<u64, SceneError> {
+    match scene.run.capacity_chunk {
+        Some(0) => Err(SceneError::field("run.capacity_chunk", "must be at least 1 particle slot")),
+        Some(c) if c > 1 << 30 => Err(SceneError::field("run.capacity_chunk", "must be at most 2^30 particle slots")),
+        _ if !sources => Ok(0),
+        Some(c) => Ok(c),
+        None => Ok(inserted_at_most.div_ceil(8).max(MIN_CAPACITY_CHUNK).min(inserted_at_most).max(1)),
+    }
+}
+
 /// Memory per particle on the CPU backend, for the model's state.
 pub(super) fn bytes_per_particle(model: &PhysicsModel, history_slots: usize) -> usize {
     let rotation = model.rotation;

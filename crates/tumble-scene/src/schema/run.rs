@@ -60,6 +60,8 @@ pub struct RunSection {
     pub allow_unstable_dt: bool,
     /// Steps between re-sorts of the particle arrays by cell.
     pub resort_interval: Option<u32>,
+    /// Particle slots a backend with device arrays (the GPU) adds each time the sources need more.
+    pub capacity_chunk: Option<u64>,
     /// Neighbour-list skin as a fraction of the largest interaction diameter.
     pub skin: Option<f64>,
     #[serde(default)]

@@ -33,6 +33,8 @@ mod sources;
 mod verification;
 mod walls;
 
+pub use sources::streams;
+
 use crate::harness::{cpu_trial, gpu_trial};
 use libtest_mimic::Trial;
 use tumble_scene::schema::BackendName;

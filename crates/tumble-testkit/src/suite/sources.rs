@@ -1,7 +1,7 @@
 //! Particle sources and outlets: insertion on schedule and clear of everything, deletion at
 //! the step a projectile's closed form says.
 
-use crate::scenes::{compiled, test_scene};
+use crate::scenes::{compiled, replaced, test_scene};
 use tumble::Simulation;
 use tumble_scene::schema::BackendName;
 
@@ -17,11 +17,15 @@ fn steps_to_fall(z0: f64, v0: f64, z: f64, dt: f64) -> u64 {
 }
 
 /// The belt scene with the two streams and their outlets (`box_top`: the box outlet's top;
-/// `plane_x`: where the outlet plane crosses x).
-fn text(box_top: f64, plane_x: f64) -> String {
+/// `plane_x`: where the outlet plane crosses x; `capacity_chunk`: `run.capacity_chunk`).
+pub fn streams(box_top: f64, plane_x: f64, capacity_chunk: Option<u64>) -> String {
+    let belt = match capacity_chunk {
+        Some(c) => replaced(&test_scene("belt"), "[run]\n", &format!("[run]\ncapacity_chunk = {c}\n")),
+        None => test_scene("belt"),
+    };
     format!(
         "{}\n{}",
-        test_scene("belt"),
+        belt,
         format!(
             r#"
 [[sources]]
@@ -63,14 +67,14 @@ plane = {{ point = [{plane_x}, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
 /// count × mass.
 pub fn sources_insert_on_schedule_and_outlets_delete_at_the_projectile_step(backend: BackendName) {
     // The scene's Δt depends on the sources' particles (same size here): compile once to learn it.
-    let dt = compiled(&text(0.3, 0.7)).plan.model.dt;
+    let dt = compiled(&streams(0.3, 0.7, None)).plan.model.dt;
     // Outlet bounds half a step from a crossing.
     let n_fall = steps_to_fall(Z0, V0, 0.3, dt);
     let at = |n: u64| Z0 - V0 * n as f64 * dt - 0.5 * G * (n as f64 * dt).powi(2);
     let box_top = 0.5 * (at(n_fall - 1) + at(n_fall));
     let n_side = ((0.5 / (5.0 * dt)).floor() as u64) + 1;
     let plane_x = 0.2 + 5.0 * dt * (n_side as f64 - 0.5);
-    let scene = compiled(&text(box_top, plane_x));
+    let scene = compiled(&streams(box_top, plane_x, None));
     assert_eq!(scene.plan.model.dt, dt);
     let plan = scene.plan.clone();
     let (down, side) = (&plan.model.sources[0], &plan.model.sources[1]);
@@ -144,9 +148,10 @@ pub fn sources_insert_on_schedule_and_outlets_delete_at_the_projectile_step(back
 
 /// The two streams stopped between insertion events, snapshotted with the sources' books, and
 /// continued in a new simulation: its final state (on the GPU the device image too) is the
-/// uninterrupted run's, inserted and deleted particles included.
+/// uninterrupted run's, inserted and deleted particles included. The GPU's arrays grow 8 slots
+/// at a time, so both runs grow several times and the restore first resizes the new run's.
 pub fn a_run_with_sources_continued_from_a_snapshot_is_bit_identical(backend: BackendName) {
-    let scene = compiled(&text(0.3, 0.7));
+    let scene = compiled(&streams(0.3, 0.7, Some(8)));
     let (total, every) = (scene.plan.run.steps, scene.plan.model.sources[0].every);
     let middle = 3 * every + every / 2;
     let mut straight = Simulation::on(backend, scene.clone(), 2).unwrap();
