@@ -137,7 +137,7 @@ pub fn main_with(cli: Cli) -> i32 {
                         every as f64 * c.plan.model.dt,
                         c.plan.run.checkpoint_keep,
                         bytes as f64 / (1 << 20) as f64,
-                        bytes / n.max(1) as u64,
+                        bytes / n.max(1),
                         crate::checkpoint::BYTES_PER_SPRING
                     ));
                 }

@@ -127,7 +127,7 @@ impl GpuSimulation {
         if slots > u32::MAX as u64 / 2 {
             return Err(format!("the sources asked for particle id {last}; the GPU backend holds at most 2^31 particle slots"));
         }
-        let r = self.resized(slots as u32, self.grid.clone()).map_err(|e| {
+        let r = self.resized(slots as u32, self.grid).map_err(|e| {
             format!("the sources need {slots} particle slots on the GPU ({} reserved so far) and the device refused them: {e}", self.slots)
         })?;
         self.commit(r);
