@@ -21,6 +21,7 @@ pub use glam::{DQuat, DVec3};
 
 mod contact_mass;
 mod enclosing_sphere;
+mod mesh;
 mod overlap_volume;
 mod periodic;
 mod polyhedron;
@@ -30,6 +31,7 @@ mod polyhedron_polyhedron;
 mod polyhedron_quad;
 mod pose;
 mod sphere_cylinder;
+mod sphere_mesh;
 mod sphere_plane;
 mod sphere_polyhedron;
 mod sphere_prism;
@@ -40,6 +42,7 @@ mod volume_contact;
 mod volume_walls;
 
 pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosing_sphere_of_spheres, tangent_balls};
+pub use mesh::{DEFAULT_CURVATURE, EdgeKind, MeshError, MeshReport, OPEN, TriangleMesh, box_triangles, box_triangles_subdivided};
 pub use overlap_volume::{OverlapVolume, overlap_volume, overlap_volume_about};
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};
@@ -49,6 +52,7 @@ pub use polyhedron_polyhedron::{
 };
 pub use pose::Pose;
 pub use sphere_cylinder::Cylinder;
+pub use sphere_mesh::{MeshContact, Region, closest_point_on_triangle};
 pub use sphere_plane::Plane;
 pub use sphere_polyhedron::{closest_point_on_polyhedron, sphere_polyhedron};
 pub use sphere_prism::Prism;

@@ -29,6 +29,7 @@ mod compile;
 mod describe;
 mod error;
 mod load;
+pub mod mesh_file;
 mod particles;
 mod plan;
 mod rng;
