@@ -22,6 +22,7 @@ pub use glam::{DQuat, DVec3};
 mod contact_mass;
 mod enclosing_sphere;
 mod mesh;
+mod mesh_grid;
 mod overlap_volume;
 mod periodic;
 mod polyhedron;
@@ -43,6 +44,7 @@ mod volume_walls;
 
 pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosing_sphere_of_spheres, tangent_balls};
 pub use mesh::{DEFAULT_CURVATURE, EdgeKind, MeshError, MeshReport, OPEN, TriangleMesh, box_triangles, box_triangles_subdivided};
+pub use mesh_grid::TriangleGrid;
 pub use overlap_volume::{OverlapVolume, overlap_volume, overlap_volume_about};
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};
