@@ -169,3 +169,28 @@ rate = { kg_per_second = 20.0 }"#;
     assert_eq!(ia, ib);
     assert!(a == b, "one and two threads differ");
 }
+
+/// The GPU's growth chunk: an eighth of what the sources may insert, at least 1,024 slots and
+/// never more than that total; `run.capacity_chunk` sets it; 0 without sources.
+#[test]
+fn the_capacity_chunk_is_an_eighth_of_the_capacity_at_least_1024_and_at_most_all_of_it() {
+    let shape = r#"shape = { sphere = { diameter = 0.01 } }
+region = { box = { min = [-0.05, -0.05, -0.05], max = [0.05, 0.05, 0.05] } }"#;
+    let chunk_of = |rate: f64| {
+        let s = scene(0.0, 0.1, &format!("{shape}\nrate = {{ particles_per_second = {rate} }}"));
+        let (most, chunk) = (s.plan.inserted_at_most(), s.plan.tuning.capacity_chunk);
+        println!("{rate} particles/s for 0.1 s: at most {most} particles, chunk {chunk}");
+        (most, chunk)
+    };
+    let (most, chunk) = chunk_of(500.0);
+    assert!(most < 1024 && chunk == most, "a small capacity is one chunk");
+    let (most, chunk) = chunk_of(2.0e4);
+    assert!((1024..8192).contains(&most) && chunk == 1024, "at least 1,024 slots");
+    let (most, chunk) = chunk_of(1.0e6);
+    assert!(most >= 100_000 && chunk == most.div_ceil(8), "an eighth of a large capacity");
+    let text = std::fs::read_to_string("scenes/protocols/hopper_pour.toml").unwrap();
+    let set = text.replace("[run]\n", "[run]\ncapacity_chunk = 100\n");
+    assert_eq!(compile(&parse_scene(&set).unwrap()).unwrap().plan.tuning.capacity_chunk, 100);
+    let plain = std::fs::read_to_string("scenes/box_settle.toml").unwrap();
+    assert_eq!(compile(&parse_scene(&plain).unwrap()).unwrap().plan.tuning.capacity_chunk, 0);
+}
