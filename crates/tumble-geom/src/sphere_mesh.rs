@@ -3,16 +3,17 @@
 //!
 //! The rule, so that a surface acts once however it is triangulated and a real ridge or
 //! corner still acts:
-//! 1. A triangle's closest point in an edge region on a valley (concave as seen from the
-//!    sphere's side), or at a corner with a valley through it, is no contact: the faces
-//!    beside it hold the sphere.
+//! 1. A triangle's closest point on a valley edge (concave as seen from the sphere's side) is
+//!    no contact: the faces beside it hold the sphere. (Corners are left to rules 2 and 3: where
+//!    ridges and valleys meet, a saddle corner can be the surface's closest point.)
 //! 2. An edge contact is dropped when the triangle across that edge touches the sphere with its
 //!    face; a corner contact when another triangle through that corner touches with its face or
 //!    an edge.
 //! 3. The triangles within reach join in groups when they share a flat edge, or when their
 //!    closest points coincide (within 1e-9 of the radius: a ridge or corner reported by each
-//!    triangle that meets there). Each group is at most one contact: its closest point (the
-//!    lowest triangle first on a tie), unless rule 1 or 2 rules that one out.
+//!    triangle that meets there). Each group is at most one contact: its closest point, as the
+//!    lowest triangle reporting that point which rules 1 and 2 leave; none when they rule out
+//!    every report of it.
 //!
 //! A sphere on a flat surface, over a face, a shared edge or a shared corner, thus feels one
 //! contact with the face normal; in a valley it feels each face; on a ridge or a corner it feels
@@ -181,23 +182,21 @@ impl TriangleMesh {
             if find(&mut root, i) != i {
                 continue;
             }
-            // The group's closest point, unless rules 1 or 2 rule it out (the group is then held
-            // by a neighbouring face); candidates ascend, so the first wins a tie.
-            let mut best = i;
-            for j in i + 1..raw.len() {
-                if find(&mut root, j) == i && raw[j].0.distance < raw[best].0.distance {
-                    best = j;
-                }
-            }
-            if !ruled_out[best] {
+            // The group's closest point, as the lowest triangle reporting it that rules 1 and 2
+            // leave (a ridge seen from behind one of its sides is still a ridge from the other);
+            // when they rule out every report of it, a neighbouring face holds the sphere.
+            let members: SmallVec<[usize; 8]> = (i..raw.len()).filter(|&j| find(&mut root, j) == i).collect();
+            let closest = members.iter().map(|&j| raw[j].0.distance).fold(f64::INFINITY, f64::min);
+            let at_closest = |j: &&usize| raw[**j].0.distance <= closest + tolerance;
+            if let Some(&best) = members.iter().filter(at_closest).find(|&&j| !ruled_out[j]) {
                 out.push(raw[best].0.contact);
             }
         }
         out
     }
 
-    /// True when a contact sits on a valley edge or at a corner with a valley, as seen from
-    /// the sphere's side of its triangle (rule 1).
+    /// True when a contact sits on a valley edge, as seen from the sphere's side of its
+    /// triangle (rule 1).
     fn in_a_valley(&self, c: &MeshContact, centre: DVec3) -> bool {
         let t = c.triangle as usize;
         let front = !self.two_sided || self.normals[t].dot(centre - c.point) >= 0.0;
@@ -208,10 +207,9 @@ impl TriangleMesh {
                 EdgeKind::Convex => !front,
                 EdgeKind::Flat | EdgeKind::Open => false,
             },
-            Region::Vertex(k) => {
-                let (ridge, valley) = self.vertex_bends[self.triangles[t][k as usize] as usize];
-                if front { valley } else { ridge }
-            }
+            // A corner where ridges and valleys meet (a saddle) can be the closest point of the
+            // surface; rule 2 and the groups settle corners.
+            Region::Vertex(_) => false,
         }
     }
 
