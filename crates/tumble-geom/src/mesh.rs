@@ -96,9 +96,6 @@ pub struct TriangleMesh {
     pub across: Vec<[u32; 3]>,
     /// Per triangle and edge: how the surface bends there.
     pub edges: Vec<[EdgeKind; 3]>,
-    /// Per vertex: whether some edge through it is a ridge, and whether some is a valley
-    /// (seen from the normals' side).
-    pub vertex_bends: Vec<(bool, bool)>,
     /// Whether spheres behind the triangles are pushed back too (a sheet), or only those on
     /// the normals' side (a solid body or a container): by default, meshes with open edges.
     pub two_sided: bool,
@@ -157,10 +154,8 @@ impl TriangleMesh {
         }
         let mut across = vec![[OPEN; 3]; kept.len()];
         let mut edges = vec![[EdgeKind::Open; 3]; kept.len()];
-        let mut vertex_bends = vec![(false, false); welded.len()];
-        let mut sorted_edges: Vec<_> = by_edge.into_iter().collect();
-        sorted_edges.sort_unstable_by_key(|(key, _)| *key);
-        for ((p, q), sides) in sorted_edges {
+        // Each edge writes only its own triangles' slots, so the map's order does not matter.
+        for ((p, q), sides) in by_edge {
             if sides.len() == 1 {
                 report.open_edges += 1;
                 continue;
@@ -190,16 +185,10 @@ impl TriangleMesh {
                         edges[from as usize][kf] = kind_from(from, to);
                     }
                 }
-                let kind = edges[t1 as usize][k1];
-                for v in [p, q] {
-                    let b = &mut vertex_bends[v as usize];
-                    b.0 |= kind == EdgeKind::Convex;
-                    b.1 |= kind == EdgeKind::Concave;
-                }
             }
         }
         let two_sided = report.open_edges > 0;
-        Ok((TriangleMesh { vertices: welded, triangles: kept, normals, across, edges, vertex_bends, two_sided }, report))
+        Ok((TriangleMesh { vertices: welded, triangles: kept, normals, across, edges, two_sided }, report))
     }
 
     /// The corners of triangle `t`.
@@ -339,8 +328,6 @@ mod tests {
                     assert_eq!(m.edges[t][k], expected, "triangle {t} edge {k}: {p} – {q}");
                 }
             }
-            // The corners are ridges only.
-            assert!(m.vertex_bends.iter().all(|&(convex, concave)| !concave && (convex || n > 1)));
         }
     }
 
@@ -350,7 +337,6 @@ mod tests {
         let inward: Vec<[u32; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
         let (container, _) = TriangleMesh::new(&v, &inward, DEFAULT_CURVATURE).unwrap();
         assert!(container.edges.iter().flatten().all(|&k| k == EdgeKind::Concave || k == EdgeKind::Flat));
-        assert!(container.vertex_bends.iter().all(|&(ridge, valley)| valley && !ridge));
         assert!(!container.two_sided, "a closed mesh is one-sided");
         // Mirrored with the corner order flipped: still a solid with outward normals.
         let m = cube(1).transformed(|v| DVec3::new(v.x, v.y, -v.z), true);
