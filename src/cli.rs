@@ -119,7 +119,7 @@ pub fn main_with(cli: Cli) -> i32 {
             Ok(c) => {
                 // The device's cell grid is sized for the capacity; its arrays grow to it in chunks.
                 let (start, n) = (c.particles.len() as u64, c.particles.len() as u64 + c.plan.inserted_at_most());
-                let grid = tumble_gpu::Grid::new(&c.plan, n as usize);
+                let grid = tumble_gpu::Grid::planned(&c.plan, start);
                 let mib = |slots: u64| tumble_gpu::device_bytes(&c.plan, slots, &grid) as f64 / (1 << 20) as f64;
                 let growth = if c.plan.model.sources.is_empty() { String::new() } else { format!(" at the start, {:.1} MiB at capacity", mib(n)) };
                 print_out(&format!(

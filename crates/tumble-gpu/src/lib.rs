@@ -141,8 +141,7 @@ impl GpuSimulation {
         }
         arrays.pad_to(capacity as usize, &plan);
         let slots = arrays.pos.len() as u32;
-        // The grid is planned for the capacity, so growing never changes it.
-        let grid = upload::Grid::new(&plan, (created as u64 + plan.inserted_at_most()).min(u32::MAX as u64) as usize);
+        let grid = upload::Grid::planned(&plan, created as u64);
         let (tables, params) = upload::tables_and_params(&plan, &hulls, &grid, slots)?;
         let moving = upload::moving_walls(&plan);
         // The wall section the stage rewrites each step: the 6-vec4 entries and their extras,
@@ -367,11 +366,7 @@ impl GpuSimulation {
         self.grow_to_hold(last)?;
         let waiting = match seen {
             Some((_, slots)) => slots,
-            _ => {
-                let props: Vec<[u32; 4]> = self.read(&self.buffers.props, self.slots as usize);
-                self.remember_slots(&props);
-                self.waiting.take().expect("just remembered").1
-            }
+            _ => self.waiting_slots(&self.read(&self.buffers.props, self.slots as usize)),
         };
         // Slots added since the read hold their own index as id.
         let slot_of = |id: u32| waiting.get((id - self.created) as usize).copied().unwrap_or(id);
@@ -412,15 +407,15 @@ impl GpuSimulation {
         Ok(())
     }
 
-    /// Keeps the slots of the ids waiting for insertion from `props` read at this step.
-    pub(crate) fn remember_slots(&self, props: &[[u32; 4]]) {
+    /// The slot of each id waiting for insertion (`created..`), from `props` as read back.
+    pub(crate) fn waiting_slots(&self, props: &[[u32; 4]]) -> Vec<u32> {
         let mut slots = vec![u32::MAX; props.len().saturating_sub(self.created as usize)];
         for (i, p) in props.iter().enumerate() {
             if p[3] & upload::FLAG_DEAD != 0 && p[2] >= self.created {
                 slots[(p[2] - self.created) as usize] = i as u32;
             }
         }
-        *self.waiting.borrow_mut() = Some((self.step, slots));
+        slots
     }
 
     /// Times the particle arrays grew because the sources needed more slots.

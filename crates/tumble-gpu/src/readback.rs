@@ -185,7 +185,7 @@ impl GpuSimulation {
     pub fn state(&self) -> State {
         let a = self.device_arrays();
         // An insertion right after this read (the feeder's) finds its slots here, not in another read-back.
-        self.remember_slots(&a.props);
+        *self.waiting.borrow_mut() = Some((self.step, self.waiting_slots(&a.props)));
         self.state_from(&a)
     }
 

@@ -104,6 +104,12 @@ impl Grid {
         Grid::with_dims(plan, dims.map(|d| d as u32))
     }
 
+    /// The grid for a run starting with `first_ids` particle ids: sized for its capacity (those
+    /// and every particle the sources may insert), so growing the arrays never changes it.
+    pub fn planned(plan: &Plan, first_ids: u64) -> Grid {
+        Grid::new(plan, (first_ids + plan.inserted_at_most()).min(u32::MAX as u64) as usize)
+    }
+
     /// The grid of `dims` cells over the plan's domain.
     pub fn with_dims(plan: &Plan, dims: [u32; 3]) -> Grid {
         let extent = plan.model.domain.extent();

@@ -433,7 +433,7 @@ impl Plan {
     /// Particles the sources may insert over the run at most (the run's capacity beyond its
     /// initial particles).
     pub fn inserted_at_most(&self) -> u64 {
-        self.model.sources.iter().map(|s| s.most_particles(self.model.dt)).sum()
+        crate::sources::inserted_at_most(&self.model.sources, self.model.dt)
     }
 
     /// Steps per shortest collision, when there is one.

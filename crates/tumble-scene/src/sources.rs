@@ -220,6 +220,11 @@ impl Source {
     }
 }
 
+/// Particles `sources` may insert over the run at most, with Δt = `dt`.
+pub fn inserted_at_most(sources: &[Source], dt: f64) -> u64 {
+    sources.iter().map(|s| s.most_particles(dt)).sum()
+}
+
 /// A compiled `[[outlets]]` entry: particles whose centre gets inside are deleted.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outlet {

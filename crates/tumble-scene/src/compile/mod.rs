@@ -121,7 +121,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         snapshot_format: scene.output.snapshot_format,
         contacts: scene.output.contacts,
     };
-    let inserted_at_most = model.sources.iter().map(|s| s.most_particles(model.dt)).sum();
+    let inserted_at_most = crate::sources::inserted_at_most(&model.sources, model.dt);
     let capacity_chunk = tuning::capacity_chunk(scene, inserted_at_most, !model.sources.is_empty())?;
     let tuning = Tuning {
         cell_size,
