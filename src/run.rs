@@ -142,6 +142,7 @@ pub fn load_scene(path: &Path, duration: Option<f64>, dt: Option<f64>) -> Result
 /// Scene text from the file `path`, parsed, overridden (duration, dt) and compiled; errors name `path`.
 pub(crate) fn compile_text(text: &str, path: &Path, duration: Option<f64>, dt: Option<f64>) -> Result<CompiledScene, SceneError> {
     let mut scene = parse_scene(text).map_err(|e| e.in_file(path))?;
+    scene.folder = path.parent().map(Path::to_path_buf);
     if let Some(d) = duration {
         scene.run.duration = d;
     }

@@ -10,7 +10,7 @@
 use crate::checkpoint;
 use std::path::Path;
 use tumble_scene::CompiledScene;
-use tumble_state::{HistorySlots, State, WALL_KEY};
+use tumble_state::{HistorySlots, MESH_KEY, State, WALL_KEY};
 
 /// The checkpoint `from` names (a checkpoint file, or a run folder's newest) and its particles.
 pub fn read_state(from: &Path) -> Result<State, String> {
@@ -68,7 +68,12 @@ pub fn seeded(mut compiled: CompiledScene, from: &State) -> Result<(CompiledScen
     let mut state = State::from_scene(&compiled);
     let slots = state.history.slots;
     if slots > 0 && from.history.slots > 0 {
-        state.history = carried_springs(from, &order, &index, slots, compiled.plan.model.walls.len(), &mut warnings)?;
+        let mesh_triangles = compiled.plan.model.walls.iter().map(|w| match &w.shape {
+            tumble_geom::SurfaceShape::Mesh(m) => m.body.mesh.triangles.len(),
+            _ => 0,
+        });
+        let walls = (compiled.plan.model.walls.len(), mesh_triangles.sum());
+        state.history = carried_springs(from, &order, &index, slots, walls, &mut warnings)?;
     }
     Ok((compiled, state, warnings))
 }
@@ -79,7 +84,7 @@ fn carried_springs(
     order: &[usize],
     index: &[u32],
     slots: usize,
-    walls: usize,
+    (walls, mesh_triangles): (usize, usize),
     warnings: &mut Vec<String>,
 ) -> Result<HistorySlots, String> {
     let mut out = HistorySlots::new(order.len(), slots);
@@ -91,8 +96,10 @@ fn carried_springs(
                     Some(&i) if i != u32::MAX => i,
                     _ => continue,
                 },
-                // A wall's spring keeps its wall index: the scene must keep the walls in order.
-                _ if ((key & !WALL_KEY) as usize) < walls => key,
+                // A wall's spring keeps its wall index, a mesh's its triangle: the scene must keep
+                // the walls and the meshes' triangles in order.
+                _ if key & MESH_KEY != 0 && ((key & !(WALL_KEY | MESH_KEY)) as usize) < mesh_triangles => key,
+                _ if key & MESH_KEY == 0 && ((key & !WALL_KEY) as usize) < walls => key,
                 _ => {
                     dropped += 1;
                     continue;

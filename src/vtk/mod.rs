@@ -219,6 +219,13 @@ pub fn walls_vtp(plan: &tumble_scene::Plan, walls: &[tumble_scene::Wall]) -> Pol
                 }
             }
             SurfaceShape::Prism(p) => p.corners().for_each(&mut quad),
+            SurfaceShape::Mesh(m) => {
+                for t in 0..m.body.mesh.triangles.len() {
+                    polys.push((points.len()..points.len() + 3).collect());
+                    points.extend(m.corners(t));
+                    wall_of_poly.push(w);
+                }
+            }
         }
     }
     PolyData {

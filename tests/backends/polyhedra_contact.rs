@@ -325,7 +325,7 @@ pub fn polyhedra_against_walls_match_tumble_geom() {
                     let radial = (radial - c.axis * radial.dot(c.axis)).normalize();
                     c.point + c.axis * rng.range(0.0, c.length) + radial * c.radius
                 }
-                SurfaceShape::Prism(_) => unreachable!(),
+                SurfaceShape::Prism(_) | SurfaceShape::Mesh(_) => unreachable!(),
             };
             let x = f32_vec(anchor + rng.unit() * a.bounding_radius() * rng.range(0.0, 1.1));
             let q = rng.quat();

@@ -158,7 +158,7 @@ pub fn volume_contacts_match_tumble_geom() {
                     let radial = (radial - c.axis * radial.dot(c.axis)).normalize();
                     c.point + c.axis * rng.range(0.2, c.length - 0.2) + radial * c.radius
                 }
-                SurfaceShape::Prism(_) => unreachable!(),
+                SurfaceShape::Prism(_) | SurfaceShape::Mesh(_) => unreachable!(),
             };
             let x = f32_vec(anchor + rng.unit() * a.bounding_radius() * rng.range(0.0, 1.0));
             let q = rng.quat();

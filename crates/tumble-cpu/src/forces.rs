@@ -9,9 +9,10 @@ use tumble_contact::{
     RollingModel, TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, epsd2_torque, history_force, normal_force,
     rolling_stiffness, rolling_torque, tangential_force,
 };
-use tumble_geom::sphere_sphere;
+use smallvec::SmallVec;
+use tumble_geom::{MeshWall, NO_CONTACT, SurfaceContact, SurfaceShape, sphere_sphere};
 use tumble_scene::{PairParams, PhysicsModel, SPHERE, Wall};
-use tumble_state::{ContactSum, Spring, State, WALL_KEY};
+use tumble_state::{ContactSum, MESH_KEY, Spring, State, WALL_KEY};
 
 /// A particle's copy in cell order, for the candidate scan.
 #[derive(Clone, Copy, Debug, Default)]
@@ -277,7 +278,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     let near = &list.wall_entries[list.wall_start[i] as usize..list.wall_start[i + 1] as usize];
     if near.is_empty() {
         if HIST {
-            book_ended_springs(c, i, &slots, &mut sum);
+            book_ended_springs(c, i, &slots, &[], &mut sum);
         }
         return sum;
     }
@@ -285,89 +286,165 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     let xi = s.pos[i];
     let r = s.radius[i];
     let extra = s.reach[i] - r;
+    let poly = POLY && s.shape[i] != SPHERE;
+    // Mesh springs carried over to a contact under a new triangle's key: not ended.
+    let mut carried: SmallVec<[u32; 4]> = SmallVec::new();
     wall_loads.fill(WallLoad::default());
     for (slot, &wall) in near.iter().enumerate() {
         let wall = wall as u32;
         let w = &c.walls[wall as usize];
-        let key = WALL_KEY | wall;
         let params = model.pair(s.material[i], w.material);
-        let mut spring = Spring::default();
-        // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the
-        // rolling couple); a polyhedron's spin about the normal meets twisting friction, not rolling.
-        let mut power = 0.0;
-        let mut twist_axis = None;
-        let (v_wall, overlap, f, torque, r_roll) = if POLY && s.shape[i] != SPHERE {
-            if HIST {
-                spring = s.history.find(i, key);
-            }
-            let Some(k) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
-            power = k.spin_power;
-            twist_axis = Some(k.normal);
-            (w.velocity_at(k.point), k.depth, k.force, k.torque, equivalent_radius(c, i))
-        } else {
-            let Some(k) = w.shape.sphere_proximity(xi, r, extra) else { continue };
-            let effect_overlap = k.overlap + extra;
-            if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
-                continue;
-            }
-            let arm = k.point - xi;
-            let v_wall = w.velocity_at(k.point);
-            let mut v_rel = c.vel[i] - v_wall;
+        // Each contact of the particle with this wall: (contact, key, spring); a mesh may give several.
+        let mut touching: SmallVec<[(SurfaceContact, u32, Spring); 2]> = SmallVec::new();
+        if poly {
+            touching.push((SurfaceContact { normal: DVec3::ZERO, overlap: 0.0, point: xi }, WALL_KEY | wall, Spring::default()));
+        } else if let SurfaceShape::Mesh(mesh) = &w.shape {
+            mesh_contacts::<HIST>(s, i, mesh, xi, r, extra, &mut touching, &mut carried);
+        } else if let Some(k) = w.shape.sphere_proximity(xi, r, extra) {
+            let key = WALL_KEY | wall;
+            touching.push((k, key, if HIST { s.history.find(i, key) } else { Spring::default() }));
+        }
+        let mut load = WallLoad::default();
+        for (k, key, mut spring) in touching {
+            // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the
+            // rolling couple); a polyhedron's spin about the normal meets twisting friction, not rolling.
+            let mut power = 0.0;
+            let mut twist_axis = None;
+            let (v_wall, overlap, f, torque, r_roll) = if poly {
+                if HIST {
+                    spring = s.history.find(i, key);
+                }
+                let Some(k) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
+                power = k.spin_power;
+                twist_axis = Some(k.normal);
+                (w.velocity_at(k.point), k.depth, k.force, k.torque, equivalent_radius(c, i))
+            } else {
+                let effect_overlap = k.overlap + extra;
+                if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
+                    continue;
+                }
+                let arm = k.point - xi;
+                let v_wall = w.velocity_at(k.point);
+                let mut v_rel = c.vel[i] - v_wall;
+                if ROT {
+                    v_rel += c.omega[i].cross(arm);
+                }
+                let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, model.dt, &mut spring);
+                let torque = arm.cross(f.tangential);
+                (v_wall, k.overlap, f, torque, r)
+            };
+            sum.force += f.force;
+            power += f.force.dot(v_wall);
+            let mut couple = torque;
             if ROT {
-                v_rel += c.omega[i].cross(arm);
+                sum.torque += torque;
+                if params.rolling > 0.0 {
+                    // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
+                    let spin = w.angular_velocity();
+                    let relative = c.omega[i] - spin;
+                    let relative = twist_axis.map_or(relative, |n| crate::polyhedra::rolling_part(relative, n));
+                    let roll = if HIST && params.rolling_model == RollingModel::Epsd2 && !poly {
+                        let e = epsd2_couple(params, overlap, r_roll, f.normal, k.normal, relative, model.dt, &mut spring);
+                        sum.elastic += e.energy;
+                        sum.dissipation += e.dissipation;
+                        e.torque
+                    } else {
+                        let roll = rolling_torque(params.rolling, r_roll, f.normal, relative, s.inv_inertia[i], model.dt);
+                        sum.dissipation -= roll.dot(relative);
+                        roll
+                    };
+                    sum.torque += roll;
+                    couple += roll;
+                    power += roll.dot(spin);
+                }
             }
-            if HIST {
-                spring = s.history.find(i, key);
+            if HIST && spring.is_loaded() {
+                slots.keep(&mut sum.springs, key, spring);
             }
-            let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, model.dt, &mut spring);
-            let torque = arm.cross(f.tangential);
-            (v_wall, k.overlap, f, torque, r)
-        };
-        sum.force += f.force;
-        power += f.force.dot(v_wall);
-        let mut couple = torque;
-        if ROT {
-            sum.torque += torque;
-            if params.rolling > 0.0 {
-                // Rolling relative to the wall; the couple on the particle does work Ω_wall · τ.
-                let spin = w.angular_velocity();
-                let relative = c.omega[i] - spin;
-                let relative = twist_axis.map_or(relative, |n| crate::polyhedra::rolling_part(relative, n));
-                let roll = if HIST && params.rolling_model == RollingModel::Epsd2 && !(POLY && s.shape[i] != SPHERE) {
-                    let normal = w.shape.sphere_proximity(xi, r, extra).map_or(DVec3::ZERO, |k| k.normal);
-                    let e = epsd2_couple(params, overlap, r_roll, f.normal, normal, relative, model.dt, &mut spring);
-                    sum.elastic += e.energy;
-                    sum.dissipation += e.dissipation;
-                    e.torque
-                } else {
-                    let roll = rolling_torque(params.rolling, r_roll, f.normal, relative, s.inv_inertia[i], model.dt);
-                    sum.dissipation -= roll.dot(relative);
-                    roll
-                };
-                sum.torque += roll;
-                couple += roll;
-                power += roll.dot(spin);
-            }
-        }
-        if HIST && spring.is_loaded() {
-            slots.keep(&mut sum.springs, key, spring);
-        }
-        if let Some(load) = wall_loads.get_mut(slot) {
             // The wall takes the reaction: −F, and −(x × F + τ) about the origin, so the contact's
             // momentum and angular momentum balance exactly.
-            *load = WallLoad { power, force: -f.force, torque: -(xi.cross(f.force) + couple) };
+            load.power += power;
+            load.force -= f.force;
+            load.torque -= xi.cross(f.force) + couple;
+            sum.elastic += f.elastic;
+            sum.dissipation += f.dissipation;
+            if overlap > 0.0 {
+                sum.contacts += 1;
+                sum.max_overlap_ratio = sum.max_overlap_ratio.max(overlap / r_roll);
+            }
         }
-        sum.elastic += f.elastic;
-        sum.dissipation += f.dissipation;
-        if overlap > 0.0 {
-            sum.contacts += 1;
-            sum.max_overlap_ratio = sum.max_overlap_ratio.max(overlap / r_roll);
+        if let Some(l) = wall_loads.get_mut(slot) {
+            *l = load;
         }
     }
     if HIST {
-        book_ended_springs(c, i, &slots, &mut sum);
+        book_ended_springs(c, i, &slots, &carried, &mut sum);
     }
     sum
+}
+
+/// A sphere's contacts with a mesh wall, each with its spring. A spring follows its contact
+/// from triangle to triangle. Each contact first takes the particle's spring on its own
+/// triangle; then a contact without one takes a spring on another triangle of its smooth group
+/// (it slid across a flat edge); then one on a triangle that shares a corner with its own and
+/// is still within reach without a contact of its own (it rolled over a ridge or corner). Each
+/// old spring goes to one contact at most; those carried to a new key are listed in `carried`
+/// (they have not ended).
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+fn mesh_contacts<const HIST: bool>(
+    s: &State,
+    i: usize,
+    mesh: &MeshWall,
+    x: DVec3,
+    r: f64,
+    extra: f64,
+    out: &mut SmallVec<[(SurfaceContact, u32, Spring); 2]>,
+    carried: &mut SmallVec<[u32; 4]>,
+) {
+    let mut groups = SmallVec::new();
+    let contacts = mesh.sphere_contacts(x, r, extra, &mut groups);
+    let first = mesh.body.first_key;
+    let key_of = |t: u32| WALL_KEY | MESH_KEY | (first + t);
+    let count = mesh.body.mesh.triangles.len() as u32;
+    // This mesh's springs of the particle: (triangle, spring, taken).
+    let mut old: SmallVec<[(u32, Spring, bool); 4]> = SmallVec::new();
+    if HIST {
+        for (key, spring) in s.history.of(i) {
+            let global = key & !(WALL_KEY | MESH_KEY);
+            if key & (WALL_KEY | MESH_KEY) == WALL_KEY | MESH_KEY && (first..first + count).contains(&global) {
+                old.push((global - first, spring, false));
+            }
+        }
+    }
+    let mut springs: SmallVec<[Spring; 4]> = contacts.iter().map(|_| Spring::default()).collect();
+    if !old.is_empty() {
+        let group_of = |t: u32| groups.iter().find(|g| g.0 == t).map(|g| g.1);
+        let rules: [&dyn Fn(u32, usize) -> bool; 3] = [
+            &|t, n| t == contacts[n].triangle,
+            &|t, n| group_of(t) == Some(n as u8),
+            &|t, n| group_of(t) == Some(NO_CONTACT) && mesh.share_a_corner(t, contacts[n].triangle),
+        ];
+        let mut served: SmallVec<[bool; 4]> = contacts.iter().map(|_| false).collect();
+        for rule in rules {
+            for n in 0..contacts.len() {
+                if served[n] {
+                    continue;
+                }
+                if let Some(o) = old.iter_mut().find(|o| !o.2 && rule(o.0, n)) {
+                    o.2 = true;
+                    served[n] = true;
+                    springs[n] = o.1;
+                    if o.0 != contacts[n].triangle {
+                        carried.push(key_of(o.0));
+                    }
+                }
+            }
+        }
+    }
+    for (c, spring) in contacts.iter().zip(springs) {
+        out.push((c.contact, key_of(c.triangle), spring));
+    }
 }
 
 /// The EPSD2 rolling spring of a contact with normal `n` (b to a): advances `spring.roll` (zero
@@ -397,11 +474,11 @@ fn epsd2_couple(
 /// A contact that ended takes its spring's stored energy with it: book it as dissipated,
 /// once per pair (on the lower id's side; walls on the particle's).
 #[inline(always)]
-fn book_ended_springs(c: &ContactInputs, i: usize, slots: &SpringSlots, sum: &mut ContactSum) {
+fn book_ended_springs(c: &ContactInputs, i: usize, slots: &SpringSlots, carried: &[u32], sum: &mut ContactSum) {
     let kept = &slots.key[..(sum.springs as usize).min(slots.key.len())];
     let me = c.state.id[i];
     for (key, spring) in c.state.history.of(i) {
-        if (key & WALL_KEY != 0 || me < key) && !kept.contains(&key) {
+        if (key & WALL_KEY != 0 || me < key) && !kept.contains(&key) && !carried.contains(&key) {
             sum.dissipation += spring.stored_energy() / c.model.dt;
         }
     }

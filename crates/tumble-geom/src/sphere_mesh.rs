@@ -81,6 +81,10 @@ pub fn closest_point_on_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> (DVec3, Reg
     (a + ab * (vb * denom) + ac * (vc * denom), Region::Face)
 }
 
+/// In the groups of [`TriangleMesh::sphere_contacts_grouped`]: a triangle within reach whose
+/// group gave no contact.
+pub const NO_CONTACT: u8 = u8::MAX;
+
 /// A triangle's contact before the ownership rule, with its distance from the centre.
 #[derive(Clone, Copy, Debug)]
 struct Raw {
@@ -118,6 +122,21 @@ impl TriangleMesh {
     /// The contacts of a sphere with the triangles `candidates` (ascending indices; every
     /// triangle the sphere may touch must be among them), by the ownership rule above.
     pub fn sphere_contacts(&self, centre: DVec3, radius: f64, reach: f64, candidates: impl IntoIterator<Item = u32>) -> SmallVec<[MeshContact; 4]> {
+        self.sphere_contacts_grouped(centre, radius, reach, candidates, &mut SmallVec::new())
+    }
+
+    /// [`TriangleMesh::sphere_contacts`], also listing in `groups` each triangle within reach
+    /// with the index of its group's contact, or [`NO_CONTACT`] when its group gave none (a
+    /// spring follows its contact across the group's triangles, and off a ridge).
+    pub fn sphere_contacts_grouped(
+        &self,
+        centre: DVec3,
+        radius: f64,
+        reach: f64,
+        candidates: impl IntoIterator<Item = u32>,
+        groups: &mut SmallVec<[(u32, u8); 8]>,
+    ) -> SmallVec<[MeshContact; 4]> {
+        groups.clear();
         // Every triangle within reach, and whether rule 1 rules it out.
         let mut raw: SmallVec<[(Raw, bool); 8]> = SmallVec::new();
         for t in candidates {
@@ -188,7 +207,10 @@ impl TriangleMesh {
             let members: SmallVec<[usize; 8]> = (i..raw.len()).filter(|&j| find(&mut root, j) == i).collect();
             let closest = members.iter().map(|&j| raw[j].0.distance).fold(f64::INFINITY, f64::min);
             let at_closest = |j: &&usize| raw[**j].0.distance <= closest + tolerance;
-            if let Some(&best) = members.iter().filter(at_closest).find(|&&j| !ruled_out[j]) {
+            let best = members.iter().filter(at_closest).find(|&&j| !ruled_out[j]);
+            let index = if best.is_some() { out.len() as u8 } else { NO_CONTACT };
+            groups.extend(members.iter().map(|&j| (raw[j].0.contact.triangle, index)));
+            if let Some(&best) = best {
                 out.push(raw[best].0.contact);
             }
         }

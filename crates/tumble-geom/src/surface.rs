@@ -1,4 +1,4 @@
-use crate::{Cylinder, DVec3, Plane, PolyContact, Polyhedron, Pose, Prism, Quad};
+use crate::{Cylinder, DVec3, MeshWall, Plane, PolyContact, Polyhedron, Pose, Prism, Quad};
 use glam::DQuat;
 
 /// A sphere touching a world surface.
@@ -20,6 +20,9 @@ pub enum SurfaceShape {
     Cylinder(Cylinder),
     /// A convex lifter bar (boxed: six quads make it ten times the size of the others).
     Prism(Box<Prism>),
+    /// A triangle mesh, which may touch a sphere at several places (one per smooth surface,
+    /// ridge or corner): the wall pass asks it for all of them.
+    Mesh(MeshWall),
 }
 
 impl SurfaceShape {
@@ -36,6 +39,7 @@ impl SurfaceShape {
             SurfaceShape::Quad(q) => q.sphere_proximity(centre, radius, reach),
             SurfaceShape::Cylinder(c) => c.sphere_proximity(centre, radius, reach),
             SurfaceShape::Prism(p) => p.sphere_proximity(centre, radius, reach),
+            SurfaceShape::Mesh(m) => m.sphere_proximity(centre, radius, reach),
         }
     }
 
@@ -58,6 +62,7 @@ impl SurfaceShape {
                 hull: p.hull.clone(),
                 hull_pose: Pose::new(pt(p.hull_pose.position), rotation * p.hull_pose.rotation),
             })),
+            SurfaceShape::Mesh(m) => SurfaceShape::Mesh(m.moved(pivot, rotation, shift)),
         }
     }
 
@@ -69,6 +74,8 @@ impl SurfaceShape {
             SurfaceShape::Quad(q) => q.polyhedron_contact(poly, pose),
             SurfaceShape::Cylinder(c) => c.polyhedron_contact(poly, pose),
             SurfaceShape::Prism(p) => p.polyhedron_contact(poly, pose),
+            // Scenes with polyhedra and mesh walls are refused by the plan.
+            SurfaceShape::Mesh(_) => None,
         }
     }
 }

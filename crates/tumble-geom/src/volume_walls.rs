@@ -182,6 +182,8 @@ impl SurfaceShape {
                 let c = wall_hull_volume(poly, pose, p.hull.as_deref()?, &p.hull_pose)?;
                 Some(VolumeContact { turn_b: DVec3::ZERO, ..c })
             }
+            // Scenes with polyhedra and mesh walls are refused by the plan.
+            SurfaceShape::Mesh(_) => None,
         }
     }
 }

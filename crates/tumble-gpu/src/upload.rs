@@ -445,6 +445,9 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
 
 /// Why the GPU backend cannot run the plan's walls, if it cannot.
 pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
+    if let Some(w) = plan.model.walls.iter().find(|w| matches!(w.shape, SurfaceShape::Mesh(_))) {
+        return Some(format!("mesh walls (\"{}\") run on the CPU backend only for now", w.name));
+    }
     // The contact pass books each group's load once, walking the walls in group order from group 0.
     if plan.model.walls.first().is_some_and(|w| w.group != 0) || plan.model.walls.windows(2).any(|w| w[1].group < w[0].group) {
         return Some("its wall surfaces are not in wall-group order".into());
@@ -465,6 +468,7 @@ pub fn wall_kind(shape: &SurfaceShape) -> u32 {
         SurfaceShape::Quad(_) => codes::WALL_QUAD,
         SurfaceShape::Cylinder(_) => codes::WALL_CYLINDER,
         SurfaceShape::Prism(_) => codes::WALL_PRISM,
+        SurfaceShape::Mesh(_) => unreachable!("unsupported_walls refuses mesh walls before any table is built"),
     }
 }
 
@@ -499,7 +503,7 @@ pub fn wall_entry(shape: &SurfaceShape, material: usize, origin: DVec3) -> [[f32
             entry[3] = [c.radius as f32, c.length as f32, 0.0, 0.0];
         }
         // A prism's geometry lives in the wall's extras (wall_table, walls_moving.wgsl).
-        SurfaceShape::Prism(_) => {}
+        SurfaceShape::Prism(_) | SurfaceShape::Mesh(_) => {}
     }
     entry
 }

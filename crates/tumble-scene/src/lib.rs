@@ -30,6 +30,7 @@ mod describe;
 mod error;
 mod load;
 pub mod mesh_file;
+mod mesh_walls;
 mod particles;
 mod plan;
 mod rng;
@@ -45,6 +46,7 @@ mod walls;
 pub use compile::compile;
 pub use error::SceneError;
 pub use load::{parse_scene, read_scene, read_scene_text};
+pub use mesh_walls::MESH_TRIANGLES_AT_MOST;
 pub use particles::InitialParticles;
 pub use plan::{
     CompiledScene, Drag, Drum, Feature, Fluid, Material, PairParams, PhysicsModel, Plan, PlanReport, PolyhedronContact, RunSettings, Timescales,

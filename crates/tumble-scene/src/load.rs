@@ -50,7 +50,9 @@ const UNTAGGED_FORMS: [(&str, &str); 3] = [
 
 /// Reads and parses a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene, SceneError> {
-    parse_scene(&read_scene_text(path)?).map_err(|e| e.in_file(path))
+    let mut scene = parse_scene(&read_scene_text(path)?).map_err(|e| e.in_file(path))?;
+    scene.folder = path.parent().map(Path::to_path_buf);
+    Ok(scene)
 }
 
 /// Reads a scene file's text (a file that cannot be read, or is not UTF-8, is named with where).

@@ -116,6 +116,7 @@ fn check_walls_near_domain(walls: &[Wall], groups: &[WallGroup], domain: &Period
             }
             SurfaceShape::Quad(q) => q.corners.iter().map(|&c| to_box(c)).fold(f64::INFINITY, f64::min),
             SurfaceShape::Prism(pr) => (to_box(pr.centre) - pr.bound).max(0.0),
+            SurfaceShape::Mesh(m) => (crate::mesh_walls::nearest_distance(m, 0.5 * (lo + hi)) - 0.5 * size).max(0.0),
             SurfaceShape::Cylinder(c) => {
                 // The axis's closest approach to the box centre, less the radius.
                 let centre = 0.5 * (lo + hi);

@@ -8,14 +8,16 @@ use crate::schema::*;
 use glam::DVec3;
 use tumble_geom::{Cylinder, PeriodicBox, Plane, Prism, Quad, SurfaceShape};
 
-/// Surfaces, their groups (one per [[walls]] entry) and the drums among them.
-pub(crate) type CompiledWalls = (Vec<Wall>, Vec<WallGroup>, Vec<Drum>);
+/// Surfaces, their groups (one per [[walls]] entry), the drums among them and the meshes' warnings.
+pub(crate) type CompiledWalls = (Vec<Wall>, Vec<WallGroup>, Vec<Drum>, Vec<String>);
 
-/// The [[walls]] entries as surfaces (boxes as six quads, lifters as prisms), their groups and the drums.
+/// The [[walls]] entries as surfaces (boxes as six quads, lifters as prisms, meshes binned on
+/// cells of about `mesh_cell`), their groups and the drums.
 pub(crate) fn compile_walls(
     scene: &Scene,
     lookup: &dyn Fn(String, &str) -> Result<u16, SceneError>,
     domain: &PeriodicBox,
+    mesh_cell: f64,
 ) -> Result<CompiledWalls, SceneError> {
     let names: Vec<String> = scene.walls.iter().enumerate().map(|(k, w)| w.name.clone().unwrap_or_else(|| format!("wall{k}"))).collect();
     // Motions first: lifters take their cylinder's.
@@ -38,19 +40,28 @@ pub(crate) fn compile_walls(
     let mut walls: Vec<Wall> = Vec::new();
     let mut groups = Vec::new();
     let mut drums = Vec::new();
+    let mut warnings = Vec::new();
+    let mut mesh_keys = 0u32;
     for (k, w) in scene.walls.iter().enumerate() {
         let f = |x: &str| format!("walls[{k}].{x}");
         let material = lookup(f("material"), &w.material)?;
         let name = names[k].clone();
-        let given = [w.plane.is_some(), w.quad.is_some(), w.box_.is_some(), w.cylinder.is_some(), w.lifters.is_some()];
+        let given = [w.plane.is_some(), w.quad.is_some(), w.box_.is_some(), w.cylinder.is_some(), w.lifters.is_some(), w.mesh.is_some()];
         if given.iter().filter(|&&b| b).count() != 1 {
-            return Err(SceneError::field(format!("walls[{k}]"), "give exactly one shape: plane, quad, box, cylinder or lifters"));
+            return Err(SceneError::field(format!("walls[{k}]"), "give exactly one shape: plane, quad, box, cylinder, lifters or mesh"));
         }
         let mut motion = motions[k];
         let mut timing = timings[k];
         let group = k as u16;
         let mut shapes: Vec<(String, SurfaceShape)> = Vec::new();
-        if let Some(p) = &w.plane {
+        if let Some(m) = &w.mesh {
+            let (shape, said) = crate::mesh_walls::mesh_wall(scene, k, m, mesh_cell, mesh_keys)?;
+            if let SurfaceShape::Mesh(mesh) = &shape {
+                mesh_keys += mesh.body.mesh.triangles.len() as u32;
+            }
+            warnings.extend(said);
+            shapes.push((name.clone(), shape));
+        } else if let Some(p) = &w.plane {
             shapes.push((name.clone(), SurfaceShape::Plane(Plane::new(finite3(&f("plane.point"), p.point)?, unit(&f("plane.normal"), p.normal)?))));
         } else if let Some(q) = &w.quad {
             let mut c = [DVec3::ZERO; 4];
@@ -188,7 +199,7 @@ pub(crate) fn compile_walls(
     if walls.len() > u16::MAX as usize {
         return Err(SceneError::field("walls", format!("{} surfaces; at most {} are supported", walls.len(), u16::MAX)));
     }
-    Ok((walls, groups, drums))
+    Ok((walls, groups, drums, warnings))
 }
 
 /// A wall's motion and its timing, checked.
@@ -268,6 +279,7 @@ fn max_radius(shape: &SurfaceShape, point: DVec3, axis: DVec3, domain: &Periodic
         SurfaceShape::Quad(q) => q.corners.iter().map(|&c| r(c)).fold(0.0, f64::max),
         SurfaceShape::Cylinder(c) => r(c.point).max(r(c.point + c.axis * c.length)) + c.radius,
         SurfaceShape::Prism(p) => p.faces.iter().flat_map(|q| q.corners).map(r).fold(0.0, f64::max),
+        SurfaceShape::Mesh(m) => m.body.mesh.vertices.iter().map(|&v| r(m.to_world(v))).fold(0.0, f64::max),
     }
 }
 

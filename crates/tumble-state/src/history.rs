@@ -9,6 +9,10 @@ use serde::{Deserialize, Serialize};
 /// Marks a key as a wall index rather than a particle id.
 pub const WALL_KEY: u32 = 1 << 31;
 
+/// With [`WALL_KEY`], marks a key as a mesh triangle (numbered across the scene's meshes)
+/// rather than a wall index.
+pub const MESH_KEY: u32 = 1 << 30;
+
 /// One contact's tangential spring, its rolling spring (EPSD2), and the energies they store.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Spring {

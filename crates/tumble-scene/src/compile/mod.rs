@@ -35,7 +35,9 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     // Every kind of particle the run will hold: Δt, the cell size and the features are planned for these.
     let mut kinds = particles.clone();
     kinds.append(&prototypes);
-    let (walls, wall_groups, drums) = crate::walls::compile_walls(scene, &|field: String, name: &str| table.lookup(scene, field, name), &domain)?;
+    let mesh_cell = 2.0 * kinds.radius.iter().fold(0.0, |a: f64, &r| a.max(r));
+    let lookup = |field: String, name: &str| table.lookup(scene, field, name);
+    let (walls, wall_groups, drums, mesh_warnings) = crate::walls::compile_walls(scene, &lookup, &domain, mesh_cell)?;
     non_negative("run.start.max_overlap", scene.run.start.max_overlap)?;
     crate::start::check_starting_state(scene, &particles, &shapes, &walls, &wall_groups, &domain)?;
     let flow_planes = model::flow_planes(scene)?;
@@ -46,6 +48,14 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let (pairs, stickiness) = pairs::pair_table(&pair_laws, &means, first_material, table.materials.len(), flow_speed)?;
     let history_slots = tuning::history_slots(scene)?;
     let mechanics = model::mechanics(scene, &pairs, &shapes, &kinds, fluid.as_ref())?;
+    if mechanics.polyhedra
+        && let Some(k) = scene.walls.iter().position(|w| w.mesh.is_some())
+    {
+        return Err(SceneError::field(
+            format!("walls[{k}].mesh"),
+            "polyhedral particles against mesh walls are not built yet; use spheres, or analytic walls (plane, quad, box, cylinder, lifters)",
+        ));
+    }
     let (cell_size, skin) = tuning::search(scene, &kinds, mechanics.cohesion, &domain)?;
 
     positive("run.duration", scene.run.duration)?;
@@ -133,7 +143,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     };
     let report = PlanReport {
         features: report::features(scene, &model, &mechanics, &tuning, &run),
-        warnings: report::warnings(&model, &timescales, &kinds),
+        warnings: mesh_warnings.into_iter().chain(report::warnings(&model, &timescales, &kinds)).collect(),
         timescales,
         wall_step_limit,
         targets: Targets { taylor_green, stickiness },

@@ -31,6 +31,10 @@ pub struct Scene {
     pub outlets: Vec<OutletSection>,
     #[serde(default)]
     pub output: OutputSection,
+    /// The folder of the scene file, where relative mesh paths start (the working folder
+    /// when the scene was not read from a file).
+    #[serde(skip)]
+    pub folder: Option<std::path::PathBuf>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -428,7 +432,45 @@ pub struct WallSection {
     pub box_: Option<BoxSection>,
     pub cylinder: Option<CylinderSection>,
     pub lifters: Option<LiftersSection>,
+    pub mesh: Option<MeshSection>,
     pub motion: Option<MotionSection>,
+}
+
+/// A triangle mesh read from an STL (binary or ASCII) or OBJ file, placed as
+/// x ↦ rotate(scale x) + translate.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSection {
+    /// The .stl or .obj file, relative to the scene file's folder.
+    pub file: String,
+    /// File units to metres (0.001 for a file in millimetres).
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+    pub rotate: Option<MeshRotation>,
+    #[serde(default)]
+    pub translate: V3,
+    /// Neighbours whose normals differ by less than this many degrees are one smooth surface.
+    #[serde(default = "default_curvature_degrees")]
+    pub curvature: f64,
+    /// The mesh must be closed (a solid body or a container): open edges are refused.
+    #[serde(default)]
+    pub closed: bool,
+}
+
+/// A rotation about `axis` by `degrees` (right-handed).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshRotation {
+    pub axis: V3,
+    pub degrees: f64,
+}
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+fn default_curvature_degrees() -> f64 {
+    0.25
 }
 
 /// Lifter bars fixed inside a cylinder wall, moving with it.

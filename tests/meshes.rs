@@ -1,0 +1,133 @@
+//! Mesh walls in the engine: a triangulated wall must move a sphere exactly as the analytic
+//! wall it approximates does, whatever the triangulation (docs/meshes.md).
+
+use glam::DVec3;
+use std::path::PathBuf;
+use tumble::{Simulation, compile, parse_scene};
+use tumble_geom::box_triangles_subdivided;
+
+/// A folder of its own for this test's mesh files.
+fn folder(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tumble-meshes-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Writes an OBJ file (shortest round-trip decimals, so every coordinate reads back exactly).
+fn write_obj(path: &std::path::Path, vertices: &[DVec3], triangles: &[[u32; 3]]) {
+    let mut text = String::new();
+    for v in vertices {
+        text += &format!("v {} {} {}\n", v.x, v.y, v.z);
+    }
+    for t in triangles {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+/// One steel sphere (Hertz, tangential springs, EPSD2 rolling springs) with `walls`.
+fn scene(domain: (DVec3, DVec3), gravity: DVec3, start: (DVec3, DVec3, DVec3), friction: f64, duration: f64, walls: &str) -> String {
+    let v = |x: DVec3| format!("[{}, {}, {}]", x.x, x.y, x.z);
+    let (x, u, w) = start;
+    format!(
+        r#"name = "mesh-test"
+[run]
+duration = {duration}
+integrator = "verlet"
+dt = 2.0e-6
+output_interval = {duration}
+[domain]
+min = {}
+max = {}
+[gravity]
+acceleration = {}
+[[materials]]
+name = "steel"
+density = 7800.0
+youngs_modulus = 2.0e9
+poisson_ratio = 0.3
+[contact]
+normal = {{ model = "hertz" }}
+restitution = 0.7
+tangential = {{ model = "history", friction = {friction} }}
+rolling_friction = 0.02
+rolling_model = "epsd2"
+[[particles]]
+material = "steel"
+shape = {{ sphere = {{ diameter = 0.02 }} }}
+positions = [{}]
+velocity = {}
+angular_velocity = {}
+{walls}
+"#,
+        v(domain.0),
+        v(domain.1),
+        v(gravity),
+        v(x),
+        v(u),
+        v(w)
+    )
+}
+
+/// Position, velocity and spin of the sphere at `samples` equal times, and the most contacts it had at once.
+fn trajectory(text: &str, samples: usize) -> (Vec<[DVec3; 3]>, u64) {
+    let compiled = compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}"));
+    let mut s = Simulation::new(compiled, 1);
+    let chunk = s.plan().run.steps / samples as u64;
+    let mut out = Vec::new();
+    let mut most = 0;
+    for _ in 0..samples {
+        for _ in 0..chunk / 5 {
+            s.advance(5);
+            most = most.max(s.observables().contacts);
+        }
+        let st = s.cpu().state();
+        out.push([st.pos[0], st.vel[0], st.omega[0]]);
+    }
+    (out, most)
+}
+
+/// Largest difference of `b` from `a` relative to each quantity's largest magnitude in `a`.
+fn worst(a: &[[DVec3; 3]], b: &[[DVec3; 3]]) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    for q in 0..3 {
+        let scale = a.iter().map(|s| s[q].length()).fold(0.0, f64::max);
+        out[q] = a.iter().zip(b).map(|(x, y)| (x[q] - y[q]).length()).fold(0.0, f64::max) / scale;
+    }
+    out
+}
+
+#[test]
+fn a_sphere_bouncing_in_a_triangulated_box_follows_the_analytic_box() {
+    let d = folder("container");
+    let (lo, hi) = (DVec3::ZERO, DVec3::new(0.2, 0.15, 0.1));
+    let wall = |shape: &str| format!("[[walls]]\nname = \"box\"\nmaterial = \"steel\"\n{shape}\n");
+    let mut files = Vec::new();
+    for n in [1, 4] {
+        let (v, mut t) = box_triangles_subdivided(lo, hi, n);
+        // A container: every triangle faces inward.
+        t.iter_mut().for_each(|t| t.swap(1, 2));
+        let file = d.join(format!("box{n}.obj"));
+        write_obj(&file, &v, &t);
+        files.push((file, t.len()));
+    }
+    // Thrown with spin so that it arrives at all the walls it aims at at once (t = 0.04 s): into
+    // the corner at the origin (three faces), and into the edge of the floor and the +x wall.
+    let throws = [
+        ("corner", 3, DVec3::new(0.05, 0.04, 0.03), DVec3::new(-1.0, -0.75, -0.3038)),
+        ("edge", 2, DVec3::new(0.12, 0.07, 0.03), DVec3::new(1.75, 0.2, -0.3038)),
+    ];
+    for (what, walls, x, u) in throws {
+        let start = (x, u, DVec3::new(20.0, -30.0, 10.0));
+        let text = |shape: &str| scene((lo, hi), DVec3::new(0.0, 0.0, -9.81), start, 0.3, 0.12, &wall(shape));
+        let (analytic, most) = trajectory(&text("box = { min = [0.0, 0.0, 0.0], max = [0.2, 0.15, 0.1] }"), 24);
+        assert_eq!(most, walls, "the {what} throw must reach {walls} walls at once");
+        for (file, triangles) in &files {
+            let (mesh, most) = trajectory(&text(&format!("mesh = {{ file = \"{}\", closed = true }}", file.display())), 24);
+            let [x, u, w] = worst(&analytic, &mesh);
+            println!("{what}, container of {triangles} triangles: position {x:.1e}, velocity {u:.1e}, spin {w:.1e}; at most {most} contacts");
+            assert_eq!(most, walls);
+            assert!(x < 1e-9 && u < 1e-9 && w < 1e-9, "{what}, {triangles} triangles: {x:e} {u:e} {w:e}");
+        }
+    }
+}
