@@ -131,3 +131,65 @@ fn a_sphere_bouncing_in_a_triangulated_box_follows_the_analytic_box() {
         }
     }
 }
+
+/// A flat sheet over [x0, x1] × [y0, y1] at z = 0: an nx × ny grid with its inner vertices
+/// moved at random within the plane and each square cut along a random diagonal.
+fn random_sheet(x: (f64, f64), y: (f64, f64), nx: usize, ny: usize, seed: u64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut s = seed;
+    let mut u = move || {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (dx, dy) = ((x.1 - x.0) / nx as f64, (y.1 - y.0) / ny as f64);
+    let mut vertices = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let inner = i > 0 && i < nx && j > 0 && j < ny;
+            let jitter = |d: f64, r: f64| if inner { (r - 0.5) * 0.6 * d } else { 0.0 };
+            vertices.push(DVec3::new(x.0 + i as f64 * dx + jitter(dx, u()), y.0 + j as f64 * dy + jitter(dy, u()), 0.0));
+        }
+    }
+    let at = |i: usize, j: usize| (i + j * (nx + 1)) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            if u() < 0.5 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    (vertices, triangles)
+}
+
+#[test]
+fn a_sphere_rolling_or_sliding_down_a_randomly_triangulated_incline_moves_as_on_the_plane() {
+    let d = folder("incline");
+    let (v, t) = random_sheet((-0.2, 0.8), (-0.3, 0.3), 24, 14, 7);
+    let file = d.join("sheet.obj");
+    write_obj(&file, &v, &t);
+    // The plane tilted 25° by tilting gravity; the sphere starts on it, moving across the slope.
+    let theta = 25f64.to_radians();
+    let g = DVec3::new(theta.sin(), 0.0, -theta.cos()) * 9.81;
+    let start = (DVec3::new(0.0, -0.1, 0.00999), DVec3::new(0.0, 0.4, 0.0), DVec3::ZERO);
+    let domain = (DVec3::new(-0.2, -0.3, -0.05), DVec3::new(0.8, 0.3, 0.1));
+    let wall = |shape: &str| format!("[[walls]]\nname = \"floor\"\nmaterial = \"steel\"\n{shape}\n");
+    // μ = 0.5 rolls without slipping ((2/7) tan θ = 0.13); μ = 0.05 slides.
+    for (what, friction) in [("rolling", 0.5), ("sliding", 0.05)] {
+        let text = |shape: &str| scene(domain, g, start, friction, 0.5, &wall(shape));
+        let (plane, _) = trajectory(&text("plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }"), 15);
+        let (mesh, _) = trajectory(&text(&format!("mesh = {{ file = \"{}\" }}", file.display())), 15);
+        let [x, u, w] = worst(&plane, &mesh);
+        let end = plane.last().unwrap();
+        println!("{what} over {} triangles to {:.3?}: position {x:.1e}, velocity {u:.1e}, spin {w:.1e}", t.len(), end[0]);
+        // It crossed many triangles, and moved as the mechanics of the incline say.
+        assert!(end[0].x > 0.25, "{what}: {}", end[0]);
+        let along = end[1].x / (9.81 * theta.sin() * 0.5);
+        // Rolling: a = (5/7) g (sin θ − μ_r cos θ) with the rolling resistance μ_r = 0.02; sliding: a = g (sin θ − μ cos θ).
+        let expected = if friction > 0.1 { 5.0 / 7.0 * (1.0 - 0.02 / theta.tan()) } else { 1.0 - friction / theta.tan() };
+        assert!((along - expected).abs() < 0.02, "{what}: v/(g sin θ t) = {along}, expected {expected}");
+        assert!(x < 1e-6 && u < 1e-6 && w < 1e-6, "{what}: {x:e} {u:e} {w:e}");
+    }
+}
