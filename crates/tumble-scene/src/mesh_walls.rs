@@ -2,7 +2,7 @@
 //! search, and given its range of spring keys.
 
 use crate::SceneError;
-use crate::compile::{finite3, unit};
+use crate::compile::{finite3, positive, unit};
 use crate::mesh_file::{MeshPlacement, load_mesh};
 use crate::schema::{MeshSection, Scene};
 use glam::{DQuat, DVec3};
@@ -24,7 +24,7 @@ pub(crate) fn mesh_wall(scene: &Scene, k: usize, m: &MeshSection, cell: f64, fir
             DQuat::from_axis_angle(unit(&f("rotate.axis"), r.axis)?, r.degrees.to_radians())
         }
     };
-    let placement = MeshPlacement { scale: m.scale, rotation, translation: finite3(&f("translate"), m.translate)? };
+    let placement = MeshPlacement { scale: positive(&f("scale"), m.scale)?, rotation, translation: finite3(&f("translate"), m.translate)? };
     if !(m.curvature.is_finite() && (0.0..90.0).contains(&m.curvature)) {
         return Err(SceneError::field(f("curvature"), format!("must be an angle from 0 to 90 degrees, got {}", m.curvature)));
     }
