@@ -272,3 +272,63 @@ fn a_ball_rolling_over_a_bar_given_as_a_mesh_moves_as_over_the_analytic_bar() {
     println!("a bar as a mesh: position {x:.1e}, velocity {u:.1e}, spin {w:.1e}");
     assert!(x < 1e-9 && u < 1e-9 && w < 1e-9, "{x:e} {u:e} {w:e}");
 }
+
+#[test]
+fn a_bed_at_rest_on_a_mesh_presses_its_weight_on_the_floor_triangles() {
+    let (lo, hi) = (DVec3::ZERO, DVec3::new(0.1, 0.1, 0.12));
+    let (v, mut t) = box_triangles_subdivided(lo, hi, 3);
+    t.iter_mut().for_each(|t| t.swap(1, 2));
+    let file = folder("bed").join("box.obj");
+    write_obj(&file, &v, &t);
+    let text = format!(
+        r#"name = "mesh-bed"
+[run]
+duration = 0.6
+integrator = "verlet"
+[domain]
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.1, 0.12]
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[[materials]]
+name = "glass"
+density = 2500.0
+[contact]
+normal = {{ model = "linear", stiffness = 2.0e3 }}
+restitution = 0.2
+tangential = {{ model = "history", friction = 0.4 }}
+[[particles]]
+material = "glass"
+shape = {{ sphere = {{ diameter = 0.015 }} }}
+lattice = {{ min = [0.01, 0.01, 0.01], max = [0.09, 0.09, 0.1], spacing = 0.02, jitter = 0.1 }}
+[[walls]]
+name = "box"
+material = "glass"
+mesh = {{ file = "{}", closed = true }}
+"#,
+        file.display()
+    );
+    let mut s = Simulation::new(compile(&parse_scene(&text).unwrap()).unwrap(), 1);
+    s.advance(s.plan().run.steps);
+    let st = s.cpu().state();
+    let weight = st.mass.iter().sum::<f64>() * 9.81;
+    let loads = tumble_cpu::network::mesh_loads(&s.plan().model, &st, s.cpu().walls());
+    let total: DVec3 = loads[0].iter().sum();
+    let pass = s.cpu().wall_force()[0];
+    println!("{} spheres, weight {weight:.4} N: triangles carry {total:.4?}, the step's wall force {pass:.4?}", st.len());
+    assert!((total.z + weight).abs() < 1e-3 * weight, "{total} against {weight}");
+    assert!((total - pass).length() < 1e-3 * weight, "{total} against {pass}");
+    // The floor's 18 triangles (normal +z) carry most of the weight, the side walls the rest by
+    // friction (Janssen); every triangle is pressed, none pulled.
+    let mesh = match &s.cpu().walls()[0].shape {
+        tumble_geom::SurfaceShape::Mesh(m) => m.clone(),
+        _ => unreachable!(),
+    };
+    let floor: f64 = (0..t.len()).filter(|&k| mesh.body.mesh.normals[k].z > 0.5).map(|k| -loads[0][k].z).sum();
+    println!("the floor carries {:.1} % of the weight", 100.0 * floor / weight);
+    assert!(floor > 0.9 * weight && floor < 1.001 * weight, "floor carries {floor} of {weight}");
+    assert!((0..t.len()).all(|k| -loads[0][k].dot(mesh.body.mesh.normals[k]) >= 0.0));
+    // And the snapshot's walls carry each triangle's pressure.
+    let data = tumble::vtk::walls_vtp(s.plan(), s.cpu().walls(), Some(&loads));
+    assert!(["force", "normal_force", "shear_force", "pressure", "shear_stress"].iter().all(|n| data.cell_data.iter().any(|a| a.name == *n)));
+}

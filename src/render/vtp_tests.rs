@@ -221,7 +221,7 @@ fn the_run_writers_particles_and_walls_are_read_back_in_every_encoding() {
         assert_eq!(particles.points[0], state.pos[first].to_array(), "{format:?}");
         assert_eq!(particles.point_array("radius").unwrap().values[0], state.radius[first], "{format:?}");
         assert_eq!(particles.point_array("velocity").unwrap().components, 3, "{format:?}");
-        let walls = parse(&crate::vtk::encode(&crate::vtk::walls_vtp(&compiled.plan, &compiled.plan.model.walls), format)).unwrap();
+        let walls = parse(&crate::vtk::encode(&crate::vtk::walls_vtp(&compiled.plan, &compiled.plan.model.walls, None), format)).unwrap();
         assert!(!walls.polys.is_empty() && walls.polys.iter().all(|p| p.len() == 4), "{format:?}");
         assert_eq!(walls.cell_array("wall").unwrap().len(), walls.polys.len(), "{format:?}");
     }

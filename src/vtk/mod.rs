@@ -18,7 +18,7 @@ use tumble_scene::schema::SnapshotFormat;
 pub struct SnapshotWriter {
     out_dir: PathBuf,
     format: SnapshotFormat,
-    moving_walls: bool,
+    wall_series: bool,
     /// (series name, its entries): particles, bodies, walls, contacts.
     series: Vec<(String, Vec<(f64, String)>)>,
 }
@@ -35,16 +35,21 @@ fn pvd(entries: &[(f64, String)]) -> String {
     pvd
 }
 
+/// The walls go in a series, one file per snapshot, when one moves or a mesh carries loads.
+fn wall_series(plan: &tumble_scene::Plan) -> bool {
+    plan.model.walls.iter().any(|w| w.motion.is_some() || matches!(w.shape, tumble_geom::SurfaceShape::Mesh(_)))
+}
+
 impl SnapshotWriter {
     /// Creates snapshots/ and, when the scene has walls and none moves, `walls.vtp`.
     pub fn create(out_dir: &Path, plan: &tumble_scene::Plan) -> io::Result<Self> {
         std::fs::create_dir_all(out_dir.join("snapshots"))?;
         let format = plan.run.snapshot_format;
-        let moving_walls = plan.model.walls.iter().any(|w| w.motion.is_some());
-        if !plan.model.walls.is_empty() && !moving_walls {
-            std::fs::write(out_dir.join("walls.vtp"), encode(&walls_vtp(plan, &plan.model.walls), format))?;
+        let wall_series = wall_series(plan);
+        if !plan.model.walls.is_empty() && !wall_series {
+            std::fs::write(out_dir.join("walls.vtp"), encode(&walls_vtp(plan, &plan.model.walls, None), format))?;
         }
-        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format, moving_walls, series: Vec::new() })
+        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format, wall_series, series: Vec::new() })
     }
 
     /// Continues the series of a resumed run: the .pvd files list `series` again, and snapshot
@@ -61,8 +66,8 @@ impl SnapshotWriter {
         for (name, entries) in &series {
             std::fs::write(out_dir.join(format!("{name}.pvd")), pvd(entries))?;
         }
-        let moving_walls = plan.model.walls.iter().any(|w| w.motion.is_some());
-        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format: plan.run.snapshot_format, moving_walls, series })
+        let wall_series = wall_series(plan);
+        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format: plan.run.snapshot_format, wall_series, series })
     }
 
     /// Every series' entries so far.
@@ -92,8 +97,10 @@ impl SnapshotWriter {
         if plan.model.polyhedra {
             self.add("bodies", index, time, &bodies_vtp(plan, state))?;
         }
-        if self.moving_walls {
-            self.add("walls", index, time, &walls_vtp(plan, &sim.walls()))?;
+        if self.wall_series {
+            let walls = sim.walls();
+            let loads = tumble_cpu::network::mesh_loads(&plan.model, state, &walls);
+            self.add("walls", index, time, &walls_vtp(plan, &walls, Some(&loads)))?;
         }
         if plan.run.contacts {
             self.add("contacts", index, time, &contacts::contacts_vtp(plan, state, &sim.walls()))?;
@@ -186,12 +193,16 @@ pub fn particles_vtp(s: &State, gravity: glam::DVec3) -> PolyData {
 }
 
 /// Walls (`plan.model.walls`, or the same walls in another pose) as VTK XML PolyData polygons: quads
-/// as they are, planes as a square covering the domain, cylinders as 48 facets, lifters as their six faces.
-pub fn walls_vtp(plan: &tumble_scene::Plan, walls: &[tumble_scene::Wall]) -> PolyData {
+/// as they are, planes as a square covering the domain, cylinders as 48 facets, lifters as their
+/// six faces, meshes as their triangles. `mesh_loads` (per wall, per triangle: the particles'
+/// force on it, as `tumble_cpu::network::mesh_loads` gives) adds each triangle's load as cell data.
+pub fn walls_vtp(plan: &tumble_scene::Plan, walls: &[tumble_scene::Wall], mesh_loads: Option<&[Vec<tumble_geom::DVec3>]>) -> PolyData {
     use tumble_geom::{DVec3, SurfaceShape};
     let mut points: Vec<DVec3> = Vec::new();
     let mut polys: Vec<Vec<usize>> = Vec::new();
     let mut wall_of_poly: Vec<usize> = Vec::new();
+    // Per polygon: the force on it and its normal and area (zero off meshes).
+    let mut load_of_poly: Vec<(DVec3, DVec3, f64)> = Vec::new();
     let centre = 0.5 * (plan.model.domain.min + plan.model.domain.max);
     let size = plan.model.domain.extent().length();
     for (w, wall) in walls.iter().enumerate() {
@@ -221,21 +232,39 @@ pub fn walls_vtp(plan: &tumble_scene::Plan, walls: &[tumble_scene::Wall]) -> Pol
             SurfaceShape::Prism(p) => p.corners().for_each(&mut quad),
             SurfaceShape::Mesh(m) => {
                 for t in 0..m.body.mesh.triangles.len() {
+                    load_of_poly.resize(polys.len(), (DVec3::ZERO, DVec3::ZERO, 0.0));
+                    let c = m.corners(t);
+                    let area = 0.5 * (c[1] - c[0]).cross(c[2] - c[0]);
+                    let force = mesh_loads.and_then(|l| l.get(w)).and_then(|l| l.get(t)).copied().unwrap_or(DVec3::ZERO);
+                    load_of_poly.push((force, area.normalize_or_zero(), area.length()));
                     polys.push((points.len()..points.len() + 3).collect());
-                    points.extend(m.corners(t));
+                    points.extend(c);
                     wall_of_poly.push(w);
                 }
             }
         }
     }
+    let mut cell_data = vec![
+        Array::i32("wall", wall_of_poly.iter().map(|&w| w as i32).collect()),
+        Array::i32("material", wall_of_poly.iter().map(|&w| walls[w].material as i32).collect()),
+        Array::i32("group", wall_of_poly.iter().map(|&w| walls[w].group as i32).collect()),
+    ];
+    if mesh_loads.is_some() && !load_of_poly.is_empty() {
+        load_of_poly.resize(polys.len(), (DVec3::ZERO, DVec3::ZERO, 0.0));
+        // Pressing into the wall is positive: the load against the normal the particles see.
+        let normal = |&(f, n, _): &(DVec3, DVec3, f64)| -f.dot(n);
+        let shear = |&(f, n, _): &(DVec3, DVec3, f64)| (f - n * f.dot(n)).length();
+        let per_area = |v: f64, a: f64| if a > 0.0 { v / a } else { 0.0 };
+        cell_data.push(Array::f64("force", 3, load_of_poly.iter().flat_map(|l| l.0.to_array()).collect()));
+        cell_data.push(Array::f64("normal_force", 1, load_of_poly.iter().map(normal).collect()));
+        cell_data.push(Array::f64("shear_force", 1, load_of_poly.iter().map(shear).collect()));
+        cell_data.push(Array::f64("pressure", 1, load_of_poly.iter().map(|l| per_area(normal(l), l.2)).collect()));
+        cell_data.push(Array::f64("shear_stress", 1, load_of_poly.iter().map(|l| per_area(shear(l), l.2)).collect()));
+    }
     PolyData {
         points: points.iter().flat_map(|p| p.to_array()).collect(),
         polys: Cells::of(polys),
-        cell_data: vec![
-            Array::i32("wall", wall_of_poly.iter().map(|&w| w as i32).collect()),
-            Array::i32("material", wall_of_poly.iter().map(|&w| walls[w].material as i32).collect()),
-            Array::i32("group", wall_of_poly.iter().map(|&w| walls[w].group as i32).collect()),
-        ],
+        cell_data,
         cell_attributes: (Some("wall".into()), None),
         ..Default::default()
     }

@@ -392,7 +392,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
 /// (they have not ended).
 #[allow(clippy::too_many_arguments)]
 #[inline(never)]
-fn mesh_contacts<const HIST: bool>(
+pub(crate) fn mesh_contacts<const HIST: bool>(
     s: &State,
     i: usize,
     mesh: &MeshWall,

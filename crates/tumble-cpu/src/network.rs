@@ -80,3 +80,59 @@ pub fn pair_forces(model: &PhysicsModel, state: &State, walls: &[Wall]) -> Vec<P
         })
         .collect()
 }
+
+/// The force the particles of `state` press on each triangle of each mesh wall (empty for the
+/// other walls), recomputed as [`pair_forces`] does: the step's wall kernel at the state's
+/// velocities with its stored springs, summed over particles in id order (the same for any
+/// thread count and backend).
+pub fn mesh_loads(model: &PhysicsModel, state: &State, walls: &[Wall]) -> Vec<Vec<DVec3>> {
+    use crate::forces::{contact_force, mesh_contacts};
+    use tumble_geom::SurfaceShape;
+    let mut loads: Vec<Vec<DVec3>> = walls
+        .iter()
+        .map(|w| match &w.shape {
+            SurfaceShape::Mesh(m) => vec![DVec3::ZERO; m.body.mesh.triangles.len()],
+            _ => Vec::new(),
+        })
+        .collect();
+    if loads.iter().all(Vec::is_empty) {
+        return loads;
+    }
+    let hist = model.history && state.history.slots > 0 && state.history.count.len() == state.len();
+    let mut order: Vec<usize> = (0..state.len()).collect();
+    order.sort_unstable_by_key(|&i| state.id[i]);
+    let mut touching = smallvec::SmallVec::new();
+    let mut carried = smallvec::SmallVec::new();
+    for i in order {
+        let (x, r) = (state.pos[i], state.radius[i]);
+        let extra = state.reach[i] - r;
+        let omega = state.omega.get(i).copied().unwrap_or(DVec3::ZERO);
+        for (w, wall) in walls.iter().enumerate() {
+            let SurfaceShape::Mesh(mesh) = &wall.shape else { continue };
+            touching.clear();
+            if hist {
+                mesh_contacts::<true>(state, i, mesh, x, r, extra, &mut touching, &mut carried);
+            } else {
+                mesh_contacts::<false>(state, i, mesh, x, r, extra, &mut touching, &mut carried);
+            }
+            let params = model.pair(state.material[i], wall.material);
+            for (k, key, mut spring) in touching.drain(..) {
+                let effect_overlap = k.overlap + extra;
+                if k.overlap <= 0.0 && (!model.cohesion || effect_overlap <= 0.0) {
+                    continue;
+                }
+                let v_rel = state.vel[i] - wall.velocity_at(k.point) + omega.cross(k.point - x);
+                let (m, dt) = (state.mass[i], model.dt);
+                let f = match (model.cohesion, hist) {
+                    (false, false) => contact_force::<false, false>(params, k.normal, k.overlap, effect_overlap, v_rel, m, r, dt, &mut spring),
+                    (false, true) => contact_force::<false, true>(params, k.normal, k.overlap, effect_overlap, v_rel, m, r, dt, &mut spring),
+                    (true, false) => contact_force::<true, false>(params, k.normal, k.overlap, effect_overlap, v_rel, m, r, dt, &mut spring),
+                    (true, true) => contact_force::<true, true>(params, k.normal, k.overlap, effect_overlap, v_rel, m, r, dt, &mut spring),
+                };
+                let t = (key & !(tumble_state::WALL_KEY | tumble_state::MESH_KEY)) - mesh.body.first_key;
+                loads[w][t as usize] -= f.force;
+            }
+        }
+    }
+    loads
+}
