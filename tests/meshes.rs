@@ -312,7 +312,7 @@ mesh = {{ file = "{}", closed = true }}
     s.advance(s.plan().run.steps);
     let st = s.cpu().state();
     let weight = st.mass.iter().sum::<f64>() * 9.81;
-    let loads = tumble_cpu::network::mesh_loads(&s.plan().model, &st, s.cpu().walls());
+    let loads = tumble_cpu::network::mesh_loads(&s.plan().model, st, s.cpu().walls());
     let total: DVec3 = loads[0].iter().sum();
     let pass = s.cpu().wall_force()[0];
     println!("{} spheres, weight {weight:.4} N: triangles carry {total:.4?}, the step's wall force {pass:.4?}", st.len());

@@ -67,6 +67,22 @@ pub(super) fn features(scene: &Scene, model: &PhysicsModel, mechanics: &Mechanic
                 if !drums.is_empty() {
                     let _ = write!(r, "; drums {}", drums.iter().map(|d| d.name.as_str()).collect::<Vec<_>>().join(", "));
                 }
+                for w in walls {
+                    if let tumble_geom::SurfaceShape::Mesh(m) = &w.shape {
+                        let mesh = &m.body.mesh;
+                        let (cells, cell) = m.body.grid.layout();
+                        let kind = if mesh.two_sided { "open sheet, two-sided" } else { "closed, one-sided" };
+                        let _ = write!(
+                            r,
+                            "; mesh {}: {} triangles ({kind}), binned on {}x{}x{} cells of {cell:.3e} m",
+                            w.name,
+                            mesh.triangles.len(),
+                            cells[0],
+                            cells[1],
+                            cells[2]
+                        );
+                    }
+                }
                 r
             },
         },
