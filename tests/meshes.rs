@@ -194,6 +194,72 @@ fn a_sphere_rolling_or_sliding_down_a_randomly_triangulated_incline_moves_as_on_
     }
 }
 
+/// The inside of an n-sided pipe along x over [x0, x1], its flat faces tangent to the circle of
+/// radius `apothem` about the line y = 0, z = `apothem` (one face lies on z = 0, facing up): each
+/// face cut into nx quads between its two edges, each edge's points moved at random along x and
+/// each quad cut along a random diagonal.
+fn random_pipe(x: (f64, f64), apothem: f64, sides: usize, nx: usize, seed: u64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut s = seed;
+    let mut u = move || {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let half = std::f64::consts::PI / sides as f64;
+    let corner = apothem / half.cos();
+    let dx = (x.1 - x.0) / nx as f64;
+    let mut vertices = Vec::new();
+    for k in 0..sides {
+        let phi = -std::f64::consts::FRAC_PI_2 - half + 2.0 * half * k as f64;
+        for i in 0..=nx {
+            let jitter = if i > 0 && i < nx { (u() - 0.5) * 0.6 * dx } else { 0.0 };
+            vertices.push(DVec3::new(x.0 + i as f64 * dx + jitter, corner * phi.cos(), apothem + corner * phi.sin()));
+        }
+    }
+    let at = |k: usize, i: usize| ((k % sides) * (nx + 1) + i) as u32;
+    let mut triangles = Vec::new();
+    for k in 0..sides {
+        for i in 0..nx {
+            let (a, b, c, d) = (at(k, i), at(k, i + 1), at(k + 1, i + 1), at(k + 1, i));
+            if u() < 0.5 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    (vertices, triangles)
+}
+
+#[test]
+fn a_sphere_rolling_or_sliding_along_a_randomly_triangulated_pipe_moves_as_in_the_cylinder() {
+    let d = folder("pipe");
+    let apothem = 0.05;
+    let (v, t) = random_pipe((-0.25, 0.85), apothem, 36, 40, 11);
+    let file = d.join("pipe.obj");
+    write_obj(&file, &v, &t);
+    // The pipe tilted 25° by tilting gravity; the sphere starts on its lowest line, moving down it.
+    let theta = 25f64.to_radians();
+    let g = DVec3::new(theta.sin(), 0.0, -theta.cos()) * 9.81;
+    let start = (DVec3::new(0.0, 0.0, 0.00999), DVec3::new(0.1, 0.0, 0.0), DVec3::new(0.0, 10.0, 0.0));
+    let domain = (DVec3::new(-0.25, -0.06, -0.01), DVec3::new(0.85, 0.06, 0.11));
+    let wall = |shape: &str| format!("[[walls]]\nname = \"pipe\"\nmaterial = \"steel\"\n{shape}\n");
+    let cylinder = format!("cylinder = {{ point = [-0.25, 0.0, {apothem}], axis = [1.0, 0.0, 0.0], radius = {apothem}, length = 1.1, inside = true }}");
+    for (what, friction) in [("rolling", 0.5), ("sliding", 0.05)] {
+        let text = |shape: &str| scene(domain, g, start, friction, 0.4, &wall(shape));
+        let (analytic, _) = trajectory(&text(&cylinder), 10);
+        let (mesh, _) = trajectory(&text(&format!("mesh = {{ file = \"{}\" }}", file.display())), 10);
+        let [x, u, w] = worst(&analytic, &mesh);
+        let end = analytic.last().unwrap();
+        println!("{what} along a pipe of {} triangles to {:.3?}: position {x:.1e}, velocity {u:.1e}, spin {w:.1e}", t.len(), end[0]);
+        // It crossed many triangles, stayed on the lowest line, and moved as the incline's mechanics say.
+        assert!(end[0].x > 0.2 && end[0].y.abs() < 1e-9, "{what}: {}", end[0]);
+        let along = (end[1].x - 0.1) / (9.81 * theta.sin() * 0.4);
+        let expected = if friction > 0.1 { 5.0 / 7.0 * (1.0 - 0.02 / theta.tan()) } else { 1.0 - friction / theta.tan() };
+        assert!((along - expected).abs() < 0.02, "{what}: Δv/(g sin θ t) = {along}, expected {expected}");
+        assert!(x < 1e-6 && u < 1e-6 && w < 1e-6, "{what}: {x:e} {u:e} {w:e}");
+    }
+}
+
 /// The lifter bars of a scene written as one mesh: each prism's six outward faces, two
 /// triangles each. Returns the number of triangles.
 fn lifters_as_mesh(scene: &str, file: &std::path::Path) -> usize {
