@@ -6,6 +6,7 @@ mod chung_ooi;
 mod chute;
 mod conformance;
 mod friction_charts;
+mod mesh_hopper;
 mod mill;
 mod mill_calibration;
 mod mill_spectra;
@@ -26,12 +27,13 @@ fn main() {
         Some("mill-calibrate") => mill_calibration::run(&args[1..]),
         Some("hopper") => mill::hopper(&args[1..]),
         Some("drum") => mill::drum(&args[1..]),
+        Some("mesh-hopper") => mesh_hopper::run_study(&args[1..]),
         Some("chute") => chute::chute(&args[1..]),
         Some("chung-ooi") => chung_ooi::run(&args[1..]),
         Some("tidy") => tidy::run(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask <verify|conformance|charts|gpu-profile|sweep|mill|mill-calibrate|hopper|drum|chute|chung-ooi|tidy>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure (--only WORD: just the families named with WORD, e.g. polyhedra; --mill-only: only the small-mill rows, docs untouched)\n  charts       speed-vs-accuracy, stability-map, convergence and friction charts (SVG + CSV) in docs/charts/ (charts friction: only the friction ones)\n  gpu-profile  SCENE [STEPS]: GPU particle-steps/s and per-kernel device times (timestamp queries)\n  sweep        agglomeration in a Taylor-Green vortex over Stk x Sy (cargo xtask sweep --help): CSV and heat maps in docs/agglomeration/\n  mill         ball-mill power draw and charge profile against speed and filling (docs/charts/mill_power.*)\n  mill-calibrate  the laboratory mill (scenes/lab_mill/) calibrated on its measured power at one point, predictions at the others, sensitivity (docs/charts/mill_calibration.*; --seeds, --jobs, --backend)\n  hopper       hopper discharge rate against orifice width, spheres and dodecahedra (docs/charts/hopper_discharge.*)\n  drum         drum of cubes against spheres of equal volume: charge profile and power (docs/charts/drum_cubes.csv)\n  chute        periodic inclined chute under the monitor: v_x(z) against Bagnold's profile, flux (docs/charts/chute_profile.*; --duration, --from)\n  chung-ooi    Chung & Ooi (2011) impact benchmarks 1–8: docs/charts/chung_ooi_*.svg and .csv, tables in docs/chung-ooi.md\n  tidy         every file the code and docs cite exists; files under crates/ over 600 lines state why"
+                "usage: cargo xtask <verify|conformance|charts|gpu-profile|sweep|mill|mill-calibrate|hopper|mesh-hopper|drum|chute|chung-ooi|tidy>\n  verify       the analytic verification table (case x integrator x dt x error x order), CSV in docs/verification.csv\n  conformance  the cross-backend conformance table; exits 1 on any failure (--only WORD: just the families named with WORD, e.g. polyhedra; --mill-only: only the small-mill rows, docs untouched)\n  charts       speed-vs-accuracy, stability-map, convergence and friction charts (SVG + CSV) in docs/charts/ (charts friction: only the friction ones)\n  gpu-profile  SCENE [STEPS]: GPU particle-steps/s and per-kernel device times (timestamp queries)\n  sweep        agglomeration in a Taylor-Green vortex over Stk x Sy (cargo xtask sweep --help): CSV and heat maps in docs/agglomeration/\n  mill         ball-mill power draw and charge profile against speed and filling (docs/charts/mill_power.*)\n  mill-calibrate  the laboratory mill (scenes/lab_mill/) calibrated on its measured power at one point, predictions at the others, sensitivity (docs/charts/mill_calibration.*; --seeds, --jobs, --backend)\n  hopper       hopper discharge rate against orifice width, spheres and dodecahedra (docs/charts/hopper_discharge.*)\n  mesh-hopper  the conical hopper with its cone from an STL file against the same cone of analytic quads, over seeds (docs/charts/mesh_hopper.csv; --seeds, --duration, --from, --jobs)\n  drum         drum of cubes against spheres of equal volume: charge profile and power (docs/charts/drum_cubes.csv)\n  chute        periodic inclined chute under the monitor: v_x(z) against Bagnold's profile, flux (docs/charts/chute_profile.*; --duration, --from)\n  chung-ooi    Chung & Ooi (2011) impact benchmarks 1–8: docs/charts/chung_ooi_*.svg and .csv, tables in docs/chung-ooi.md\n  tidy         every file the code and docs cite exists; files under crates/ over 600 lines state why"
             );
             2
         }
