@@ -190,7 +190,7 @@ fn a_sphere_rolling_or_sliding_down_a_randomly_triangulated_incline_moves_as_on_
         // Rolling: a = (5/7) g (sin θ − μ_r cos θ) with the rolling resistance μ_r = 0.02; sliding: a = g (sin θ − μ cos θ).
         let expected = if friction > 0.1 { 5.0 / 7.0 * (1.0 - 0.02 / theta.tan()) } else { 1.0 - friction / theta.tan() };
         assert!((along - expected).abs() < 0.02, "{what}: v/(g sin θ t) = {along}, expected {expected}");
-        assert!(x < 1e-6 && u < 1e-6 && w < 1e-6, "{what}: {x:e} {u:e} {w:e}");
+        assert!(x < 1e-9 && u < 1e-9 && w < 1e-9, "{what}: {x:e} {u:e} {w:e}");
     }
 }
 
@@ -243,7 +243,8 @@ fn a_sphere_rolling_or_sliding_along_a_randomly_triangulated_pipe_moves_as_in_th
     let start = (DVec3::new(0.0, 0.0, 0.00999), DVec3::new(0.1, 0.0, 0.0), DVec3::new(0.0, 10.0, 0.0));
     let domain = (DVec3::new(-0.25, -0.06, -0.01), DVec3::new(0.85, 0.06, 0.11));
     let wall = |shape: &str| format!("[[walls]]\nname = \"pipe\"\nmaterial = \"steel\"\n{shape}\n");
-    let cylinder = format!("cylinder = {{ point = [-0.25, 0.0, {apothem}], axis = [1.0, 0.0, 0.0], radius = {apothem}, length = 1.1, inside = true }}");
+    let cylinder =
+        format!("cylinder = {{ point = [-0.25, 0.0, {apothem}], axis = [1.0, 0.0, 0.0], radius = {apothem}, length = 1.1, inside = true }}");
     for (what, friction) in [("rolling", 0.5), ("sliding", 0.05)] {
         let text = |shape: &str| scene(domain, g, start, friction, 0.4, &wall(shape));
         let (analytic, _) = trajectory(&text(&cylinder), 10);
@@ -256,7 +257,7 @@ fn a_sphere_rolling_or_sliding_along_a_randomly_triangulated_pipe_moves_as_in_th
         let along = (end[1].x - 0.1) / (9.81 * theta.sin() * 0.4);
         let expected = if friction > 0.1 { 5.0 / 7.0 * (1.0 - 0.02 / theta.tan()) } else { 1.0 - friction / theta.tan() };
         assert!((along - expected).abs() < 0.02, "{what}: Δv/(g sin θ t) = {along}, expected {expected}");
-        assert!(x < 1e-6 && u < 1e-6 && w < 1e-6, "{what}: {x:e} {u:e} {w:e}");
+        assert!(x < 1e-9 && u < 1e-9 && w < 1e-9, "{what}: {x:e} {u:e} {w:e}");
     }
 }
 
@@ -284,7 +285,8 @@ fn a_ball_in_a_turning_drum_meets_lifters_given_as_a_mesh_as_it_meets_the_analyt
     let drum = replaced(&test_scene("drum_one_ball"), "rpm = 10.0", "rpm = 40.0");
     let drum = replaced(&drum, "duration = 3.0", "duration = 1.2");
     let lifters = "[[walls]]\nname = \"lifters\"\nmaterial = \"steel\"\n";
-    let analytic = format!("{drum}\n{lifters}lifters = {{ on = \"shell\", count = 4, height = 0.05, width = 0.03, face_angle = 20.0, phase = 30.0 }}\n");
+    let analytic =
+        format!("{drum}\n{lifters}lifters = {{ on = \"shell\", count = 4, height = 0.05, width = 0.03, face_angle = 20.0, phase = 30.0 }}\n");
     let file = folder("lifters").join("lifters.obj");
     assert_eq!(lifters_as_mesh(&analytic, &file), 48);
     let motion = "motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 40.0 } }";
@@ -318,8 +320,16 @@ fn a_ball_rolling_over_a_bar_given_as_a_mesh_moves_as_over_the_analytic_bar() {
     // against it. Its spring follows it off a ridge onto the next face (without that: 2e-4).
     let drum = replaced(&test_scene("drum_one_ball"), "motion = { rotate = { point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], rpm = 10.0 } }", "");
     let drum = replaced(&drum, "duration = 3.0", "duration = 0.7");
-    let drum = replaced(&drum, "positions = [[0.0, -0.28, 0.1]]", "positions = [[0.1, -0.261, 0.1]]\nvelocity = [-0.3, -0.11, 0.0]\nangular_velocity = [0.0, 0.0, 16.0]");
-    let bar = |phase: f64| format!("{drum}\n[[walls]]\nname = \"bar\"\nmaterial = \"steel\"\nlifters = {{ on = \"shell\", count = 1, height = 0.003, width = 0.03, face_angle = 70.0, phase = {phase} }}\n");
+    let drum = replaced(
+        &drum,
+        "positions = [[0.0, -0.28, 0.1]]",
+        "positions = [[0.1, -0.261, 0.1]]\nvelocity = [-0.3, -0.11, 0.0]\nangular_velocity = [0.0, 0.0, 16.0]",
+    );
+    let bar = |phase: f64| {
+        format!(
+            "{drum}\n[[walls]]\nname = \"bar\"\nmaterial = \"steel\"\nlifters = {{ on = \"shell\", count = 1, height = 0.003, width = 0.03, face_angle = 70.0, phase = {phase} }}\n"
+        )
+    };
     // Turn the bar to 4° past the bottom, whichever way the drum's frame runs.
     let at = |phase: f64| {
         let plan = compile(&parse_scene(&bar(phase)).unwrap()).unwrap().plan;

@@ -5,11 +5,11 @@
 use crate::neighbours::NeighbourList;
 use crate::polyhedra::{equivalent_radius, polyhedron_pair, polyhedron_wall};
 use glam::DVec3;
+use smallvec::SmallVec;
 use tumble_contact::{
     RollingModel, TangentialLaw, ViscousParameter, cohesion_energy, cohesion_force, collision_time, epsd2_torque, history_force, normal_force,
     rolling_stiffness, rolling_torque, tangential_force,
 };
-use smallvec::SmallVec;
 use tumble_geom::{MeshWall, NO_CONTACT, SurfaceContact, SurfaceShape, sphere_sphere};
 use tumble_scene::{PairParams, PhysicsModel, SPHERE, Wall};
 use tumble_state::{ContactSum, MESH_KEY, Spring, State, WALL_KEY};
@@ -317,14 +317,14 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
                 let Some(k) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
                 power = k.spin_power;
                 twist_axis = Some(k.normal);
-                (w.velocity_at(k.point), k.depth, k.force, k.torque, equivalent_radius(c, i))
+                (w.contact_velocity(k.point, k.normal), k.depth, k.force, k.torque, equivalent_radius(c, i))
             } else {
                 let effect_overlap = k.overlap + extra;
                 if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
                     continue;
                 }
                 let arm = k.point - xi;
-                let v_wall = w.velocity_at(k.point);
+                let v_wall = w.contact_velocity(k.point, k.normal);
                 let mut v_rel = c.vel[i] - v_wall;
                 if ROT {
                     v_rel += c.omega[i].cross(arm);
@@ -420,11 +420,9 @@ pub(crate) fn mesh_contacts<const HIST: bool>(
     let mut springs: SmallVec<[Spring; 4]> = contacts.iter().map(|_| Spring::default()).collect();
     if !old.is_empty() {
         let group_of = |t: u32| groups.iter().find(|g| g.0 == t).map(|g| g.1);
-        let rules: [&dyn Fn(u32, usize) -> bool; 3] = [
-            &|t, n| t == contacts[n].triangle,
-            &|t, n| group_of(t) == Some(n as u8),
-            &|t, n| group_of(t) == Some(NO_CONTACT) && mesh.share_a_corner(t, contacts[n].triangle),
-        ];
+        let rules: [&dyn Fn(u32, usize) -> bool; 3] = [&|t, n| t == contacts[n].triangle, &|t, n| group_of(t) == Some(n as u8), &|t, n| {
+            group_of(t) == Some(NO_CONTACT) && mesh.share_a_corner(t, contacts[n].triangle)
+        }];
         let mut served: SmallVec<[bool; 4]> = contacts.iter().map(|_| false).collect();
         for rule in rules {
             for n in 0..contacts.len() {

@@ -75,6 +75,8 @@ pub struct CpuSimulation {
     /// The walls in their pose at `walls_time` (moving ones updated every step).
     walls: Vec<tumble_scene::Wall>,
     moving_walls: bool,
+    /// Some wall does work (it moves, or it is a conveyor): integrate the groups' power.
+    working_walls: bool,
     walls_time: f64,
     /// `walls_time` at the last neighbour-list build.
     walls_built_at: f64,
@@ -106,6 +108,7 @@ impl CpuSimulation {
         let neighbours = NeighbourList::new(scene.plan.tuning.skin);
         let walls = scene.plan.model.walls.clone();
         let moving_walls = walls.iter().any(|w| w.motion.is_some());
+        let working_walls = scene.plan.model.wall_groups.iter().any(|g| g.moving);
         let groups = scene.plan.model.wall_groups.len();
         let outlets = scene.plan.model.outlets.len();
         let mut sim = CpuSimulation {
@@ -129,6 +132,7 @@ impl CpuSimulation {
             threads,
             walls,
             moving_walls,
+            working_walls,
             walls_time: 0.0,
             walls_built_at: 0.0,
             candidate_loads: Vec::new(),

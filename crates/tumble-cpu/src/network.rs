@@ -121,7 +121,7 @@ pub fn mesh_loads(model: &PhysicsModel, state: &State, walls: &[Wall]) -> Vec<Ve
                 if k.overlap <= 0.0 && (!model.cohesion || effect_overlap <= 0.0) {
                     continue;
                 }
-                let v_rel = state.vel[i] - wall.velocity_at(k.point) + omega.cross(k.point - x);
+                let v_rel = state.vel[i] - wall.contact_velocity(k.point, k.normal) + omega.cross(k.point - x);
                 let (m, dt) = (state.mass[i], model.dt);
                 let f = match (model.cohesion, hist) {
                     (false, false) => contact_force::<false, false>(params, k.normal, k.overlap, effect_overlap, v_rel, m, r, dt, &mut spring),

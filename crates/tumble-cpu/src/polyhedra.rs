@@ -279,18 +279,21 @@ pub(crate) fn polyhedron_wall<const HIST: bool>(c: &ContactInputs, i: usize, w: 
     let s = c.state;
     let (poly, pose) = body(c, i, s.pos[i])?;
     let xi = s.pos[i];
-    let v_at = |p: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.velocity_at(p);
+    // The particle's velocity relative to the wall material at `p` on a contact of normal `n`.
+    let v_at = |p: DVec3, n: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.contact_velocity(p, n);
     let params = c.model.pair(s.material[i], w.material);
     let wall_spin = w.angular_velocity();
     let spin = c.omega[i] - wall_spin;
     let (r, m) = (equivalent_radius(c, i), s.mass[i]);
     let (point, depth, mut f, torque, n, spread) = if c.model.polyhedron_contact == PolyhedronContact::Volume {
         let k = w.shape.polyhedron_volume(poly, &pose)?;
-        let rate = k.volume_rate(c.vel[i] - w.velocity_at(xi), spin, DVec3::ZERO);
+        let rate = k.volume_rate(c.vel[i] - w.contact_velocity(xi, k.normal), spin, DVec3::ZERO);
+        let v_at = |p: DVec3| v_at(p, k.normal);
         let (f, torque, _) = volume_force::<HIST>(params, &k, contact_area(c, i), face_on_weight(c, i), rate, v_at, xi, xi, m, r, c.model.dt, spring);
         (k.point, k.depth, f, torque, k.normal, area_spread(k.area))
     } else {
         let k = w.shape.polyhedron_contact(poly, &pose)?;
+        let v_at = |p: DVec3| v_at(p, k.normal);
         let (f, torque, _) = polyhedron_force::<HIST>(params, &k, v_at, xi, xi, m, r, c.model.dt, spring);
         (k.point, k.depth, f, torque, k.normal, manifold_spread(&k))
     };

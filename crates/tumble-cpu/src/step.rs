@@ -158,7 +158,7 @@ impl CpuSimulation {
                 self.group_torque[g] += load.torque;
             }
         }
-        if self.moving_walls {
+        if self.working_walls {
             if commit {
                 let dt = self.plan.model.dt;
                 for (work, p) in self.group_work.iter_mut().zip(&self.group_power) {

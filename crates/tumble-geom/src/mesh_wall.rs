@@ -62,13 +62,7 @@ impl MeshWall {
     /// The contacts of a sphere by the mesh's ownership rule (at most one per smooth surface,
     /// ridge or corner), and in `groups` each triangle within reach with the index of its
     /// group's contact in the result ([`crate::NO_CONTACT`] when its group gave none).
-    pub fn sphere_contacts(
-        &self,
-        centre: DVec3,
-        radius: f64,
-        reach: f64,
-        groups: &mut SmallVec<[(u32, u8); 8]>,
-    ) -> SmallVec<[MeshWallContact; 4]> {
+    pub fn sphere_contacts(&self, centre: DVec3, radius: f64, reach: f64, groups: &mut SmallVec<[(u32, u8); 8]>) -> SmallVec<[MeshWallContact; 4]> {
         // A static mesh is queried in world coordinates as given, so its contacts are exact.
         let identity = self.is_identity();
         let local = if identity { centre } else { self.rotation.inverse() * (centre - self.translation) };
@@ -80,7 +74,8 @@ impl MeshWall {
         found
             .iter()
             .map(|c: &MeshContact| {
-                let (closest, normal) = if identity { (c.point, c.normal) } else { (self.rotation * c.point + self.translation, self.rotation * c.normal) };
+                let (closest, normal) =
+                    if identity { (c.point, c.normal) } else { (self.rotation * c.point + self.translation, self.rotation * c.normal) };
                 // Halfway through the overlap, as for every other surface.
                 let point = closest - normal * (0.5 * c.overlap.max(0.0));
                 MeshWallContact { triangle: c.triangle, region: c.region, contact: SurfaceContact { normal, overlap: c.overlap, point } }
@@ -130,7 +125,8 @@ mod tests {
         let (v, t) = box_triangles_subdivided(DVec3::new(-0.2, -0.1, 0.0), DVec3::new(0.3, 0.2, 0.4), 3);
         let mesh = TriangleMesh::new(&v, &t, DEFAULT_CURVATURE).unwrap().0;
         let wall = MeshWall::new(mesh.clone(), 0.05, 0);
-        let (pivot, rotation, shift) = (DVec3::new(0.1, 0.0, 0.2), DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 2.0).normalize(), 0.7), DVec3::new(0.0, 0.3, -0.1));
+        let (pivot, rotation, shift) =
+            (DVec3::new(0.1, 0.0, 0.2), DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 2.0).normalize(), 0.7), DVec3::new(0.0, 0.3, -0.1));
         // Twice: composing two moves is one move.
         let moved = wall.moved(pivot, rotation, shift).moved(DVec3::ZERO, rotation.inverse(), DVec3::X);
         let map = |x: DVec3| rotation.inverse() * (pivot + rotation * (x - pivot) + shift) + DVec3::X;

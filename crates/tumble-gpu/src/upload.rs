@@ -445,8 +445,10 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
 
 /// Why the GPU backend cannot run the plan's walls, if it cannot.
 pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
-    if let Some(w) = plan.model.walls.iter().find(|w| matches!(w.shape, SurfaceShape::Mesh(_))) {
-        return Some(format!("mesh walls (\"{}\") run on the CPU backend only for now", w.name));
+    let mesh = |w: &&tumble_scene::Wall| matches!(w.shape, SurfaceShape::Mesh(_));
+    if let Some(w) = plan.model.walls.iter().find(|w| mesh(w) || w.surface_velocity != DVec3::ZERO) {
+        let what = if mesh(&w) { format!("mesh walls (\"{}\")", w.name) } else { format!("conveyors (surface_velocity on \"{}\")", w.name) };
+        return Some(format!("{what} run on the CPU backend only for now"));
     }
     // The contact pass books each group's load once, walking the walls in group order from group 0.
     if plan.model.walls.first().is_some_and(|w| w.group != 0) || plan.model.walls.windows(2).any(|w| w[1].group < w[0].group) {
@@ -460,8 +462,7 @@ pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
     None
 }
 
-/// The kind code of a wall surface (geometry.wgsl's `wall_kind`). The match names every
-/// surface: a new one does not compile until it has a code the shaders dispatch on.
+/// The kind code of a wall surface (geometry.wgsl's `wall_kind`); a new surface does not compile until it has one.
 pub fn wall_kind(shape: &SurfaceShape) -> u32 {
     match shape {
         SurfaceShape::Plane(_) => codes::WALL_PLANE,

@@ -49,7 +49,5 @@ pub(crate) fn mesh_wall(scene: &Scene, k: usize, m: &MeshSection, cell: f64, fir
 
 /// The point of a mesh nearest to `x`, and its distance.
 pub(crate) fn nearest_distance(m: &MeshWall, x: DVec3) -> f64 {
-    (0..m.body.mesh.triangles.len())
-        .map(|t| (tumble_geom::closest_point_on_triangle(x, m.corners(t)).0 - x).length())
-        .fold(f64::INFINITY, f64::min)
+    (0..m.body.mesh.triangles.len()).map(|t| (tumble_geom::closest_point_on_triangle(x, m.corners(t)).0 - x).length()).fold(f64::INFINITY, f64::min)
 }

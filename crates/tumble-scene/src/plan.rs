@@ -79,6 +79,9 @@ pub struct Wall {
     pub shape: SurfaceShape,
     /// None: static.
     pub motion: Option<Motion>,
+    /// A conveyor's surface velocity (zero for any other wall): the material moves along the
+    /// surface, the geometry stays.
+    pub surface_velocity: DVec3,
     /// When the motion runs (always, for a static wall).
     pub timing: Timing,
     /// The scene wall ([[walls]] entry) this surface belongs to: index into `PhysicsModel::wall_groups`.
@@ -117,10 +120,20 @@ impl Wall {
         self.motion.map(|m| m.instant(self.timing.elapsed(t), self.timing.rate(t)))
     }
 
-    /// Velocity of the wall material at point `x` (zero for a static wall).
+    /// Velocity of the wall's motion at point `x` (zero for a static wall; contacts use
+    /// [`Wall::contact_velocity`], which adds a conveyor's surface velocity).
     #[inline]
     pub fn velocity_at(&self, x: DVec3) -> DVec3 {
         self.motion.map_or(DVec3::ZERO, |m| m.velocity_at(x))
+    }
+
+    /// Velocity of the wall material at contact point `x` with normal `normal`: its motion's,
+    /// plus a conveyor's surface velocity with its part along the normal dropped (a belt
+    /// moves along itself whatever way the user wrote it, and never pushes through a face).
+    #[inline]
+    pub fn contact_velocity(&self, x: DVec3, normal: DVec3) -> DVec3 {
+        let s = self.surface_velocity;
+        self.velocity_at(x) + (s - normal * s.dot(normal))
     }
 
     /// Angular velocity of the wall (zero unless it rotates).
@@ -488,6 +501,7 @@ mod tests {
                 material: 0,
                 shape: shape.clone(),
                 motion: Some(motion),
+                surface_velocity: DVec3::ZERO,
                 timing: Timing { start: 0.1, ramp: 0.2, stop: 0.8 },
                 group: 0,
                 travel_speed: 0.0,

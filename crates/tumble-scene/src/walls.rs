@@ -30,7 +30,7 @@ pub(crate) fn compile_walls(
         };
         motions.push(motion);
         timings.push(timing);
-        if w.motion.is_some() && names[..k].contains(&names[k]) {
+        if (w.motion.is_some() || w.surface_velocity.is_some()) && names[..k].contains(&names[k]) {
             return Err(SceneError::field(
                 format!("walls[{k}].name"),
                 format!("a moving wall needs a unique name (its power column); \"{}\" is used twice", names[k]),
@@ -52,6 +52,7 @@ pub(crate) fn compile_walls(
         }
         let mut motion = motions[k];
         let mut timing = timings[k];
+        let surface_velocity = conveyor(k, w)?;
         let group = k as u16;
         let mut shapes: Vec<(String, SurfaceShape)> = Vec::new();
         if let Some(m) = &w.mesh {
@@ -172,7 +173,7 @@ pub(crate) fn compile_walls(
                 shapes.push((format!("{name}{r}"), SurfaceShape::Prism(Box::new(prism))));
             }
         }
-        groups.push(WallGroup { name, moving: motion.is_some() });
+        groups.push(WallGroup { name, moving: motion.is_some() || surface_velocity != DVec3::ZERO });
         for (wall_name, shape) in shapes {
             let (travel_speed, surface_speed) = match motion {
                 None => (0.0, 0.0),
@@ -193,13 +194,25 @@ pub(crate) fn compile_walls(
                     (if invariant { 0.0 } else { speed }, speed)
                 }
             };
-            walls.push(Wall { name: wall_name, material, shape, motion, timing, group, travel_speed, surface_speed });
+            let surface_speed = surface_speed.max(surface_velocity.length());
+            walls.push(Wall { name: wall_name, material, shape, motion, surface_velocity, timing, group, travel_speed, surface_speed });
         }
     }
     if walls.len() > u16::MAX as usize {
         return Err(SceneError::field("walls", format!("{} surfaces; at most {} are supported", walls.len(), u16::MAX)));
     }
     Ok((walls, groups, drums, warnings))
+}
+
+/// A conveyor's surface velocity (zero when none is given), checked.
+fn conveyor(k: usize, w: &WallSection) -> Result<DVec3, SceneError> {
+    let Some(v) = w.surface_velocity else { return Ok(DVec3::ZERO) };
+    let field = format!("walls[{k}].surface_velocity");
+    let v = finite3(&field, v)?;
+    if w.motion.is_some() || w.lifters.is_some() {
+        return Err(SceneError::field(field, "a conveyor's surface moves while the wall stays: give it on a wall without motion (not on lifters)"));
+    }
+    Ok(v)
 }
 
 /// A wall's motion and its timing, checked.

@@ -434,6 +434,9 @@ pub struct WallSection {
     pub lifters: Option<LiftersSection>,
     pub mesh: Option<MeshSection>,
     pub motion: Option<MotionSection>,
+    /// A conveyor: the surface material moves at this velocity (its part along the contact
+    /// normal dropped) while the geometry stays where it is.
+    pub surface_velocity: Option<V3>,
 }
 
 /// A triangle mesh read from an STL (binary or ASCII) or OBJ file, placed as
