@@ -16,25 +16,32 @@ pub struct TriangleGrid {
 }
 
 impl TriangleGrid {
-    /// Bins `mesh` on cells of about `cell` (the particles' interaction diameter suits); the
-    /// cells grow when the mesh's box would need more than 8 cells per triangle (and 4,096).
+    /// Bins `mesh` on cells of about `cell` (the particles' interaction diameter suits), or of
+    /// twice the typical triangle's size when triangles are smaller than that, so a sphere over
+    /// fine triangles gathers few; the cells grow when the mesh's box would need more than 8
+    /// cells per triangle (and 4,096), or the listing more than 16 entries per triangle.
     pub fn new(mesh: &TriangleMesh, cell: f64) -> TriangleGrid {
         let (lo, hi) = mesh.vertices.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
         let extent = (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
         let most = (8 * mesh.triangles.len()).max(4096) as f64;
-        let mut cell = cell.max(extent.max_element() * 1e-6);
-        while (extent / cell).ceil().max(DVec3::ONE).to_array().iter().product::<f64>() > most {
+        let bounds: Vec<(DVec3, DVec3)> = (0..mesh.triangles.len())
+            .map(|t| {
+                let c = mesh.corners(t);
+                (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]))
+            })
+            .collect();
+        let mut sizes: Vec<f64> = bounds.iter().map(|(a, b)| (*b - *a).max_element()).collect();
+        let mid = sizes.len() / 2;
+        let typical = if sizes.is_empty() { cell } else { *sizes.select_nth_unstable_by(mid, f64::total_cmp).1 };
+        let mut cell = cell.min(2.0 * typical).max(extent.max_element() * 1e-6);
+        // Entries each triangle's box puts in the grid at cell width `w`.
+        let entries = |w: f64| bounds.iter().map(|(a, b)| ((*b - *a) / w + DVec3::ONE).ceil().to_array().iter().product::<f64>()).sum::<f64>();
+        while (extent / cell).ceil().max(DVec3::ONE).to_array().iter().product::<f64>() > most || entries(cell) > 16.0 * bounds.len() as f64 {
             cell *= 1.25;
         }
         let dims = (extent / cell).ceil().max(DVec3::ONE).to_array().map(|d| d as usize);
         let grid = TriangleGrid { origin: lo, cell, dims, start: Vec::new(), items: Vec::new() };
-        let boxes: Vec<([usize; 3], [usize; 3])> = (0..mesh.triangles.len())
-            .map(|t| {
-                let c = mesh.corners(t);
-                let (a, b) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
-                (grid.cell_of(a), grid.cell_of(b))
-            })
-            .collect();
+        let boxes: Vec<([usize; 3], [usize; 3])> = bounds.iter().map(|&(a, b)| (grid.cell_of(a), grid.cell_of(b))).collect();
         let cells = dims[0] * dims[1] * dims[2];
         let mut count = vec![0u32; cells + 1];
         let each = |(a, b): &([usize; 3], [usize; 3]), f: &mut dyn FnMut(usize)| {
