@@ -120,6 +120,12 @@ fn scene_for(point: OperatingPoint, params: &Params, seed: u64) -> Scene {
     scene
 }
 
+/// The calibration point's scene with the closest calibrated set (μ_w = 0.9, μ_r = 0.4) and
+/// `seed`, and the spin-up before power is averaged.
+pub(crate) fn calibration_scene(seed: u64) -> (Scene, f64) {
+    (scene_for(CALIBRATION, &Params { liner_friction: 0.9, rolling_friction: Some(0.4), ..Default::default() }, seed), SPIN_UP)
+}
+
 fn set_friction(t: &mut TangentialSection, mu: f64) {
     match t {
         TangentialSection::History { friction, .. }
