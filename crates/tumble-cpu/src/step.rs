@@ -158,12 +158,10 @@ impl CpuSimulation {
                 self.group_torque[g] += load.torque;
             }
         }
-        if self.working_walls {
-            if commit {
-                let dt = self.plan.model.dt;
-                for (work, p) in self.group_work.iter_mut().zip(&self.group_power) {
-                    *work += p * dt;
-                }
+        if self.working_walls && commit {
+            let dt = self.plan.model.dt;
+            for (work, p) in self.group_work.iter_mut().zip(&self.group_power) {
+                *work += p * dt;
             }
         }
     }
