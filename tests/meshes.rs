@@ -132,14 +132,19 @@ fn a_sphere_bouncing_in_a_triangulated_box_follows_the_analytic_box() {
     }
 }
 
+/// Uniform numbers in [0, 1) from a 64-bit linear congruential generator seeded with `seed`.
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// A flat sheet over [x0, x1] × [y0, y1] at z = 0: an nx × ny grid with its inner vertices
 /// moved at random within the plane and each square cut along a random diagonal.
 fn random_sheet(x: (f64, f64), y: (f64, f64), nx: usize, ny: usize, seed: u64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let mut s = seed;
-    let mut u = move || {
-        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut u = uniform(seed);
     let (dx, dy) = ((x.1 - x.0) / nx as f64, (y.1 - y.0) / ny as f64);
     let mut vertices = Vec::new();
     for j in 0..=ny {
@@ -149,10 +154,16 @@ fn random_sheet(x: (f64, f64), y: (f64, f64), nx: usize, ny: usize, seed: u64) -
             vertices.push(DVec3::new(x.0 + i as f64 * dx + jitter(dx, u()), y.0 + j as f64 * dy + jitter(dy, u()), 0.0));
         }
     }
-    let at = |i: usize, j: usize| (i + j * (nx + 1)) as u32;
+    let triangles = cut_at_random(nx, ny, |i, j| (i + j * (nx + 1)) as u32, &mut u);
+    (vertices, triangles)
+}
+
+/// The quads (i, j)–(i + 1, j + 1) of an nu × nv grid whose corner (i, j) is vertex `at(i, j)`,
+/// each cut into two triangles along a diagonal drawn at random.
+fn cut_at_random(nu: usize, nv: usize, at: impl Fn(usize, usize) -> u32, u: &mut impl FnMut() -> f64) -> Vec<[u32; 3]> {
     let mut triangles = Vec::new();
-    for j in 0..ny {
-        for i in 0..nx {
+    for j in 0..nv {
+        for i in 0..nu {
             let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
             if u() < 0.5 {
                 triangles.extend([[a, b, c], [a, c, d]]);
@@ -161,7 +172,7 @@ fn random_sheet(x: (f64, f64), y: (f64, f64), nx: usize, ny: usize, seed: u64) -
             }
         }
     }
-    (vertices, triangles)
+    triangles
 }
 
 #[test]
@@ -199,11 +210,7 @@ fn a_sphere_rolling_or_sliding_down_a_randomly_triangulated_incline_moves_as_on_
 /// face cut into nx quads between its two edges, each edge's points moved at random along x and
 /// each quad cut along a random diagonal.
 fn random_pipe(x: (f64, f64), apothem: f64, sides: usize, nx: usize, seed: u64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let mut s = seed;
-    let mut u = move || {
-        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut u = uniform(seed);
     let half = std::f64::consts::PI / sides as f64;
     let corner = apothem / half.cos();
     let dx = (x.1 - x.0) / nx as f64;
@@ -215,18 +222,8 @@ fn random_pipe(x: (f64, f64), apothem: f64, sides: usize, nx: usize, seed: u64) 
             vertices.push(DVec3::new(x.0 + i as f64 * dx + jitter, corner * phi.cos(), apothem + corner * phi.sin()));
         }
     }
-    let at = |k: usize, i: usize| ((k % sides) * (nx + 1) + i) as u32;
-    let mut triangles = Vec::new();
-    for k in 0..sides {
-        for i in 0..nx {
-            let (a, b, c, d) = (at(k, i), at(k, i + 1), at(k + 1, i + 1), at(k + 1, i));
-            if u() < 0.5 {
-                triangles.extend([[a, b, c], [a, c, d]]);
-            } else {
-                triangles.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
+    // Corner (i, k) is point i along the edge between faces k − 1 and k.
+    let triangles = cut_at_random(nx, sides, |i, k| ((k % sides) * (nx + 1) + i) as u32, &mut u);
     (vertices, triangles)
 }
 

@@ -11,6 +11,7 @@ mod mesh_mill;
 mod mill;
 mod mill_calibration;
 mod mill_spectra;
+mod seed_stats;
 mod svg;
 mod sweep;
 mod tidy;

@@ -4,6 +4,7 @@
 //! to docs/charts/mesh_hopper.csv (docs/meshes.md).
 
 use crate::mill::{arg, root, run_all, threads};
+use crate::seed_stats::{compare, write_csv};
 use std::fmt::Write as _;
 use std::time::Instant;
 use tumble::{FlowCounter, Simulation, compile, parse_scene};
@@ -95,13 +96,6 @@ fn run(cone: &'static str, seed: u64, stl: &std::path::Path, duration: f64, from
     Row { cone, seed, rate, particles, seconds }
 }
 
-fn mean_and_error(x: &[f64]) -> (f64, f64, f64) {
-    let n = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    let sd = (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
-    (mean, sd, sd / n.sqrt())
-}
-
 /// `cargo xtask mesh-hopper [--seeds N (6)] [--duration T (0.6)] [--from T0 (0.25)] [--jobs J (1)]`.
 pub fn run_study(args: &[String]) -> i32 {
     let start = Instant::now();
@@ -128,30 +122,8 @@ pub fn run_study(args: &[String]) -> i32 {
     for r in &rows {
         let _ = writeln!(csv, "{},{},{:.5},{:.1}", r.cone, r.seed, r.rate, r.seconds);
     }
-    let stats = |cone: &str| mean_and_error(&rows.iter().filter(|r| r.cone == cone).map(|r| r.rate).collect::<Vec<_>>());
-    let (stl_mean, stl_sd, stl_err) = stats("stl");
-    let (quad_mean, quad_sd, quad_err) = stats("quads");
-    let combined = (stl_err.powi(2) + quad_err.powi(2)).sqrt();
-    let _ = writeln!(csv, "# stl: mean {stl_mean:.5} kg/s, sd {stl_sd:.5}, standard error {stl_err:.5}");
-    let _ = writeln!(csv, "# quads: mean {quad_mean:.5} kg/s, sd {quad_sd:.5}, standard error {quad_err:.5}");
-    let _ = writeln!(
-        csv,
-        "# difference stl - quads: {:.5} kg/s ({:+.2} %), {:.2} combined standard errors",
-        stl_mean - quad_mean,
-        100.0 * (stl_mean / quad_mean - 1.0),
-        (stl_mean - quad_mean) / combined
-    );
-    print!("{csv}");
+    let rates = |cone: &str| rows.iter().filter(|r| r.cone == cone).map(|r| r.rate).collect::<Vec<_>>();
+    compare(&mut csv, ("stl", &rates("stl")), ("quads", &rates("quads")), "kg/s", 5);
     eprintln!("total: {:.1} s", start.elapsed().as_secs_f64());
-    let path = root().join("docs/charts/mesh_hopper.csv");
-    match std::fs::write(&path, csv) {
-        Ok(()) => {
-            eprintln!("wrote {}", path.display());
-            0
-        }
-        Err(e) => {
-            eprintln!("cannot write {}: {e}", path.display());
-            1
-        }
-    }
+    write_csv("mesh_hopper", &csv)
 }

@@ -3,8 +3,9 @@
 //! closed mesh turning with the shell, against the analytic lifter prisms, over several seeds:
 //! the power each draws, written to docs/charts/mill_mesh_liner.csv (docs/meshes.md).
 
-use crate::mill::{arg, charge_means, root, run_all, threads};
+use crate::mill::{arg, charge_means, run_all, threads};
 use crate::mill_calibration::calibration_scene;
+use crate::seed_stats::{compare, write_csv};
 use std::fmt::Write as _;
 use std::time::Instant;
 use tumble::{Simulation, compile};
@@ -52,13 +53,6 @@ struct Row {
     seconds: f64,
 }
 
-fn mean_and_error(x: &[f64]) -> (f64, f64, f64) {
-    let n = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    let sd = (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
-    (mean, sd, sd / n.sqrt())
-}
-
 /// `cargo xtask mesh-mill [--seeds N (5)] [--jobs J (1)]`.
 pub fn run_study(args: &[String]) -> i32 {
     let start = Instant::now();
@@ -86,26 +80,8 @@ pub fn run_study(args: &[String]) -> i32 {
     for r in &rows {
         let _ = writeln!(csv, "{},{},{:.2},{:.2},{:.1}", r.liner, r.seed, r.power, r.lifters, r.seconds);
     }
-    let stats = |liner: &str| mean_and_error(&rows.iter().filter(|r| r.liner == liner).map(|r| r.power).collect::<Vec<_>>());
-    let (prism_mean, prism_sd, prism_err) = stats("prisms");
-    let (mesh_mean, mesh_sd, mesh_err) = stats("mesh");
-    let _ = writeln!(csv, "# prisms: mean {prism_mean:.1} W, sd {prism_sd:.1}, standard error {prism_err:.1}");
-    let _ = writeln!(csv, "# mesh: mean {mesh_mean:.1} W, sd {mesh_sd:.1}, standard error {mesh_err:.1}");
-    let _ = writeln!(
-        csv,
-        "# difference mesh - prisms: {:.1} W ({:+.2} %), {:.2} combined standard errors",
-        mesh_mean - prism_mean,
-        100.0 * (mesh_mean / prism_mean - 1.0),
-        (mesh_mean - prism_mean) / (prism_err.powi(2) + mesh_err.powi(2)).sqrt()
-    );
-    print!("{csv}");
+    let powers = |liner: &str| rows.iter().filter(|r| r.liner == liner).map(|r| r.power).collect::<Vec<_>>();
+    compare(&mut csv, ("mesh", &powers("mesh")), ("prisms", &powers("prisms")), "W", 1);
     eprintln!("total: {:.1} s", start.elapsed().as_secs_f64());
-    let path = root().join("docs/charts/mill_mesh_liner.csv");
-    match std::fs::write(&path, csv) {
-        Ok(()) => 0,
-        Err(e) => {
-            eprintln!("cannot write {}: {e}", path.display());
-            1
-        }
-    }
+    write_csv("mill_mesh_liner", &csv)
 }
