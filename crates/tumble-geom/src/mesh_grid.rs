@@ -17,9 +17,10 @@ pub struct TriangleGrid {
 
 impl TriangleGrid {
     /// Bins `mesh` on cells of about `cell` (the particles' interaction diameter suits), or of
-    /// twice the typical triangle's size when triangles are smaller than that, so a sphere over
-    /// fine triangles gathers few; the cells grow when the mesh's box would need more than 8
-    /// cells per triangle (and 4,096), or the listing more than 16 entries per triangle.
+    /// twice the typical triangle's size when triangles are smaller than that (up to `cell`
+    /// while the listing would hold more than 16 entries per triangle), so a sphere over fine
+    /// triangles gathers few; the cells grow when the mesh's box would need more than 8 cells
+    /// per triangle (and 4,096).
     pub fn new(mesh: &TriangleMesh, cell: f64) -> TriangleGrid {
         let (lo, hi) = mesh.vertices.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
         let extent = (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
@@ -33,10 +34,14 @@ impl TriangleGrid {
         let mut sizes: Vec<f64> = bounds.iter().map(|(a, b)| (*b - *a).max_element()).collect();
         let mid = sizes.len() / 2;
         let typical = if sizes.is_empty() { cell } else { *sizes.select_nth_unstable_by(mid, f64::total_cmp).1 };
-        let mut cell = cell.min(2.0 * typical).max(extent.max_element() * 1e-6);
         // Entries each triangle's box puts in the grid at cell width `w`.
         let entries = |w: f64| bounds.iter().map(|(a, b)| ((*b - *a) / w + DVec3::ONE).ceil().to_array().iter().product::<f64>()).sum::<f64>();
-        while (extent / cell).ceil().max(DVec3::ONE).to_array().iter().product::<f64>() > most || entries(cell) > 16.0 * bounds.len() as f64 {
+        let mut fine = (2.0 * typical).min(cell);
+        while fine < cell && entries(fine) > 16.0 * bounds.len() as f64 {
+            fine *= 1.25;
+        }
+        let mut cell = fine.min(cell).max(extent.max_element() * 1e-6);
+        while (extent / cell).ceil().max(DVec3::ONE).to_array().iter().product::<f64>() > most {
             cell *= 1.25;
         }
         let dims = (extent / cell).ceil().max(DVec3::ONE).to_array().map(|d| d as usize);
@@ -104,6 +109,18 @@ impl TriangleGrid {
 mod tests {
     use super::*;
     use crate::mesh::{DEFAULT_CURVATURE, box_triangles_subdivided};
+
+    #[test]
+    fn fine_triangles_shrink_the_cells_and_large_ones_keep_the_particles() {
+        let cell_for = |n: usize| {
+            let (v, t) = box_triangles_subdivided(DVec3::ZERO, DVec3::ONE, n);
+            TriangleGrid::new(&TriangleMesh::new(&v, &t, DEFAULT_CURVATURE).unwrap().0, 0.1).layout().1
+        };
+        // Triangles 0.02 across under particles 0.1 across: cells twice the triangles.
+        assert!((cell_for(50) - 0.04).abs() < 1e-12, "{}", cell_for(50));
+        // Triangles 1 across: the particles' cells.
+        assert_eq!(cell_for(1), 0.1);
+    }
 
     #[test]
     fn the_grid_finds_every_triangle_a_sphere_touches_and_the_same_contacts() {
