@@ -334,7 +334,7 @@ fn add_walls(s: ptr<function, Sum>, i: u32) {
         var v_wall = vec3<f32>(0.0);
         if MOVING {
             // A moving wall's velocity at the contact point enters the relative velocity.
-            v_wall = wall_velocity(base, p.point);
+            v_wall = wall_velocity(base, p.point, p.normal);
             v_rel -= v_wall;
         }
         if ROTATION {

@@ -136,7 +136,7 @@ fn polyhedron_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> 
     var v_wall = vec3<f32>(0.0);
     var wall_w = vec3<f32>(0.0);
     if MOVING {
-        v_wall = wall_velocity(base, hit.point);
+        v_wall = wall_velocity(base, hit.point, hit.normal);
         wall_w = wall_spin(base);
     }
     let v_rel = seen_velocity(i) + cross(w, arm) - v_wall;
@@ -354,7 +354,7 @@ fn volume_wall_contact(s: ptr<function, Sum>, i: u32, k: u32, base: u32) -> f32 
     var v_wall = vec3<f32>(0.0);
     var wall_w = vec3<f32>(0.0);
     if MOVING {
-        v_wall = wall_velocity(base, x);
+        v_wall = wall_velocity(base, x, hit.normal);
         wall_w = wall_spin(base);
     }
     let pair = props[i].y * params.materials + wall_material(base);

@@ -28,10 +28,16 @@ fn wall_extras(base: u32) -> u32 {
     return u32(tables[base].w);
 }
 
-// Velocity of the wall material at x (relative to the domain's centre): ω × x + v(centre).
-fn wall_velocity(base: u32, x: vec3<f32>) -> vec3<f32> {
+// Velocity of the wall material at x (relative to the domain's centre) for a contact with
+// normal n: ω × x + v(centre); a conveyor (w of the second word set) moves along itself only,
+// so the part of its surface velocity along n is dropped (tumble_scene's Wall::contact_velocity).
+fn wall_velocity(base: u32, x: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let e = wall_extras(base);
-    return cross(tables[e].xyz, x) + tables[e + 1u].xyz;
+    let v = cross(tables[e].xyz, x) + tables[e + 1u].xyz;
+    if tables[e + 1u].w > 0.5 {
+        return v - n * dot(v, n);
+    }
+    return v;
 }
 
 // The wall's angular velocity (zero unless it rotates).

@@ -373,9 +373,10 @@ pub fn pair_table(plan: &Plan) -> Vec<[f32; 4]> {
     t
 }
 
-/// True when some wall moves (the MOVING switch: wall velocities, poses uploaded every step, wall power).
+/// True when some wall's material moves, by a motion or a conveyor's surface velocity (the MOVING
+/// switch: wall velocities, poses uploaded every step, wall power and work).
 pub fn moving_walls(plan: &Plan) -> bool {
-    plan.model.walls.iter().any(|w| w.motion.is_some())
+    plan.model.walls.iter().any(|w| w.motion.is_some() || w.surface_velocity != DVec3::ZERO)
 }
 
 /// The wall section of the table (it follows the pair table, at `PAIR_ENTRY_WORDS · materials²`)
@@ -404,8 +405,9 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
             // ω and the velocity at the domain's centre: v(x) = ω × (x − centre) + v(centre).
             let spin = w.angular_velocity();
             extras.push([spin.x as f32, spin.y as f32, spin.z as f32, w.group as f32]);
-            let v = w.velocity_at(origin);
-            extras.push([v.x as f32, v.y as f32, v.z as f32, 0.0]);
+            // A conveyor has no motion: its surface velocity, flagged so the part along the normal is dropped.
+            let v = w.velocity_at(origin) + w.surface_velocity;
+            extras.push([v.x as f32, v.y as f32, v.z as f32, (w.surface_velocity != DVec3::ZERO) as u8 as f32]);
             debug_assert_eq!(extras.len() - first_extra, codes::WALL_MOTION_WORDS as usize);
         }
         let mut entry = wall_entry(&w.shape, w.material as usize, origin);
@@ -445,10 +447,8 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
 
 /// Why the GPU backend cannot run the plan's walls, if it cannot.
 pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
-    let mesh = |w: &&tumble_scene::Wall| matches!(w.shape, SurfaceShape::Mesh(_));
-    if let Some(w) = plan.model.walls.iter().find(|w| mesh(w) || w.surface_velocity != DVec3::ZERO) {
-        let what = if mesh(&w) { format!("mesh walls (\"{}\")", w.name) } else { format!("conveyors (surface_velocity on \"{}\")", w.name) };
-        return Some(format!("{what} run on the CPU backend only for now"));
+    if let Some(w) = plan.model.walls.iter().find(|w| matches!(w.shape, SurfaceShape::Mesh(_))) {
+        return Some(format!("mesh walls (\"{}\") run on the CPU backend only for now", w.name));
     }
     // The contact pass books each group's load once, walking the walls in group order from group 0.
     if plan.model.walls.first().is_some_and(|w| w.group != 0) || plan.model.walls.windows(2).any(|w| w[1].group < w[0].group) {

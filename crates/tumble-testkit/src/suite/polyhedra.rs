@@ -115,7 +115,12 @@ pub fn an_octahedron_striking_a_cube_face_rebounds_elastically(backend: BackendN
 /// Velocity, angular velocity, the wall's work, the mass and the observables at the start and
 /// the end of a one-cube scene of `scenes/test/`.
 fn one_cube(backend: BackendName, name: &str) -> (DVec3, DVec3, f64, f64, tumble::Observables, tumble::Observables) {
-    let scene = compiled(&test_scene(name));
+    one_cube_of(backend, &test_scene(name))
+}
+
+/// [`one_cube`] of a scene's text.
+fn one_cube_of(backend: BackendName, text: &str) -> (DVec3, DVec3, f64, f64, tumble::Observables, tumble::Observables) {
+    let scene = compiled(text);
     let steps = steps(&scene);
     let mut sim = Simulation::on(backend, scene, 1).unwrap();
     let start = sim.observables();
@@ -138,15 +143,20 @@ pub fn a_plate_striking_a_cube_face_on_throws_it_at_twice_its_speed(backend: Bac
 
 /// A cube set on a belt moving at V is dragged to V; friction is the only force along the belt,
 /// so the belt's work is V times its impulse, m V², and what the cube did not gain was dissipated.
+/// The belt is a plane translating in its own plane, then a plane conveyor (surface velocity).
 pub fn a_belt_drags_a_cube_to_its_speed(backend: BackendName) {
     let v = 0.2;
-    let (vel, omega, work, m, start, end) = one_cube(backend, "cube_belt");
-    let books =
-        (end.wall_work - (end.mechanical_energy() + end.dissipated_energy - start.mechanical_energy() - start.dissipated_energy)) / end.wall_work;
-    println!("{backend:?}: cube on a belt: v {vel} (V = {v}), ω {omega}, work {work:.6e} (m V² = {:.6e}), books {books:.2e}", m * v * v);
-    assert!((vel.x / v - 1.0).abs() < Tolerance::on(WallDrivenSpeed, backend), "the cube moves at {} on a belt at {v}", vel.x);
-    assert!((work / (m * v * v) - 1.0).abs() < Tolerance::on(WallWork, backend), "belt work {work} vs m V² = {}", m * v * v);
-    assert!(omega.length() < 1e-2, "the cube tips: ω {omega}");
-    // The polyhedron contact's own books leave −8.8e-3 (docs/drum.md); a belt whose work were not booked would leave 1.
-    assert!(books.abs() < 2e-2, "(work − Δ mechanical − dissipated) / work = {books}");
+    let belt = test_scene("cube_belt");
+    let conveyor = replaced(&belt, "motion = { translate = { velocity = [0.2, 0.0, 0.0] } }", "surface_velocity = [0.2, 0.0, 0.0]");
+    for (what, text) in [("translating plane", belt.clone()), ("conveyor", conveyor)] {
+        let (vel, omega, work, m, start, end) = one_cube_of(backend, &text);
+        let books =
+            (end.wall_work - (end.mechanical_energy() + end.dissipated_energy - start.mechanical_energy() - start.dissipated_energy)) / end.wall_work;
+        println!("{backend:?}: cube on a belt ({what}): v {vel} (V = {v}), ω {omega}, work {work:.6e} (m V² = {:.6e}), books {books:.2e}", m * v * v);
+        assert!((vel.x / v - 1.0).abs() < Tolerance::on(WallDrivenSpeed, backend), "{what}: the cube moves at {} on a belt at {v}", vel.x);
+        assert!((work / (m * v * v) - 1.0).abs() < Tolerance::on(WallWork, backend), "{what}: belt work {work} vs m V² = {}", m * v * v);
+        assert!(omega.length() < 1e-2, "{what}: the cube tips: ω {omega}");
+        // The polyhedron contact's own books leave −8.8e-3 (docs/drum.md); a belt whose work were not booked would leave 1.
+        assert!(books.abs() < 2e-2, "{what}: (work − Δ mechanical − dissipated) / work = {books}");
+    }
 }
