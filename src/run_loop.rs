@@ -376,7 +376,8 @@ impl ExtraRows {
             _ => Vec::new(),
         };
         let wall_loads = frame.wall_force.iter().copied().zip(frame.wall_torque.iter().copied()).collect();
-        ExtraColumns { power, wall_loads, drums: frame.drums.clone(), flow, inserted, outlets }
+        let servo = plan.model.wall_groups.iter().enumerate().filter(|(_, g)| g.servo.is_some()).map(|(k, _)| frame.servo_offset[k]).collect();
+        ExtraColumns { power, servo, wall_loads, drums: frame.drums.clone(), flow, inserted, outlets }
     }
 }
 

@@ -35,9 +35,10 @@ fn pvd(entries: &[(f64, String)]) -> String {
     pvd
 }
 
-/// The walls go in a series, one file per snapshot, when one moves or a mesh carries loads.
+/// The walls go in a series, one file per snapshot, when one moves (a servo too) or a mesh carries loads.
 fn wall_series(plan: &tumble_scene::Plan) -> bool {
-    plan.model.walls.iter().any(|w| w.motion.is_some() || matches!(w.shape, tumble_geom::SurfaceShape::Mesh(_)))
+    let servo = |w: &tumble_scene::Wall| plan.model.wall_groups[w.group as usize].servo.is_some();
+    plan.model.walls.iter().any(|w| w.motion.is_some() || servo(w) || matches!(w.shape, tumble_geom::SurfaceShape::Mesh(_)))
 }
 
 impl SnapshotWriter {

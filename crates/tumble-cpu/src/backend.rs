@@ -54,6 +54,7 @@ impl CpuSimulation {
                 power: self.group_power.clone(),
                 work: self.group_work.clone(),
                 work_compensation: Vec::new(),
+                servos: self.servos.clone(),
             },
             neighbours: Some(NeighbourStateRef {
                 reference: self.neighbours.reference(),
@@ -83,10 +84,11 @@ impl CpuSimulation {
                 && s.orient.len() == if self.plan.model.polyhedra { n } else { 0 }
                 && s.history.slots == self.state.history.slots
                 && (snap.last_pass.is_empty() || snap.last_pass.len() == n)
-                && snap.walls.power.len() == self.group_power.len();
+                && snap.walls.power.len() == self.group_power.len()
+                && (snap.walls.servos.len() == self.servos.len() || !self.has_servos());
         if !consistent {
             return Err(SnapshotError::Mismatch(
-                "its arrays do not match this plan's model (rotation, polyhedra, history slots, wall groups)".into(),
+                "its arrays do not match this plan's model (rotation, polyhedra, history slots, wall groups, servos)".into(),
             ));
         }
         self.state = snap.state.clone();
@@ -99,11 +101,14 @@ impl CpuSimulation {
         self.last_resort = snap.last_resort;
         self.group_power.clone_from(&snap.walls.power);
         self.group_work.clone_from(&snap.walls.work);
+        if snap.walls.servos.len() == self.servos.len() {
+            self.servos.clone_from(&snap.walls.servos);
+        }
         self.neighbours.invalidate();
         if let Some(list) = &snap.neighbours {
             if list.valid && list.reference.len() == n {
                 // The list as it was built: positions of that build, walls in that build's pose.
-                self.place_walls(snap.walls.built_at);
+                self.place_walls_as(snap.walls.built_at, true);
                 let now = std::mem::replace(&mut self.state.pos, list.reference.clone());
                 self.build_list();
                 self.state.pos = now;
@@ -160,6 +165,7 @@ impl Backend for CpuSimulation {
             wall_work: self.group_work.clone(),
             wall_force: self.group_force.clone(),
             wall_torque: self.wall_torque(),
+            servo_offset: self.servo_offsets(),
             drums: self.drum_profiles(),
             state: with_state.then_some(Cow::Borrowed(&self.state)),
         }

@@ -39,6 +39,7 @@ mod neighbours;
 pub mod network;
 mod observables;
 mod polyhedra;
+mod servo;
 mod step;
 
 pub use tumble_state::{ContactSum, DrumProfile, HistoryOverflow, HistorySlots, Observables, Spring, State, TrackRow, WALL_KEY, drum_profiles};
@@ -88,6 +89,8 @@ pub struct CpuSimulation {
     /// Per wall group at the last force pass: force on it, torque on it about the origin.
     group_force: Vec<DVec3>,
     group_torque: Vec<DVec3>,
+    /// Per wall group: its servo's offset, offset at the last list build and speed (servo.rs).
+    servos: Vec<tumble_state::ServoState>,
 }
 
 impl CpuSimulation {
@@ -107,7 +110,7 @@ impl CpuSimulation {
         let grid = CellGrid::new(&scene.plan.model.domain, scene.plan.model.domain.extent().max_element());
         let neighbours = NeighbourList::new(scene.plan.tuning.skin);
         let walls = scene.plan.model.walls.clone();
-        let moving_walls = walls.iter().any(|w| w.motion.is_some());
+        let moving_walls = walls.iter().any(|w| w.motion.is_some()) || scene.plan.model.wall_groups.iter().any(|g| g.servo.is_some());
         let working_walls = scene.plan.model.wall_groups.iter().any(|g| g.moving);
         let groups = scene.plan.model.wall_groups.len();
         let outlets = scene.plan.model.outlets.len();
@@ -140,6 +143,7 @@ impl CpuSimulation {
             group_work: vec![0.0; groups],
             group_force: vec![DVec3::ZERO; groups],
             group_torque: vec![DVec3::ZERO; groups],
+            servos: vec![Default::default(); groups],
         };
         sim.broad_phase();
         sim.initial_forces();

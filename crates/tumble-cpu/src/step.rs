@@ -72,20 +72,33 @@ impl CpuSimulation {
             list.build(grid, sorted, state, &domain, walls);
         });
         self.walls_built_at = self.walls_time;
+        for s in &mut self.servos {
+            s.built_offset = s.offset;
+        }
     }
 
-    /// Moves the walls to their pose at time `t`.
-    pub(crate) fn place_walls(&mut self, t: f64) {
+    /// Moves the walls to their pose at time `t` (servo walls to their current offset, or with
+    /// `built` to their offset at the last list build).
+    pub(crate) fn place_walls_as(&mut self, t: f64, built: bool) {
         self.walls_time = t;
         if !self.moving_walls {
             return;
         }
-        for (now, wall) in self.walls.iter_mut().zip(&self.plan.model.walls) {
+        let mut walls = std::mem::take(&mut self.walls);
+        for (now, wall) in walls.iter_mut().zip(&self.plan.model.walls) {
             if wall.motion.is_some() {
                 now.shape = wall.shape_at(t);
                 now.motion = wall.motion_at(t);
+            } else {
+                self.place_servo_wall(now, wall, built);
             }
         }
+        self.walls = walls;
+    }
+
+    /// Moves the walls to their pose at time `t`.
+    pub(crate) fn place_walls(&mut self, t: f64) {
+        self.place_walls_as(t, false);
     }
 
     /// True when some wall may have swept more than half the skin since the last list build.
@@ -157,6 +170,9 @@ impl CpuSimulation {
                 self.group_force[g] += load.force;
                 self.group_torque[g] += load.torque;
             }
+        }
+        if commit && self.has_servos() {
+            self.drive_servos();
         }
         if self.working_walls && commit {
             let dt = self.plan.model.dt;
@@ -286,6 +302,7 @@ impl CpuSimulation {
     /// One time step with the plan's integrator.
     pub fn step_once(&mut self) {
         let dt = self.plan.model.dt;
+        self.advance_servos();
         match self.plan.model.integrator {
             Integrator::Verlet => {
                 {

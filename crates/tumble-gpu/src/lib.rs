@@ -123,7 +123,7 @@ impl GpuSimulation {
                 "contact.rolling_model = \"epsd2\" (the rolling spring kept with the contact history) is not on the GPU backend yet; use backend = \"cpu\" or rolling_model = \"constant\"".into(),
             ));
         }
-        if let Some(why) = upload::unsupported_walls(&scene.plan, &hulls) {
+        if let Some(why) = walls::unsupported_walls(&scene.plan, &hulls) {
             return Err(GpuError::Feature(format!("{why}; use backend = \"cpu\"")));
         }
         let gpu = context::gpu()?;

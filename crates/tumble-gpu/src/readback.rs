@@ -176,6 +176,7 @@ impl GpuSimulation {
             wall_work,
             wall_force,
             wall_torque,
+            servo_offset: Vec::new(),
             drums,
             state: with_state.then(|| std::borrow::Cow::Owned(s)),
         }

@@ -298,7 +298,7 @@ impl GpuSimulation {
             let arrays = crate::readback::DeviceArrays::from_bytes(std::array::from_fn(|k| v[3 + k].as_slice()));
             std::borrow::Cow::Owned(self.state_from(&arrays))
         });
-        Frame { observables, tracks, wall_power, wall_work, wall_force, wall_torque, drums, state }
+        Frame { observables, tracks, wall_power, wall_work, wall_force, wall_torque, servo_offset: Vec::new(), drums, state }
     }
 
     fn observables_of_partial(&self, p: &Partial, wall_work: &[f64]) -> Observables {

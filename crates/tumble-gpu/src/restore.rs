@@ -58,6 +58,7 @@ impl GpuSimulation {
                 power: frame.wall_power,
                 work: frame.wall_work,
                 work_compensation: Vec::new(),
+                servos: Vec::new(),
             },
             neighbours: None,
             last_resort: self.last_resort,

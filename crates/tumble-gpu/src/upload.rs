@@ -445,23 +445,6 @@ pub fn wall_table(plan: &Plan, t: f64, hulls: &PrismHulls) -> Vec<[f32; 4]> {
     main
 }
 
-/// Why the GPU backend cannot run the plan's walls, if it cannot.
-pub fn unsupported_walls(plan: &Plan, hulls: &PrismHulls) -> Option<String> {
-    if let Some(w) = plan.model.walls.iter().find(|w| matches!(w.shape, SurfaceShape::Mesh(_))) {
-        return Some(format!("mesh walls (\"{}\") run on the CPU backend only for now", w.name));
-    }
-    // The contact pass books each group's load once, walking the walls in group order from group 0.
-    if plan.model.walls.first().is_some_and(|w| w.group != 0) || plan.model.walls.windows(2).any(|w| w[1].group < w[0].group) {
-        return Some("its wall surfaces are not in wall-group order".into());
-    }
-    // Table indices are stored as f32 (exact below 2^24).
-    let entries = codes::PAIR_ENTRY_WORDS as usize * plan.model.pairs.len() + wall_table(plan, 0.0, hulls).len();
-    if entries >= 1 << 24 {
-        return Some(format!("its pair and wall tables have {entries} entries (at most 2^24)"));
-    }
-    None
-}
-
 /// The kind code of a wall surface (geometry.wgsl's `wall_kind`); a new surface does not compile until it has one.
 pub fn wall_kind(shape: &SurfaceShape) -> u32 {
     match shape {

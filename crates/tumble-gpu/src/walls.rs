@@ -87,3 +87,23 @@ impl GpuSimulation {
 pub(crate) fn wall_work_value(w: &[f32; 2]) -> f64 {
     w[0] as f64 - w[1] as f64
 }
+
+/// Why the GPU backend cannot run the plan's walls, if it cannot.
+pub(crate) fn unsupported_walls(plan: &tumble_scene::Plan, hulls: &crate::prisms::PrismHulls) -> Option<String> {
+    let mesh = |w: &Wall| matches!(w.shape, tumble_geom::SurfaceShape::Mesh(_));
+    let groups = &plan.model.wall_groups;
+    if let Some(w) = plan.model.walls.iter().find(|w| mesh(w) || groups[w.group as usize].servo.is_some()) {
+        let what = if mesh(w) { "mesh walls" } else { "servo walls" };
+        return Some(format!("{what} (\"{}\") run on the CPU backend only for now", groups[w.group as usize].name));
+    }
+    // The contact pass books each group's load once, walking the walls in group order from group 0.
+    if plan.model.walls.first().is_some_and(|w| w.group != 0) || plan.model.walls.windows(2).any(|w| w[1].group < w[0].group) {
+        return Some("its wall surfaces are not in wall-group order".into());
+    }
+    // Table indices are stored as f32 (exact below 2^24).
+    let entries = tumble_shaders::PAIR_ENTRY_WORDS as usize * plan.model.pairs.len() + crate::upload::wall_table(plan, 0.0, hulls).len();
+    if entries >= 1 << 24 {
+        return Some(format!("its pair and wall tables have {entries} entries (at most 2^24)"));
+    }
+    None
+}

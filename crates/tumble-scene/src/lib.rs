@@ -49,8 +49,8 @@ pub use load::{parse_scene, read_scene, read_scene_text};
 pub use mesh_walls::MESH_TRIANGLES_AT_MOST;
 pub use particles::InitialParticles;
 pub use plan::{
-    CompiledScene, Drag, Drum, Feature, Fluid, Material, PairParams, PhysicsModel, Plan, PlanReport, PolyhedronContact, RunSettings, Timescales,
-    Tuning, Wall,
+    CompiledScene, Drag, Drum, Feature, Fluid, Material, Motion, PairParams, PhysicsModel, Plan, PlanReport, PolyhedronContact, RunSettings, Servo,
+    Timescales, Tuning, Wall,
 };
 pub use rng::Rng;
 pub use schema::Scene;

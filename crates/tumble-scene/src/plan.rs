@@ -252,6 +252,32 @@ impl Timing {
 pub struct WallGroup {
     pub name: String,
     pub moving: bool,
+    /// A servo moving the whole group (one [[walls]] entry) to hold a target force.
+    pub servo: Option<Servo>,
+}
+
+/// A servo wall's controller: each step the wall's speed along `direction` is
+/// `gain · (force − load)`, clamped to ±`max_speed`, where `load` is the particles' push on
+/// the wall against `direction` at the last force pass. The wall's position integrates its
+/// speed, so proportional control alone holds the target on a load at rest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Servo {
+    /// Unit direction the wall moves to press on the particles.
+    pub direction: DVec3,
+    /// Target force, N (> 0).
+    pub force: f64,
+    pub max_speed: f64,
+    /// m/s per N of force error.
+    pub gain: f64,
+}
+
+impl Servo {
+    /// The speed along `direction` for the group's contact force `wall_force` (on the wall).
+    #[inline]
+    pub fn speed(&self, wall_force: DVec3) -> f64 {
+        let load = -wall_force.dot(self.direction);
+        (self.gain * (self.force - load)).clamp(-self.max_speed, self.max_speed)
+    }
 }
 
 /// An inside cylinder turning about its own axis: a drum or mill, with its charge profile reported.

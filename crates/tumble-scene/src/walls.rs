@@ -3,7 +3,7 @@
 
 use crate::SceneError;
 use crate::compile::{finite3, positive, unit};
-use crate::plan::{Drum, Motion, Timing, Wall, WallGroup};
+use crate::plan::{Drum, Motion, Servo, Timing, Wall, WallGroup};
 use crate::schema::*;
 use glam::DVec3;
 use tumble_geom::{Cylinder, PeriodicBox, Plane, Prism, Quad, SurfaceShape};
@@ -30,7 +30,7 @@ pub(crate) fn compile_walls(
         };
         motions.push(motion);
         timings.push(timing);
-        if (w.motion.is_some() || w.surface_velocity.is_some()) && names[..k].contains(&names[k]) {
+        if (w.motion.is_some() || w.surface_velocity.is_some() || w.servo.is_some()) && names[..k].contains(&names[k]) {
             return Err(SceneError::field(
                 format!("walls[{k}].name"),
                 format!("a moving wall needs a unique name (its power column); \"{}\" is used twice", names[k]),
@@ -53,6 +53,7 @@ pub(crate) fn compile_walls(
         let mut motion = motions[k];
         let mut timing = timings[k];
         let surface_velocity = conveyor(k, w)?;
+        let servo = servo(k, w)?;
         let group = k as u16;
         let mut shapes: Vec<(String, SurfaceShape)> = Vec::new();
         if let Some(m) = &w.mesh {
@@ -173,7 +174,7 @@ pub(crate) fn compile_walls(
                 shapes.push((format!("{name}{r}"), SurfaceShape::Prism(Box::new(prism))));
             }
         }
-        groups.push(WallGroup { name, moving: motion.is_some() || surface_velocity != DVec3::ZERO });
+        groups.push(WallGroup { name, moving: motion.is_some() || surface_velocity != DVec3::ZERO || servo.is_some(), servo });
         for (wall_name, shape) in shapes {
             let (travel_speed, surface_speed) = match motion {
                 None => (0.0, 0.0),
@@ -195,6 +196,12 @@ pub(crate) fn compile_walls(
                 }
             };
             let surface_speed = surface_speed.max(surface_velocity.length());
+            // A servo translates the wall at up to its largest speed.
+            let (travel_speed, surface_speed) = match (&servo, &shape) {
+                (Some(s), SurfaceShape::Plane(p)) => (s.max_speed * s.direction.dot(p.normal).abs(), s.max_speed),
+                (Some(s), _) => (s.max_speed, s.max_speed),
+                (None, _) => (travel_speed, surface_speed),
+            };
             walls.push(Wall { name: wall_name, material, shape, motion, surface_velocity, timing, group, travel_speed, surface_speed });
         }
     }
@@ -213,6 +220,26 @@ fn conveyor(k: usize, w: &WallSection) -> Result<DVec3, SceneError> {
         return Err(SceneError::field(field, "a conveyor's surface moves while the wall stays: give it on a wall without motion (not on lifters)"));
     }
     Ok(v)
+}
+
+/// A servo wall's controller, checked.
+fn servo(k: usize, w: &WallSection) -> Result<Option<Servo>, SceneError> {
+    let Some(s) = &w.servo else { return Ok(None) };
+    let f = |x: &str| format!("walls[{k}].servo.{x}");
+    if w.motion.is_some() || w.surface_velocity.is_some() || w.lifters.is_some() {
+        return Err(SceneError::field(
+            f("direction"),
+            "a servo moves its wall itself: give it on a wall without motion or surface_velocity (not on lifters)",
+        ));
+    }
+    let direction = unit(&f("direction"), s.direction)?;
+    let force = positive(&f("force"), s.force)?;
+    let max_speed = positive(&f("max_speed"), s.max_speed)?;
+    let gain = match s.gain {
+        Some(g) => positive(&f("gain"), g)?,
+        None => max_speed / force,
+    };
+    Ok(Some(Servo { direction, force, max_speed, gain }))
 }
 
 /// A wall's motion and its timing, checked.

@@ -41,6 +41,9 @@ pub struct Frame<'a> {
     /// its torque about the group's reference point (`PhysicsModel::wall_group_reference`).
     pub wall_force: Vec<DVec3>,
     pub wall_torque: Vec<DVec3>,
+    /// Per wall group: a servo wall's offset along its direction from its t = 0 pose (zero
+    /// without a servo; empty on backends without servos).
+    pub servo_offset: Vec<f64>,
     pub drums: Vec<DrumProfile>,
     /// The particle arrays, when asked for (flow planes, agglomerates).
     pub state: Option<Cow<'a, State>>,

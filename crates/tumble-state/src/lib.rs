@@ -25,5 +25,7 @@ pub use contact_sum::ContactSum;
 pub use fault::Fault;
 pub use history::{HistoryOverflow, HistorySlots, MESH_KEY, Spring, WALL_KEY};
 pub use observables::{DrumFrame, DrumProfile, Observables, TrackRow, drum_profiles, no_drum_profile, quantile_rank, tracks};
-pub use snapshot::{DeviceImage, NeighbourState, NeighbourStateRef, OutletTally, SNAPSHOT_VERSION, Snapshot, SnapshotError, SnapshotRef, WallState};
+pub use snapshot::{
+    DeviceImage, NeighbourState, NeighbourStateRef, OutletTally, SNAPSHOT_VERSION, ServoState, Snapshot, SnapshotError, SnapshotRef, WallState,
+};
 pub use state::State;

@@ -6,8 +6,9 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 /// The layout version written into every snapshot; a reader refuses any other.
-/// 4: contact springs carry the EPSD2 rolling torque and its energy; 5: outlet tallies.
-pub const SNAPSHOT_VERSION: u32 = 5;
+/// 4: contact springs carry the EPSD2 rolling torque and its energy; 5: outlet tallies;
+/// 6: servo walls' state.
+pub const SNAPSHOT_VERSION: u32 = 6;
 
 /// The first bytes of an encoded snapshot.
 const MAGIC: &[u8; 8] = b"TUMBLESN";
@@ -131,6 +132,18 @@ pub struct WallState {
     pub work: Vec<f64>,
     /// Kahan compensation of `work`, where a backend keeps one (empty otherwise).
     pub work_compensation: Vec<f64>,
+    /// Per wall group: its servo's state (default for groups without one; empty on backends
+    /// without servos).
+    pub servos: Vec<ServoState>,
+}
+
+/// Where a servo wall is: its offset along the servo's direction from its t = 0 pose (the
+/// current pose, and the pose of the last neighbour-list build) and its speed over the next step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ServoState {
+    pub offset: f64,
+    pub built_offset: f64,
+    pub speed: f64,
 }
 
 /// What a Verlet list needs to be rebuilt exactly as it was.
