@@ -59,10 +59,24 @@ pub(super) fn features(scene: &Scene, model: &PhysicsModel, mechanics: &Mechanic
             name: "walls",
             active: !walls.is_empty(),
             reason: {
+                let servo = |w: &&Wall| model.wall_groups[w.group as usize].servo.is_some();
                 let moving = walls.iter().filter(|w| w.motion.is_some()).count();
-                let mut r = format!("{} static surfaces", walls.len() - moving);
+                let servos = walls.iter().filter(servo).count();
+                let mut r = format!("{} static surfaces", walls.len() - moving - servos);
                 if moving > 0 {
                     let _ = write!(r, ", {moving} moving (wall velocity enters the contact; rebuild when a wall sweeps skin/2)");
+                }
+                for g in model.wall_groups.iter().filter(|g| g.servo.is_some()) {
+                    let s = g.servo.unwrap();
+                    let _ = write!(
+                        r,
+                        "; servo {}: presses along {:?} to {} N at up to {} m/s, gain {:.4e} m/s per N",
+                        g.name,
+                        s.direction.to_array(),
+                        s.force,
+                        s.max_speed,
+                        s.gain
+                    );
                 }
                 if !drums.is_empty() {
                     let _ = write!(r, "; drums {}", drums.iter().map(|d| d.name.as_str()).collect::<Vec<_>>().join(", "));
