@@ -12,8 +12,8 @@ use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use tumble_state::Snapshot;
 
-/// The layout of a checkpoint file; a reader refuses any other.
-pub const CHECKPOINT_VERSION: u32 = 1;
+/// The layout of a checkpoint file; a reader refuses any other. 2: the scene's input files.
+pub const CHECKPOINT_VERSION: u32 = 2;
 
 /// The first bytes of a checkpoint file.
 const MAGIC: &[u8; 8] = b"TUMBLECK";
@@ -35,6 +35,37 @@ pub struct SceneRecord {
     pub dt: Option<f64>,
     /// `--checkpoint-interval` of the command that started or last resumed the run.
     pub checkpoint_interval: Option<f64>,
+    /// The other files the scene reads (mesh walls), with the CRC-32 of their bytes then: a
+    /// resumed run must see the same geometry.
+    pub inputs: Vec<(PathBuf, u32)>,
+}
+
+impl SceneRecord {
+    /// The first input file that is missing or changed since the record was made, with why.
+    pub fn changed_input(&self) -> Option<String> {
+        self.inputs.iter().find_map(|(path, crc)| match std::fs::read(path) {
+            Err(e) => Some(format!("{}: {e}", path.display())),
+            Ok(bytes) if crc32fast::hash(&bytes) != *crc => Some(format!("{}: the file changed", path.display())),
+            Ok(_) => None,
+        })
+    }
+}
+
+/// The files besides itself that a scene (its text, read from `path`) reads: its mesh walls'
+/// files, with the CRC-32 of their bytes; files that cannot be read are left to the compiler.
+pub fn scene_inputs(text: &str, path: &Path) -> Vec<(PathBuf, u32)> {
+    let Ok(scene) = tumble_scene::parse_scene(text) else { return Vec::new() };
+    let folder = path.parent().unwrap_or(Path::new(""));
+    scene
+        .walls
+        .iter()
+        .filter_map(|w| w.mesh.as_ref())
+        .filter_map(|m| {
+            let file = std::fs::canonicalize(folder.join(&m.file)).ok()?;
+            let bytes = std::fs::read(&file).ok()?;
+            Some((file, crc32fast::hash(&bytes)))
+        })
+        .collect()
 }
 
 /// A checkpoint's record of the run: everything but the backend's snapshot.
@@ -275,7 +306,14 @@ mod tests {
         Checkpoint {
             header: CheckpointHeader {
                 tumble_version: "0.1.0".into(),
-                scene: Some(SceneRecord { path: "a.toml".into(), text: SCENE.into(), duration: Some(1.0), dt: None, checkpoint_interval: None }),
+                scene: Some(SceneRecord {
+                    path: "a.toml".into(),
+                    text: SCENE.into(),
+                    duration: Some(1.0),
+                    dt: None,
+                    checkpoint_interval: None,
+                    inputs: vec![("cone.stl".into(), 7)],
+                }),
                 backend: "cpu".into(),
                 step,
                 time: step as f64 * 1e-5,

@@ -34,6 +34,12 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
             dir.display()
         )));
     }
+    if let Some(why) = record.changed_input() {
+        return Err(refuse(format!(
+            "{why} since the run in {} started (a mesh wall of its scene), and a run continues only the geometry it started with; restore the file, or start a new run with tumble run",
+            dir.display()
+        )));
+    }
     if options.dt.is_some_and(|dt| Some(dt) != record.dt) {
         return Err(refuse(format!("{shown}: a resumed run keeps the dt it started with; leave out --dt")));
     }

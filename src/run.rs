@@ -165,6 +165,7 @@ pub fn load_recorded(path: &Path, options: &RunOptions) -> Result<(CompiledScene
     let compiled = compile_text(&text, path, options.duration, options.dt)?;
     let record = SceneRecord {
         path: std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
+        inputs: crate::checkpoint::scene_inputs(&text, path),
         text,
         duration: options.duration,
         dt: options.dt,

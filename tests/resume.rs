@@ -222,6 +222,35 @@ fn refused(dir: &Path, extra: &[&str], expect: &[&str]) {
     assert!(everything(dir) == before, "a refused resume changed the folder");
 }
 
+/// A run's mesh wall is part of what it continues: a mesh file changed or removed since the
+/// run started is refused, naming the file; restored, the run continues.
+#[test]
+fn a_mesh_file_changed_since_the_run_started_is_refused() {
+    let dir = tmp("mesh");
+    let sheet = "v -2 -1 0\nv 2 -1 0\nv 2 1 0\nv -2 1 0\nf 1 2 3\nf 1 3 4\n";
+    std::fs::write(dir.join("belt.obj"), sheet).unwrap();
+    let text = std::fs::read_to_string(root().join("scenes/test/belt.toml")).unwrap().replace(
+        "plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }\nmotion = { translate = { velocity = [0.5, 0.0, 0.0] } }",
+        "mesh = { file = \"belt.obj\" }\nsurface_velocity = [0.5, 0.0, 0.0]",
+    );
+    assert!(text.contains("belt.obj"));
+    let scene = dir.join("belt.toml");
+    std::fs::write(&scene, text).unwrap();
+    let run_dir = dir.join("run");
+    let r = run_dir.to_str().unwrap();
+    let out = run(&["run", scene.to_str().unwrap(), "--quiet", "--duration", "0.05", "--checkpoint-interval", "0.01", "--out", r]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Lowered by 1 mm: the same scene text, another geometry.
+    std::fs::write(dir.join("belt.obj"), sheet.replace(" 0\n", " -0.001\n")).unwrap();
+    refused(&run_dir, &["--duration", "0.1"], &["belt.obj", "changed", "geometry"]);
+    std::fs::remove_file(dir.join("belt.obj")).unwrap();
+    refused(&run_dir, &["--duration", "0.1"], &["belt.obj", "geometry"]);
+    std::fs::write(dir.join("belt.obj"), sheet).unwrap();
+    let out = run(&["resume", r, "--quiet", "--duration", "0.1"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn damaged_foreign_and_mismatched_checkpoints_are_refused_and_change_nothing() {
     let dir = tmp("refuse");
