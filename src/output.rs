@@ -13,6 +13,8 @@ pub struct ExtraColumns {
     pub power: Vec<f64>,
     /// Per servo wall: its offset along the servo's direction from its t = 0 pose, m.
     pub servo: Vec<f64>,
+    /// Per wearing mesh wall: the volume worn off it since t = 0, m³.
+    pub wear: Vec<f64>,
     /// Per wall group (all of them): force on it and torque about its reference point at the
     /// row's force pass, N and N·m.
     pub wall_loads: Vec<(glam::DVec3, glam::DVec3)>,
@@ -49,7 +51,7 @@ pub struct ObservablesCsv(BufWriter<File>);
 
 impl ObservablesCsv {
     /// Header: the fixed columns, `fluid_work` with a fluid, then `power_<wall>` per moving wall
-    /// and `wall_work`, `servo_<wall>` per servo wall, then per wall group `fx_<g>,fy_<g>,fz_<g>,tx_<g>,ty_<g>,tz_<g>`, then per drum `charge_mass_<d>,com_angle_<d>,com_radius_<d>,toe_<d>,shoulder_<d>,torque_arm_power_<d>`,
+    /// and `wall_work`, `servo_<wall>` per servo wall, `wear_<wall>` per wearing mesh, then per wall group `fx_<g>,fy_<g>,fz_<g>,tx_<g>,ty_<g>,tz_<g>`, then per drum `charge_mass_<d>,com_angle_<d>,com_radius_<d>,toe_<d>,shoulder_<d>,torque_arm_power_<d>`,
     /// then per flow plane `flow_<p>,mass_<p>`, per source `inserted_<s>,inserted_mass_<s>`, per
     /// outlet `deleted_<o>,deleted_mass_<o>,outlet_rate_<o>`.
     /// The file, new or (`append`) continued.
@@ -71,6 +73,9 @@ impl ObservablesCsv {
         }
         for g in plan.model.wall_groups.iter().filter(|g| g.servo.is_some()) {
             write!(w, ",servo_{}", g.name)?;
+        }
+        for wall in plan.model.walls.iter().filter(|w| w.wear > 0.0) {
+            write!(w, ",wear_{}", wall.name)?;
         }
         for g in &plan.model.wall_groups {
             write!(w, ",fx_{0},fy_{0},fz_{0},tx_{0},ty_{0},tz_{0}", g.name)?;
@@ -107,7 +112,7 @@ impl ObservablesCsv {
         if !extra.power.is_empty() {
             write!(self.0, ",{}", o.wall_work)?;
         }
-        for x in &extra.servo {
+        for x in extra.servo.iter().chain(&extra.wear) {
             write!(self.0, ",{x}")?;
         }
         for (f, t) in &extra.wall_loads {

@@ -377,7 +377,8 @@ impl ExtraRows {
         };
         let wall_loads = frame.wall_force.iter().copied().zip(frame.wall_torque.iter().copied()).collect();
         let servo = plan.model.wall_groups.iter().enumerate().filter(|(_, g)| g.servo.is_some()).map(|(k, _)| frame.servo_offset[k]).collect();
-        ExtraColumns { power, servo, wall_loads, drums: frame.drums.clone(), flow, inserted, outlets }
+        let wear = sim.mesh_wear().iter().zip(&plan.model.walls).filter(|(_, w)| w.wear > 0.0).map(|(t, _)| t.iter().sum()).collect();
+        ExtraColumns { power, servo, wear, wall_loads, drums: frame.drums.clone(), flow, inserted, outlets }
     }
 }
 

@@ -192,6 +192,11 @@ impl Simulation {
         self.backend.drum_profiles()
     }
 
+    /// Per wall: the volume worn off each of its triangles since t = 0 (Archard; empty without wear).
+    pub fn mesh_wear(&self) -> Vec<Vec<f64>> {
+        self.backend.mesh_wear()
+    }
+
     /// The walls in their current pose.
     pub fn walls(&self) -> Cow<'_, [tumble_scene::Wall]> {
         self.backend.walls()

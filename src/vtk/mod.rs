@@ -41,6 +41,33 @@ fn wall_series(plan: &tumble_scene::Plan) -> bool {
     plan.model.walls.iter().any(|w| w.motion.is_some() || servo(w) || matches!(w.shape, tumble_geom::SurfaceShape::Mesh(_)))
 }
 
+/// Adds each polygon's Archard wear to `data` (the walls' polygons as [`walls_vtp`] lays them
+/// out, its `wall` cell array naming each one's wall) as cell data: `wear_volume` (m³ since
+/// t = 0) and `wear_depth` (m: the volume over the triangle's area), zero on polygons of walls
+/// without wear; nothing when no wall wears.
+fn add_wear(data: &mut PolyData, walls: &[tumble_scene::Wall], wear: &[Vec<f64>]) {
+    if wear.iter().all(Vec::is_empty) {
+        return;
+    }
+    let Some(Values::I32(wall_of_poly)) = data.cell_data.iter().find(|a| a.name == "wall").map(|a| a.values.clone()) else { return };
+    let (mut volume, mut depth) = (Vec::new(), Vec::new());
+    let mut k = 0;
+    for (p, &w) in wall_of_poly.iter().enumerate() {
+        // k: the polygon's index within its wall (a mesh's triangle).
+        k = if p > 0 && wall_of_poly[p - 1] == w { k + 1 } else { 0 };
+        let (w, mut v, mut d) = (w as usize, 0.0, 0.0);
+        if let (Some(&worn), tumble_geom::SurfaceShape::Mesh(m)) = (wear.get(w).and_then(|t| t.get(k)), &walls[w].shape) {
+            let c = m.corners(k);
+            let area = 0.5 * (c[1] - c[0]).cross(c[2] - c[0]).length();
+            (v, d) = (worn, if area > 0.0 { worn / area } else { 0.0 });
+        }
+        volume.push(v);
+        depth.push(d);
+    }
+    data.cell_data.push(Array::f64("wear_volume", 1, volume));
+    data.cell_data.push(Array::f64("wear_depth", 1, depth));
+}
+
 impl SnapshotWriter {
     /// Creates snapshots/ and, when the scene has walls and none moves, `walls.vtp`.
     pub fn create(out_dir: &Path, plan: &tumble_scene::Plan) -> io::Result<Self> {
@@ -101,7 +128,9 @@ impl SnapshotWriter {
         if self.wall_series {
             let walls = sim.walls();
             let loads = tumble_cpu::network::mesh_loads(&plan.model, state, &walls);
-            self.add("walls", index, time, &walls_vtp(plan, &walls, Some(&loads)))?;
+            let mut data = walls_vtp(plan, &walls, Some(&loads));
+            add_wear(&mut data, &walls, &sim.mesh_wear());
+            self.add("walls", index, time, &data)?;
         }
         if plan.run.contacts {
             self.add("contacts", index, time, &contacts::contacts_vtp(plan, state, &sim.walls()))?;

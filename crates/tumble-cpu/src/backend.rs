@@ -55,6 +55,7 @@ impl CpuSimulation {
                 work: self.group_work.clone(),
                 work_compensation: Vec::new(),
                 servos: self.servos.clone(),
+                wear: self.wear.clone(),
             },
             neighbours: Some(NeighbourStateRef {
                 reference: self.neighbours.reference(),
@@ -85,10 +86,11 @@ impl CpuSimulation {
                 && s.history.slots == self.state.history.slots
                 && (snap.last_pass.is_empty() || snap.last_pass.len() == n)
                 && snap.walls.power.len() == self.group_power.len()
-                && (snap.walls.servos.len() == self.servos.len() || !self.has_servos());
+                && (snap.walls.servos.len() == self.servos.len() || !self.has_servos())
+                && (snap.walls.wear.iter().map(Vec::len).eq(self.wear.iter().map(Vec::len)) || !self.wearing);
         if !consistent {
             return Err(SnapshotError::Mismatch(
-                "its arrays do not match this plan's model (rotation, polyhedra, history slots, wall groups, servos)".into(),
+                "its arrays do not match this plan's model (rotation, polyhedra, history slots, wall groups, servos, wear)".into(),
             ));
         }
         self.state = snap.state.clone();
@@ -103,6 +105,9 @@ impl CpuSimulation {
         self.group_work.clone_from(&snap.walls.work);
         if snap.walls.servos.len() == self.servos.len() {
             self.servos.clone_from(&snap.walls.servos);
+        }
+        if self.wearing {
+            self.wear.clone_from(&snap.walls.wear);
         }
         self.neighbours.invalidate();
         if let Some(list) = &snap.neighbours {
@@ -185,6 +190,10 @@ impl Backend for CpuSimulation {
 
     fn walls(&self) -> Cow<'_, [Wall]> {
         Cow::Borrowed(&self.walls)
+    }
+
+    fn mesh_wear(&self) -> Vec<Vec<f64>> {
+        self.wear.clone()
     }
 
     fn contact_force(&self, id: u32) -> Option<DVec3> {

@@ -55,6 +55,12 @@ pub struct WallLoad {
     pub torque: DVec3,
 }
 
+/// Contacts of one particle with one mesh wall that book wear: per contact (triangle, worn
+/// volume this step); a fifth and later contact (rare: a sphere in a mesh's corner touches three)
+/// books on the fourth's triangle.
+pub type Worn = [(u32, f64); WORN_SLOTS];
+pub const WORN_SLOTS: usize = 4;
+
 /// Force of one contact on body a, from the contact normal n (b to a), the
 /// overlaps and the relative velocity of a against b at the contact point.
 pub(crate) struct ContactForce {
@@ -235,7 +241,9 @@ impl SpringSlots<'_> {
 /// Particle `i`'s sum: its pairs, gathered in list order, then the walls.
 /// With history it also writes the springs it keeps into `slots` (a sees +ξ, b sees −ξ).
 /// `wall_loads` is empty, or one slot per wall candidate of `i` (its share of
-/// `list.wall_entries`), which receives that contact's [`WallLoad`].
+/// `list.wall_entries`), which receives that contact's [`WallLoad`]; `worn` likewise (or empty
+/// when no wall wears) receives the wear its mesh contacts book (Archard: K/H · F_n · slip · Δt).
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bool>(
     c: &ContactInputs,
@@ -245,6 +253,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     i: usize,
     mut slots: SpringSlots,
     wall_loads: &mut [WallLoad],
+    worn: &mut [Worn],
 ) -> ContactSum {
     let mut sum = ContactSum::default();
     for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
@@ -290,6 +299,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     // Mesh springs carried over to a contact under a new triangle's key: not ended.
     let mut carried: SmallVec<[u32; 4]> = SmallVec::new();
     wall_loads.fill(WallLoad::default());
+    worn.fill([(0, 0.0); WORN_SLOTS]);
     for (slot, &wall) in near.iter().enumerate() {
         let wall = wall as u32;
         let w = &c.walls[wall as usize];
@@ -305,6 +315,8 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
             touching.push((k, key, if HIST { s.history.find(i, key) } else { Spring::default() }));
         }
         let mut load = WallLoad::default();
+        let mut wear = [(0u32, 0.0f64); WORN_SLOTS];
+        let mut wears = 0;
         for (k, key, mut spring) in touching {
             // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the
             // rolling couple); a polyhedron's spin about the normal meets twisting friction, not rolling.
@@ -330,6 +342,14 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
                     v_rel += c.omega[i].cross(arm);
                 }
                 let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, model.dt, &mut spring);
+                if w.wear > 0.0 {
+                    // Archard: worn volume = K/H · normal force · sliding distance (the contact point's slip).
+                    let slip = (v_rel - k.normal * v_rel.dot(k.normal)).length();
+                    let slot = wears.min(WORN_SLOTS - 1);
+                    let triangle = if wears < WORN_SLOTS { (key & !(WALL_KEY | MESH_KEY)) - mesh_first_key(w) } else { wear[slot].0 };
+                    wear[slot] = (triangle, wear[slot].1 + w.wear * f.normal * slip * model.dt);
+                    wears += 1;
+                }
                 let torque = arm.cross(f.tangential);
                 (v_wall, k.overlap, f, torque, r)
             };
@@ -376,11 +396,19 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         if let Some(l) = wall_loads.get_mut(slot) {
             *l = load;
         }
+        if let Some(out) = worn.get_mut(slot) {
+            *out = wear;
+        }
     }
     if HIST {
         book_ended_springs(c, i, &slots, &carried, &mut sum);
     }
     sum
+}
+
+/// The first spring key of a mesh wall's triangles (0 for other walls).
+fn mesh_first_key(w: &Wall) -> u32 {
+    if let SurfaceShape::Mesh(m) = &w.shape { m.body.first_key } else { 0 }
 }
 
 /// A sphere's contacts with a mesh wall, each with its spring. A spring follows its contact

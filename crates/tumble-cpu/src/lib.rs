@@ -91,6 +91,12 @@ pub struct CpuSimulation {
     group_torque: Vec<DVec3>,
     /// Per wall group: its servo's offset, offset at the last list build and speed (servo.rs).
     servos: Vec<tumble_state::ServoState>,
+    /// Some mesh wall accumulates Archard wear.
+    wearing: bool,
+    /// Per wall: the volume worn off each of its triangles since t = 0 (empty without wear).
+    wear: Vec<Vec<f64>>,
+    /// Per wall candidate (parallel to the list's wall entries): the wear its contacts booked.
+    candidate_worn: Vec<forces::Worn>,
 }
 
 impl CpuSimulation {
@@ -113,6 +119,8 @@ impl CpuSimulation {
         let moving_walls = walls.iter().any(|w| w.motion.is_some()) || scene.plan.model.wall_groups.iter().any(|g| g.servo.is_some());
         let working_walls = scene.plan.model.wall_groups.iter().any(|g| g.moving);
         let groups = scene.plan.model.wall_groups.len();
+        let wearing = walls.iter().any(|w| w.wear > 0.0);
+        let wear = walls.iter().map(|w| if w.wear > 0.0 { vec![0.0; triangles(&w.shape)] } else { Vec::new() }).collect();
         let outlets = scene.plan.model.outlets.len();
         let mut sim = CpuSimulation {
             plan: scene.plan,
@@ -144,6 +152,9 @@ impl CpuSimulation {
             group_force: vec![DVec3::ZERO; groups],
             group_torque: vec![DVec3::ZERO; groups],
             servos: vec![Default::default(); groups],
+            wearing,
+            wear,
+            candidate_worn: Vec::new(),
         };
         sim.broad_phase();
         sim.initial_forces();
@@ -306,4 +317,9 @@ mod tests {
         sim.advance(1);
         assert_eq!(before.keys().collect::<Vec<_>>(), springs(&sim).keys().collect::<Vec<_>>(), "no contact lost or gained in one step at rest");
     }
+}
+
+/// Triangles of a mesh surface (0 for any other).
+fn triangles(shape: &tumble_geom::SurfaceShape) -> usize {
+    if let tumble_geom::SurfaceShape::Mesh(m) = shape { m.body.mesh.triangles.len() } else { 0 }
 }

@@ -1,7 +1,8 @@
 //! The step: broad phase, contacts, body forces, integration (ARCHITECTURE.md, "The step (CPU)").
 
 use crate::CpuSimulation;
-use crate::forces::{ContactInputs, SortedEntry, SpringSlots, WallLoad, gather, pair_contact};
+use crate::forces::{ContactInputs, SortedEntry, SpringSlots, WORN_SLOTS, WallLoad, gather, pair_contact};
+use crate::neighbours::NeighbourList;
 use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
@@ -174,6 +175,14 @@ impl CpuSimulation {
         if commit && self.has_servos() {
             self.drive_servos();
         }
+        if commit && self.wearing {
+            // Serial, in array order: the same sums for any thread count.
+            for (&w, worn) in self.neighbours.wall_entries.iter().zip(&self.candidate_worn) {
+                for &(t, volume) in worn.iter().filter(|e| e.1 > 0.0) {
+                    self.wear[w as usize][t as usize] += volume;
+                }
+            }
+        }
         if self.working_walls && commit {
             let dt = self.plan.model.dt;
             for (work, p) in self.group_work.iter_mut().zip(&self.group_power) {
@@ -194,14 +203,14 @@ impl CpuSimulation {
         if !self.walls.is_empty() {
             loads.resize(list.wall_entries.len(), WallLoad::default());
         }
-        let mut chunks: Vec<&mut [WallLoad]> = Vec::with_capacity(n);
-        let mut rest = &mut loads[..];
-        for i in 0..n {
-            let len = if rest.is_empty() { 0 } else { (list.wall_start[i + 1] - list.wall_start[i]) as usize };
-            let (mine, tail) = rest.split_at_mut(len);
-            chunks.push(mine);
-            rest = tail;
+        // Each particle's share of the wear slots (empty unless a wall wears).
+        let worn = &mut self.candidate_worn;
+        worn.clear();
+        if self.wearing {
+            worn.resize(list.wall_entries.len(), [(0, 0.0); WORN_SLOTS]);
         }
+        let chunks = per_particle(loads, list, n);
+        let worn_chunks = per_particle(worn, list, n);
         self.pool.install(|| {
             let pairs = list.pairs.par_iter().with_min_len(1024);
             if HIST {
@@ -218,10 +227,10 @@ impl CpuSimulation {
                     .zip(next.key.par_chunks_mut(slots))
                     .zip(next.spring.par_chunks_mut(slots))
                     .zip(next.count.par_iter_mut())
-                    .zip(chunks.into_par_iter())
+                    .zip(chunks.into_par_iter().zip(worn_chunks))
                     .with_min_len(512)
-                    .map(|((((i, key), spring), count), power)| {
-                        let sum = gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring }, power);
+                    .map(|((((i, key), spring), count), (power, worn))| {
+                        let sum = gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring }, power, worn);
                         *count = sum.springs.min(slots as u32) as u16;
                         sum
                     })
@@ -232,10 +241,10 @@ impl CpuSimulation {
                     .collect_into_vec(pair_out);
                 (0..n)
                     .into_par_iter()
-                    .zip(chunks.into_par_iter())
+                    .zip(chunks.into_par_iter().zip(worn_chunks))
                     .with_min_len(512)
-                    .map(|(i, power)| {
-                        gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }, power)
+                    .map(|(i, (power, worn))| {
+                        gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }, power, worn)
                     })
                     .collect_into_vec(sums);
             }
@@ -451,4 +460,17 @@ impl CpuSimulation {
         self.sums.clear();
         self.pair_out.clear();
     }
+}
+
+/// `all` (one entry per wall candidate of the list, or empty) cut into each particle's share.
+fn per_particle<'a, T>(all: &'a mut [T], list: &NeighbourList, n: usize) -> Vec<&'a mut [T]> {
+    let mut chunks = Vec::with_capacity(n);
+    let mut rest = all;
+    for i in 0..n {
+        let len = if rest.is_empty() { 0 } else { (list.wall_start[i + 1] - list.wall_start[i]) as usize };
+        let (mine, tail) = std::mem::take(&mut rest).split_at_mut(len);
+        chunks.push(mine);
+        rest = tail;
+    }
+    chunks
 }

@@ -59,6 +59,7 @@ impl GpuSimulation {
                 work: frame.wall_work,
                 work_compensation: Vec::new(),
                 servos: Vec::new(),
+                wear: Vec::new(),
             },
             neighbours: None,
             last_resort: self.last_resort,

@@ -92,6 +92,9 @@ pub struct Wall {
     pub travel_speed: f64,
     /// Largest speed of a point of its surface (the moving-geometry Δt limit).
     pub surface_speed: f64,
+    /// Archard's wear coefficient over the hardness, K/H in 1/Pa: the volume worn per unit of
+    /// normal force times sliding distance (0: no wear is accumulated; mesh walls only).
+    pub wear: f64,
 }
 
 impl Wall {
@@ -532,6 +535,7 @@ mod tests {
                 group: 0,
                 travel_speed: 0.0,
                 surface_speed: 0.0,
+                wear: 0.0,
             };
             let height = |t: f64| match wall.shape_at(t) {
                 SurfaceShape::Plane(p) => p.point.dot(p.normal),

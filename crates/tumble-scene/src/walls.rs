@@ -54,6 +54,7 @@ pub(crate) fn compile_walls(
         let mut timing = timings[k];
         let surface_velocity = conveyor(k, w)?;
         let servo = servo(k, w)?;
+        let wear = wear(k, w)?;
         let group = k as u16;
         let mut shapes: Vec<(String, SurfaceShape)> = Vec::new();
         if let Some(m) = &w.mesh {
@@ -202,7 +203,7 @@ pub(crate) fn compile_walls(
                 (Some(s), _) => (s.max_speed, s.max_speed),
                 (None, _) => (travel_speed, surface_speed),
             };
-            walls.push(Wall { name: wall_name, material, shape, motion, surface_velocity, timing, group, travel_speed, surface_speed });
+            walls.push(Wall { name: wall_name, material, shape, motion, surface_velocity, timing, group, travel_speed, surface_speed, wear });
         }
     }
     if walls.len() > u16::MAX as usize {
@@ -240,6 +241,16 @@ fn servo(k: usize, w: &WallSection) -> Result<Option<Servo>, SceneError> {
         None => max_speed / force,
     };
     Ok(Some(Servo { direction, force, max_speed, gain }))
+}
+
+/// A mesh wall's Archard wear coefficient over hardness (0 without wear), checked.
+fn wear(k: usize, w: &WallSection) -> Result<f64, SceneError> {
+    let Some(wear) = &w.wear else { return Ok(0.0) };
+    let f = |x: &str| format!("walls[{k}].wear.{x}");
+    if w.mesh.is_none() {
+        return Err(SceneError::field(format!("walls[{k}].wear"), "wear is accumulated per triangle: give it on a mesh wall"));
+    }
+    Ok(positive(&f("coefficient"), wear.coefficient)? / positive(&f("hardness"), wear.hardness)?)
 }
 
 /// A wall's motion and its timing, checked.

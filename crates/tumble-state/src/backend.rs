@@ -97,6 +97,11 @@ pub trait Backend: Any {
         self.frame(false).drums
     }
     /// The walls in their current pose.
+    /// Per wall: the volume worn off each of its triangles since t = 0 (empty for walls without
+    /// wear, and on backends without wear).
+    fn mesh_wear(&self) -> Vec<Vec<f64>> {
+        Vec::new()
+    }
     fn walls(&self) -> Cow<'_, [Wall]>;
     /// Contact force on the particle with id `id` in the last force pass.
     fn contact_force(&self, id: u32) -> Option<DVec3>;

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 /// The layout version written into every snapshot; a reader refuses any other.
 /// 4: contact springs carry the EPSD2 rolling torque and its energy; 5: outlet tallies;
-/// 6: servo walls' state.
+/// 6: servo walls' state and mesh wear.
 pub const SNAPSHOT_VERSION: u32 = 6;
 
 /// The first bytes of an encoded snapshot.
@@ -135,6 +135,8 @@ pub struct WallState {
     /// Per wall group: its servo's state (default for groups without one; empty on backends
     /// without servos).
     pub servos: Vec<ServoState>,
+    /// Per wall: the volume worn off each of its triangles since t = 0 (empty without wear).
+    pub wear: Vec<Vec<f64>>,
 }
 
 /// Where a servo wall is: its offset along the servo's direction from its t = 0 pose (the

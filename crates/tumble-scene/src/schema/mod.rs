@@ -4,8 +4,10 @@ use serde::Deserialize;
 
 mod run;
 mod sources;
+mod wall_options;
 pub use run::*;
 pub use sources::*;
+pub use wall_options::*;
 
 pub type V3 = [f64; 3];
 
@@ -439,18 +441,8 @@ pub struct WallSection {
     pub surface_velocity: Option<V3>,
     /// A servo wall: translated along a direction until the particles hold it with a target force.
     pub servo: Option<ServoSection>,
-}
-
-/// A wall driven along `direction` at up to `max_speed` until the particles push back on it
-/// with `force` (N); its speed is `gain` × (force − load), `gain` in m/s per N.
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ServoSection {
-    pub direction: V3,
-    pub force: f64,
-    pub max_speed: f64,
-    /// Default: max_speed / force (full speed unloaded, at rest at the target).
-    pub gain: Option<f64>,
+    /// Archard wear accumulated per triangle of a mesh wall.
+    pub wear: Option<WearSection>,
 }
 
 /// A triangle mesh read from an STL (binary or ASCII) or OBJ file, placed as
