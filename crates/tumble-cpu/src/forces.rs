@@ -315,7 +315,6 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
             touching.push((k, key, if HIST { s.history.find(i, key) } else { Spring::default() }));
         }
         let mut load = WallLoad::default();
-        let mut wear = [(0u32, 0.0f64); WORN_SLOTS];
         let mut wears = 0;
         for (k, key, mut spring) in touching {
             // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the
@@ -342,13 +341,10 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
                     v_rel += c.omega[i].cross(arm);
                 }
                 let f = contact_force::<COH, HIST>(params, k.normal, k.overlap, effect_overlap, v_rel, s.mass[i], r, model.dt, &mut spring);
-                if w.wear > 0.0 {
-                    // Archard: worn volume = K/H · normal force · sliding distance (the contact point's slip).
-                    let slip = (v_rel - k.normal * v_rel.dot(k.normal)).length();
-                    let slot = wears.min(WORN_SLOTS - 1);
-                    let triangle = if wears < WORN_SLOTS { (key & !(WALL_KEY | MESH_KEY)) - mesh_first_key(w) } else { wear[slot].0 };
-                    wear[slot] = (triangle, wear[slot].1 + w.wear * f.normal * slip * model.dt);
-                    wears += 1;
+                if let Some(out) = worn.get_mut(slot)
+                    && w.wear > 0.0
+                {
+                    book_wear(out, &mut wears, w, key, k.normal, v_rel, f.normal, model.dt);
                 }
                 let torque = arm.cross(f.tangential);
                 (v_wall, k.overlap, f, torque, r)
@@ -396,14 +392,25 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         if let Some(l) = wall_loads.get_mut(slot) {
             *l = load;
         }
-        if let Some(out) = worn.get_mut(slot) {
-            *out = wear;
-        }
     }
     if HIST {
         book_ended_springs(c, i, &slots, &carried, &mut sum);
     }
     sum
+}
+
+/// Books Archard's wear of one mesh contact (spring key `key`, normal `n`, relative velocity
+/// `v_rel` at the contact, normal force `normal`) into its particle's slot `out`: K/H · F_n ·
+/// slip speed · Δt on the contact's triangle; `wears` counts the contacts booked so far.
+#[allow(clippy::too_many_arguments)]
+#[cold]
+#[inline(never)]
+fn book_wear(out: &mut Worn, wears: &mut usize, w: &Wall, key: u32, n: DVec3, v_rel: DVec3, normal: f64, dt: f64) {
+    let slip = (v_rel - n * v_rel.dot(n)).length();
+    let slot = (*wears).min(WORN_SLOTS - 1);
+    let triangle = if *wears < WORN_SLOTS { (key & !(WALL_KEY | MESH_KEY)) - mesh_first_key(w) } else { out[slot].0 };
+    out[slot] = (triangle, out[slot].1 + w.wear * normal * slip * dt);
+    *wears += 1;
 }
 
 /// The first spring key of a mesh wall's triangles (0 for other walls).

@@ -1,7 +1,7 @@
 //! The step: broad phase, contacts, body forces, integration (ARCHITECTURE.md, "The step (CPU)").
 
 use crate::CpuSimulation;
-use crate::forces::{ContactInputs, SortedEntry, SpringSlots, WORN_SLOTS, WallLoad, gather, pair_contact};
+use crate::forces::{ContactInputs, SortedEntry, SpringSlots, WORN_SLOTS, WallLoad, Worn, gather, pair_contact};
 use crate::neighbours::NeighbourList;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -209,8 +209,7 @@ impl CpuSimulation {
         if self.wearing {
             worn.resize(list.wall_entries.len(), [(0, 0.0); WORN_SLOTS]);
         }
-        let chunks = per_particle(loads, list, n);
-        let worn_chunks = per_particle(worn, list, n);
+        let chunks = per_particle(loads, worn, list, n);
         self.pool.install(|| {
             let pairs = list.pairs.par_iter().with_min_len(1024);
             if HIST {
@@ -227,7 +226,7 @@ impl CpuSimulation {
                     .zip(next.key.par_chunks_mut(slots))
                     .zip(next.spring.par_chunks_mut(slots))
                     .zip(next.count.par_iter_mut())
-                    .zip(chunks.into_par_iter().zip(worn_chunks))
+                    .zip(chunks.into_par_iter())
                     .with_min_len(512)
                     .map(|((((i, key), spring), count), (power, worn))| {
                         let sum = gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring }, power, worn);
@@ -241,7 +240,7 @@ impl CpuSimulation {
                     .collect_into_vec(pair_out);
                 (0..n)
                     .into_par_iter()
-                    .zip(chunks.into_par_iter().zip(worn_chunks))
+                    .zip(chunks.into_par_iter())
                     .with_min_len(512)
                     .map(|(i, (power, worn))| {
                         gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }, power, worn)
@@ -462,15 +461,18 @@ impl CpuSimulation {
     }
 }
 
-/// `all` (one entry per wall candidate of the list, or empty) cut into each particle's share.
-fn per_particle<'a, T>(all: &'a mut [T], list: &NeighbourList, n: usize) -> Vec<&'a mut [T]> {
+/// `loads` and `worn` (each one entry per wall candidate of the list, or empty) cut into each
+/// particle's shares, in one pass.
+fn per_particle<'a>(loads: &'a mut [WallLoad], worn: &'a mut [Worn], list: &NeighbourList, n: usize) -> Vec<(&'a mut [WallLoad], &'a mut [Worn])> {
     let mut chunks = Vec::with_capacity(n);
-    let mut rest = all;
+    let (mut loads, mut worn) = (loads, worn);
     for i in 0..n {
-        let len = if rest.is_empty() { 0 } else { (list.wall_start[i + 1] - list.wall_start[i]) as usize };
-        let (mine, tail) = std::mem::take(&mut rest).split_at_mut(len);
-        chunks.push(mine);
-        rest = tail;
+        let len = if loads.is_empty() { 0 } else { (list.wall_start[i + 1] - list.wall_start[i]) as usize };
+        let (mine, tail) = std::mem::take(&mut loads).split_at_mut(len);
+        let wear_len = if worn.is_empty() { 0 } else { len };
+        let (my_wear, wear_tail) = std::mem::take(&mut worn).split_at_mut(wear_len);
+        chunks.push((mine, my_wear));
+        (loads, worn) = (tail, wear_tail);
     }
     chunks
 }
