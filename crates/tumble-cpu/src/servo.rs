@@ -17,6 +17,7 @@ impl CpuSimulation {
     }
 
     /// Moves every servo wall on by its speed over one step (at the start of the step).
+    #[inline(never)]
     pub(crate) fn advance_servos(&mut self) {
         let dt = self.plan.model.dt;
         for s in &mut self.servos {
@@ -25,6 +26,7 @@ impl CpuSimulation {
     }
 
     /// Sets each servo's speed from its group's load at the pass just committed.
+    #[inline(never)]
     pub(crate) fn drive_servos(&mut self) {
         for ((group, s), force) in self.plan.model.wall_groups.iter().zip(&mut self.servos).zip(&self.group_force) {
             if let Some(servo) = &group.servo {

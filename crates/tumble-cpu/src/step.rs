@@ -82,9 +82,15 @@ impl CpuSimulation {
     /// `built` to their offset at the last list build).
     pub(crate) fn place_walls_as(&mut self, t: f64, built: bool) {
         self.walls_time = t;
-        if !self.moving_walls {
-            return;
+        if self.moving_walls {
+            self.pose_moving_walls(t, built);
         }
+    }
+
+    /// [`CpuSimulation::place_walls_as`] for the walls that move (kept out of line: the step's
+    /// hot loops do not need it inlined beside them).
+    #[inline(never)]
+    fn pose_moving_walls(&mut self, t: f64, built: bool) {
         let mut walls = std::mem::take(&mut self.walls);
         for (now, wall) in walls.iter_mut().zip(&self.plan.model.walls) {
             if wall.motion.is_some() {
