@@ -254,7 +254,8 @@ impl Space {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    let mut key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                    // Saturating: a domain of 1e300 m puts every key at the i64 limit.
+                    let mut key = [c[0].saturating_add(dx), c[1].saturating_add(dy), c[2].saturating_add(dz)];
                     for a in 0..3 {
                         if self.wrap[a] > 0 {
                             key[a] = key[a].rem_euclid(self.wrap[a]);
