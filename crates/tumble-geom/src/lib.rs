@@ -28,6 +28,7 @@ mod overlap_volume;
 mod periodic;
 mod polyhedron;
 mod polyhedron_cylinder;
+mod polyhedron_mesh;
 mod polyhedron_plane;
 mod polyhedron_polyhedron;
 mod polyhedron_quad;
@@ -47,6 +48,7 @@ pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosin
 pub use mesh::{DEFAULT_CURVATURE, EdgeKind, MeshError, MeshReport, OPEN, TriangleMesh, box_triangles, box_triangles_subdivided};
 pub use mesh_grid::TriangleGrid;
 pub use mesh_wall::{MeshBody, MeshWall, MeshWallContact};
+pub use polyhedron_mesh::MeshPatches;
 pub use overlap_volume::{OverlapVolume, overlap_volume, overlap_volume_about};
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};

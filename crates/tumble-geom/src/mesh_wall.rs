@@ -4,7 +4,8 @@
 use crate::mesh::TriangleMesh;
 use crate::mesh_grid::TriangleGrid;
 use crate::surface::SurfaceContact;
-use crate::{DQuat, DVec3, MeshContact, Region};
+use crate::volume_contact::VolumeContact;
+use crate::{DQuat, DVec3, MeshContact, MeshPatches, Polyhedron, Pose, Region};
 use smallvec::SmallVec;
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -14,6 +15,8 @@ use std::sync::Arc;
 pub struct MeshBody {
     pub mesh: TriangleMesh,
     pub grid: TriangleGrid,
+    /// Its flat patches, which polyhedra meet one contact each.
+    pub patches: MeshPatches,
     /// The first of this mesh's spring keys: triangle t of the mesh is `first_key + t`, so the
     /// springs of every mesh of a scene have distinct keys.
     pub first_key: u32,
@@ -52,7 +55,8 @@ impl MeshWall {
     /// The mesh at its own frame's pose, binned on cells of about `cell`.
     pub fn new(mesh: TriangleMesh, cell: f64, first_key: u32) -> MeshWall {
         let grid = TriangleGrid::new(&mesh, cell);
-        MeshWall { body: Arc::new(MeshBody { mesh, grid, first_key }), rotation: DQuat::IDENTITY, translation: DVec3::ZERO }
+        let patches = MeshPatches::new(&mesh);
+        MeshWall { body: Arc::new(MeshBody { mesh, grid, patches, first_key }), rotation: DQuat::IDENTITY, translation: DVec3::ZERO }
     }
 
     fn is_identity(&self) -> bool {
@@ -81,6 +85,24 @@ impl MeshWall {
                 MeshWallContact { triangle: c.triangle, region: c.region, contact: SurfaceContact { normal, overlap: c.overlap, point } }
             })
             .collect()
+    }
+
+    /// The overlap-volume contacts of a polyhedron at `pose` with the mesh's flat patches, one
+    /// per patch it overlaps, each with its patch (the patch's lowest triangle), in patch order.
+    pub fn polyhedron_volumes(&self, poly: &Polyhedron, pose: &Pose, out: &mut Vec<(u32, VolumeContact)>) {
+        out.clear();
+        let identity = self.is_identity();
+        let local = if identity { *pose } else { Pose::new(self.rotation.inverse() * (pose.position - self.translation), self.rotation.inverse() * pose.rotation) };
+        let body = &self.body;
+        CANDIDATES.with_borrow_mut(|candidates| {
+            body.grid.candidates(local.position, 2.0 * poly.bounding_radius(), candidates);
+            body.patches.polyhedron_volumes(&body.mesh, poly, &local, candidates, out);
+        });
+        if !identity {
+            for (_, c) in out.iter_mut() {
+                c.move_rigidly(self.rotation, self.translation);
+            }
+        }
     }
 
     /// The deepest of the sphere's contacts within `reach` (start checks, placement, candidates).

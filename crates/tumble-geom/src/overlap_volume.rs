@@ -142,23 +142,28 @@ impl Region {
     /// gradient −∂d/∂p = Σ w_f m_f (weights exp(−d_f/τ) normalised) points out through the
     /// nearest faces and is a unit vector only away from edges.
     pub fn penetration(&self, p: DVec3, tau: f64) -> Option<(f64, DVec3)> {
-        let mut nearest = f64::INFINITY;
-        for &(m, offset) in &self.planes {
-            let d = offset - m.dot(p);
-            if d <= 0.0 {
-                return None;
-            }
-            nearest = nearest.min(d);
-        }
-        let (mut sum, mut out) = (0.0, DVec3::ZERO);
-        for &(m, offset) in &self.planes {
-            let w = (-(offset - m.dot(p) - nearest) / tau).exp();
-            sum += w;
-            out += w * m;
-        }
-        let depth = nearest - tau * sum.ln();
-        (depth > 0.0).then(|| (depth, out / sum))
+        plane_penetration(&self.planes, p, tau)
     }
+}
+
+/// [`Region::penetration`] for the region bounded by `planes`.
+pub(crate) fn plane_penetration(planes: &[(DVec3, f64)], p: DVec3, tau: f64) -> Option<(f64, DVec3)> {
+    let mut nearest = f64::INFINITY;
+    for &(m, offset) in planes {
+        let d = offset - m.dot(p);
+        if d <= 0.0 {
+            return None;
+        }
+        nearest = nearest.min(d);
+    }
+    let (mut sum, mut out) = (0.0, DVec3::ZERO);
+    for &(m, offset) in planes {
+        let w = (-(offset - m.dot(p) - nearest) / tau).exp();
+        sum += w;
+        out += w * m;
+    }
+    let depth = nearest - tau * sum.ln();
+    (depth > 0.0).then(|| (depth, out / sum))
 }
 
 /// The part of the segment p0 + s (p1 − p0), s ∈ [0, 1], inside a region, as the pieces on which
@@ -221,6 +226,14 @@ pub(crate) struct Moments {
 }
 
 impl Moments {
+    /// Adds the sums of another part of the same overlap (computed about the same origin).
+    pub(crate) fn accumulate(&mut self, other: &Moments) {
+        self.volume += other.volume;
+        self.first += other.first;
+        self.area += other.area;
+        self.moment += other.moment;
+    }
+
     /// Adds one boundary polygon: its share of the volume (divergence theorem, fan tetrahedra
     /// from the origin) with weight `wv` and of the area and moment with weight `wa`.
     fn add(&mut self, p: &[DVec3], wv: f64, wa: f64) {

@@ -14,7 +14,7 @@
 //! Walls are in `volume_walls.rs`.
 
 use crate::overlap_volume::{Moments, PLANE_TOLERANCE, Region, Slab, outside_slab, overlap_moments_in, segment_pieces, with_scratch};
-use crate::{DVec3, Polyhedron, Pose, polyhedron_polyhedron};
+use crate::{DQuat, DVec3, Polyhedron, Pose, polyhedron_polyhedron};
 
 /// The corner count of a polyhedron's largest face over its perimeter: the multiple of the normal
 /// law an edge carries per unit length inside the other body.
@@ -36,7 +36,7 @@ pub const CORNER_SMOOTHING: f64 = 0.01;
 
 /// Three-point Gauss–Legendre nodes and weights on [−1, 1]: exact for the linear law's energy,
 /// force and moment along an edge piece (polynomials of degree 2 in the position).
-const GAUSS: [(f64, f64); 3] = [(-0.774_596_669_241_483_4, 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.774_596_669_241_483_4, 5.0 / 9.0)];
+pub(crate) const GAUSS: [(f64, f64); 3] = [(-0.774_596_669_241_483_4, 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.774_596_669_241_483_4, 5.0 / 9.0)];
 
 /// One point load of a volume contact: a corner inside the other body (or a wall's solid), or a
 /// quadrature point of an edge's part inside it.
@@ -87,6 +87,18 @@ impl VolumeContact {
         -(self.push.dot(v_rel) + self.turn_a.dot(omega_a) + self.turn_b.dot(omega_b))
     }
 
+    /// The same contact with both bodies moved rigidly: rotated by `rotation`, then shifted by `shift`.
+    pub fn move_rigidly(&mut self, rotation: DQuat, shift: DVec3) {
+        for v in [&mut self.push, &mut self.turn_a, &mut self.turn_b, &mut self.normal] {
+            *v = rotation * *v;
+        }
+        self.point = rotation * self.point + shift;
+        for p in &mut self.points {
+            p.point = rotation * p.point + shift;
+            p.normal = rotation * p.normal;
+        }
+    }
+
     /// A contact of corner and edge loads alone (no volume yet), normal `normal` at `point`;
     /// `None` without loads.
     pub(crate) fn points_only(normal: DVec3, point: DVec3, points: Vec<PenetratingPoint>) -> Option<VolumeContact> {
@@ -134,7 +146,7 @@ impl VolumeContact {
 
 /// The corners of `a` inside `b` (pushing A out along +gradient when `sign` = 1; B's corners
 /// inside A take sign −1), depths smoothed over `tau`, into `out` (points relative to `origin`).
-fn corners_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, origin: DVec3, tau: f64, sign: f64, slab: Slab) {
+pub(crate) fn corners_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, origin: DVec3, tau: f64, sign: f64, slab: Slab) {
     for &v in &a.vertices {
         if outside_slab(slab, &[v], 0.0) {
             continue;
@@ -147,7 +159,7 @@ fn corners_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, origi
 
 /// The parts of `a`'s edges inside `b`: three Gauss points per piece on which one face of `b` is
 /// the nearest, each carrying its quadrature weight × length × `density`.
-fn edges_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, origin: DVec3, sign: f64, density: f64, slab: Slab) {
+pub(crate) fn edges_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, origin: DVec3, sign: f64, density: f64, slab: Slab) {
     for &[p0, p1] in &a.edges {
         if outside_slab(slab, &[p0, p1], 0.0) {
             continue;
