@@ -8,18 +8,26 @@ use crate::volume_contact::VolumeContact;
 use crate::{DQuat, DVec3, MeshContact, MeshPatches, Polyhedron, Pose, Region};
 use smallvec::SmallVec;
 use std::cell::RefCell;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// A mesh with its triangle grid, in the mesh's own frame (its pose at t = 0 is the identity).
 #[derive(Debug)]
 pub struct MeshBody {
     pub mesh: TriangleMesh,
     pub grid: TriangleGrid,
-    /// Its flat patches, which polyhedra meet one contact each.
-    pub patches: MeshPatches,
+    /// Its flat patches, which polyhedra meet one contact each: built at the first polyhedron's
+    /// query, so scenes of spheres never pay for them.
+    patches: OnceLock<MeshPatches>,
     /// The first of this mesh's spring keys: triangle t of the mesh is `first_key + t`, so the
     /// springs of every mesh of a scene have distinct keys.
     pub first_key: u32,
+}
+
+impl MeshBody {
+    /// The mesh's flat patches (built once, on first use).
+    pub fn patches(&self) -> &MeshPatches {
+        self.patches.get_or_init(|| MeshPatches::new(&self.mesh))
+    }
 }
 
 /// A placed mesh: world = rotation · local + translation.
@@ -55,8 +63,7 @@ impl MeshWall {
     /// The mesh at its own frame's pose, binned on cells of about `cell`.
     pub fn new(mesh: TriangleMesh, cell: f64, first_key: u32) -> MeshWall {
         let grid = TriangleGrid::new(&mesh, cell);
-        let patches = MeshPatches::new(&mesh);
-        MeshWall { body: Arc::new(MeshBody { mesh, grid, patches, first_key }), rotation: DQuat::IDENTITY, translation: DVec3::ZERO }
+        MeshWall { body: Arc::new(MeshBody { mesh, grid, patches: OnceLock::new(), first_key }), rotation: DQuat::IDENTITY, translation: DVec3::ZERO }
     }
 
     fn is_identity(&self) -> bool {
@@ -96,7 +103,7 @@ impl MeshWall {
         let body = &self.body;
         CANDIDATES.with_borrow_mut(|candidates| {
             body.grid.candidates(local.position, 2.0 * poly.bounding_radius(), candidates);
-            body.patches.polyhedron_volumes(&body.mesh, poly, &local, candidates, out);
+            body.patches().polyhedron_volumes(&body.mesh, poly, &local, candidates, out);
         });
         if !identity {
             for (_, c) in out.iter_mut() {

@@ -142,20 +142,18 @@ impl Region {
     /// gradient −∂d/∂p = Σ w_f m_f (weights exp(−d_f/τ) normalised) points out through the
     /// nearest faces and is a unit vector only away from edges.
     pub fn penetration(&self, p: DVec3, tau: f64) -> Option<(f64, DVec3)> {
-        plane_penetration(&self.planes, p, tau)
+        if self.planes.iter().any(|&(m, offset)| offset - m.dot(p) <= 0.0) {
+            return None;
+        }
+        smooth_depth(self.planes.iter(), p, tau)
     }
 }
 
-/// [`Region::penetration`] for the region bounded by `planes`.
-pub(crate) fn plane_penetration(planes: &[(DVec3, f64)], p: DVec3, tau: f64) -> Option<(f64, DVec3)> {
-    let mut nearest = f64::INFINITY;
-    for &(m, offset) in planes {
-        let d = offset - m.dot(p);
-        if d <= 0.0 {
-            return None;
-        }
-        nearest = nearest.min(d);
-    }
+/// The smooth minimum d = −τ ln Σ exp(−d_f / τ) of the distances d_f of `p` inside `planes`
+/// (each positive) and its gradient −∂d/∂p, as [`Region::penetration`] describes; `None` unless
+/// d > 0.
+pub(crate) fn smooth_depth<'a>(planes: impl Iterator<Item = &'a (DVec3, f64)> + Clone, p: DVec3, tau: f64) -> Option<(f64, DVec3)> {
+    let nearest = planes.clone().fold(f64::INFINITY, |n, &(m, offset)| n.min(offset - m.dot(p)));
     let (mut sum, mut out) = (0.0, DVec3::ZERO);
     for &(m, offset) in planes {
         let w = (-(offset - m.dot(p) - nearest) / tau).exp();

@@ -11,9 +11,9 @@
 //! at ridges and valleys as a box's quads do, one contact each.
 
 use crate::mesh::{EdgeKind, TriangleMesh};
-use crate::overlap_volume::{Moments, PLANE_TOLERANCE, Region, overlap_moments_in, segment_pieces, with_scratch};
+use crate::overlap_volume::{Moments, PLANE_TOLERANCE, Region, overlap_moments_in, smooth_depth, with_scratch};
 use crate::polyhedron_polyhedron::Buf;
-use crate::volume_contact::{CORNER_SMOOTHING, GAUSS, PenetratingPoint, VolumeContact, corners_inside, edge_density, edges_inside};
+use crate::volume_contact::{CORNER_SMOOTHING, PenetratingPoint, VolumeContact, corners_inside, edge_density, edges_inside, segment_loads};
 use crate::{DVec3, Polyhedron, Pose, closest_point_on_triangle};
 use std::collections::HashMap;
 
@@ -242,16 +242,7 @@ fn surface_depth(surface: &[(DVec3, f64)], p: DVec3, tau: f64) -> Option<(f64, D
     if o0 - m0.dot(p) <= 0.0 {
         return None;
     }
-    let facing = |&&(m, o): &&(DVec3, f64)| o - m.dot(p) > 0.0;
-    let nearest = surface.iter().filter(facing).map(|&(m, o)| o - m.dot(p)).fold(f64::INFINITY, f64::min);
-    let (mut sum, mut out) = (0.0, DVec3::ZERO);
-    for &(m, o) in surface.iter().filter(facing) {
-        let w = (-(o - m.dot(p) - nearest) / tau).exp();
-        sum += w;
-        out += w * m;
-    }
-    let depth = nearest - tau * sum.ln();
-    (depth > 0.0).then(|| (depth, out / sum))
+    smooth_depth(surface.iter().filter(|&&(m, o)| o - m.dot(p) > 0.0), p, tau)
 }
 
 /// The polyhedron's (`a`) corners in the prism `b`, their depths smoothed over `tau` against
@@ -298,16 +289,6 @@ fn edges_below(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, surface:
         let slack = -1e-9 * length;
         let planes: Buf<(DVec3, f64)> =
             surface.iter().enumerate().filter(|&(f, &(m, o))| f == 0 || (o - m.dot(q0) > slack && o - m.dot(q1) > slack)).map(|(_, &p)| p).collect();
-        for (s0, s1, f) in segment_pieces(&planes, q0, q1) {
-            let (m, offset) = planes[f];
-            let (mid, half) = (0.5 * (s0 + s1), 0.5 * (s1 - s0));
-            for (g, w) in GAUSS {
-                let p = q0 + (q1 - q0) * (mid + half * g);
-                let depth = offset - m.dot(p);
-                if depth > 0.0 {
-                    out.push(PenetratingPoint { point: p + origin, depth, normal: m, weight: w * half * length * density });
-                }
-            }
-        }
+        segment_loads(out, &planes, q0, q1, origin, 1.0, density);
     }
 }

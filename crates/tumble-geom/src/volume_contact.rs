@@ -36,7 +36,7 @@ pub const CORNER_SMOOTHING: f64 = 0.01;
 
 /// Three-point Gauss–Legendre nodes and weights on [−1, 1]: exact for the linear law's energy,
 /// force and moment along an edge piece (polynomials of degree 2 in the position).
-pub(crate) const GAUSS: [(f64, f64); 3] = [(-0.774_596_669_241_483_4, 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.774_596_669_241_483_4, 5.0 / 9.0)];
+const GAUSS: [(f64, f64); 3] = [(-0.774_596_669_241_483_4, 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.774_596_669_241_483_4, 5.0 / 9.0)];
 
 /// One point load of a volume contact: a corner inside the other body (or a wall's solid), or a
 /// quadrature point of an edge's part inside it.
@@ -164,16 +164,23 @@ pub(crate) fn edges_inside(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Regi
         if outside_slab(slab, &[p0, p1], 0.0) {
             continue;
         }
-        let length = (p1 - p0).length();
-        for (s0, s1, f) in segment_pieces(&b.planes, p0, p1) {
-            let (m, offset) = b.planes[f];
-            let (mid, half) = (0.5 * (s0 + s1), 0.5 * (s1 - s0));
-            for (x, w) in GAUSS {
-                let p = p0 + (p1 - p0) * (mid + half * x);
-                let depth = offset - m.dot(p);
-                if depth > 0.0 {
-                    out.push(PenetratingPoint { point: p + origin, depth, normal: sign * m, weight: w * half * length * density });
-                }
+        segment_loads(out, &b.planes, p0, p1, origin, sign, density);
+    }
+}
+
+/// The segment p0–p1's part inside `planes`: three Gauss points per piece on which one plane is
+/// the nearest, each at its depth below that plane, pushing along `sign` × its normal, with its
+/// quadrature weight × length × `density`.
+pub(crate) fn segment_loads(out: &mut Vec<PenetratingPoint>, planes: &[(DVec3, f64)], p0: DVec3, p1: DVec3, origin: DVec3, sign: f64, density: f64) {
+    let length = (p1 - p0).length();
+    for (s0, s1, f) in segment_pieces(planes, p0, p1) {
+        let (m, offset) = planes[f];
+        let (mid, half) = (0.5 * (s0 + s1), 0.5 * (s1 - s0));
+        for (x, w) in GAUSS {
+            let p = p0 + (p1 - p0) * (mid + half * x);
+            let depth = offset - m.dot(p);
+            if depth > 0.0 {
+                out.push(PenetratingPoint { point: p + origin, depth, normal: sign * m, weight: w * half * length * density });
             }
         }
     }
