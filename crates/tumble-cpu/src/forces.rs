@@ -3,7 +3,7 @@
 //! for the other side, so pair forces are exactly equal and opposite.
 
 use crate::neighbours::NeighbourList;
-use crate::polyhedra::{equivalent_radius, polyhedron_pair, polyhedron_wall};
+use crate::polyhedra::{PatchWallContact, equivalent_radius, polyhedron_mesh, polyhedron_pair, polyhedron_wall};
 use glam::DVec3;
 use smallvec::SmallVec;
 use tumble_contact::{
@@ -63,6 +63,7 @@ pub const WORN_SLOTS: usize = 4;
 
 /// Force of one contact on body a, from the contact normal n (b to a), the
 /// overlaps and the relative velocity of a against b at the contact point.
+#[derive(Clone, Copy)]
 pub(crate) struct ContactForce {
     pub force: DVec3,
     pub tangential: DVec3,
@@ -306,8 +307,16 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         let params = model.pair(s.material[i], w.material);
         // Each contact of the particle with this wall: (contact, key, spring); a mesh may give several.
         let mut touching: SmallVec<[(SurfaceContact, u32, Spring); 2]> = SmallVec::new();
+        // A polyhedron's contacts with a mesh's flat patches, computed whole (one per `touching` entry).
+        let mut patches: SmallVec<[PatchWallContact; 2]> = SmallVec::new();
+        let placeholder = SurfaceContact { normal: DVec3::ZERO, overlap: 0.0, point: xi };
         if poly {
-            touching.push((SurfaceContact { normal: DVec3::ZERO, overlap: 0.0, point: xi }, WALL_KEY | wall, Spring::default()));
+            if let SurfaceShape::Mesh(mesh) = &w.shape {
+                polyhedron_mesh::<HIST>(c, i, w, mesh, &mut patches);
+                touching.extend(patches.iter().map(|p| (placeholder, p.key, p.spring)));
+            } else {
+                touching.push((placeholder, WALL_KEY | wall, Spring::default()));
+            }
         } else if let SurfaceShape::Mesh(mesh) = &w.shape {
             mesh_contacts::<HIST>(s, i, mesh, xi, r, extra, &mut touching, &mut carried);
         } else if let Some(k) = w.shape.sphere_proximity(xi, r, extra) {
@@ -316,19 +325,32 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
         }
         let mut load = WallLoad::default();
         let mut wears = 0;
-        for (k, key, mut spring) in touching {
+        for (n, (k, key, mut spring)) in touching.into_iter().enumerate() {
             // (wall velocity at the contact, body overlap, force, torque about the centre, R* for the
             // rolling couple); a polyhedron's spin about the normal meets twisting friction, not rolling.
             let mut power = 0.0;
             let mut twist_axis = None;
             let (v_wall, overlap, f, torque, r_roll) = if poly {
-                if HIST {
-                    spring = s.history.find(i, key);
-                }
-                let Some(k) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
+                let k = if let Some(p) = patches.get(n) {
+                    p.contact
+                } else {
+                    if HIST {
+                        spring = s.history.find(i, key);
+                    }
+                    let Some(k) = polyhedron_wall::<HIST>(c, i, w, &mut spring) else { continue };
+                    k
+                };
                 power = k.spin_power;
                 twist_axis = Some(k.normal);
-                (w.contact_velocity(k.point, k.normal), k.depth, k.force, k.torque, equivalent_radius(c, i))
+                let v_wall = w.contact_velocity(k.point, k.normal);
+                if let Some(out) = worn.get_mut(slot)
+                    && w.wear > 0.0
+                    && let Some(p) = patches.get(n)
+                {
+                    let v_rel = c.vel[i] + c.omega[i].cross(k.point - xi) - v_wall;
+                    book_shared_wear(out, &mut wears, &p.triangles, w.wear * k.force.normal * tangential_speed(v_rel, k.normal) * model.dt);
+                }
+                (v_wall, k.depth, k.force, k.torque, equivalent_radius(c, i))
             } else {
                 let effect_overlap = k.overlap + extra;
                 if k.overlap <= 0.0 && (!COH || effect_overlap <= 0.0) {
@@ -406,11 +428,30 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
 #[cold]
 #[inline(never)]
 fn book_wear(out: &mut Worn, wears: &mut usize, w: &Wall, key: u32, n: DVec3, v_rel: DVec3, normal: f64, dt: f64) {
-    let slip = (v_rel - n * v_rel.dot(n)).length();
+    let slip = tangential_speed(v_rel, n);
     let slot = (*wears).min(WORN_SLOTS - 1);
     let triangle = if *wears < WORN_SLOTS { (key & !(WALL_KEY | MESH_KEY)) - mesh_first_key(w) } else { out[slot].0 };
     out[slot] = (triangle, out[slot].1 + w.wear * normal * slip * dt);
     *wears += 1;
+}
+
+/// Books the worn volume `amount` of one polyhedron–patch contact on the patch's triangles,
+/// each its share; past the slots, the rest lumps on the last slot's triangle.
+#[cold]
+#[inline(never)]
+fn book_shared_wear(out: &mut Worn, wears: &mut usize, triangles: &[(u32, f64)], amount: f64) {
+    for &(t, share) in triangles {
+        let slot = (*wears).min(WORN_SLOTS - 1);
+        let triangle = if *wears < WORN_SLOTS { t } else { out[slot].0 };
+        out[slot] = (triangle, out[slot].1 + amount * share);
+        *wears += 1;
+    }
+}
+
+/// |v − n (v · n)|: the speed of `v` across the unit normal `n`.
+#[inline(always)]
+fn tangential_speed(v: DVec3, n: DVec3) -> f64 {
+    (v - n * v.dot(n)).length()
 }
 
 /// The first spring key of a mesh wall's triangles (0 for other walls).

@@ -84,9 +84,11 @@ pub fn pair_forces(model: &PhysicsModel, state: &State, walls: &[Wall]) -> Vec<P
 /// The force the particles of `state` press on each triangle of each mesh wall (empty for the
 /// other walls), recomputed as [`pair_forces`] does: the step's wall kernel at the state's
 /// velocities with its stored springs, summed over particles in id order (the same for any
-/// thread count and backend).
+/// thread count and backend). A polyhedron's contact with a flat patch is shared among the
+/// patch's triangles under it in proportion to the overlap volume over each.
 pub fn mesh_loads(model: &PhysicsModel, state: &State, walls: &[Wall]) -> Vec<Vec<DVec3>> {
     use crate::forces::{contact_force, mesh_contacts};
+    use crate::polyhedra::polyhedron_mesh;
     use tumble_geom::SurfaceShape;
     let mut loads: Vec<Vec<DVec3>> = walls
         .iter()
@@ -103,7 +105,30 @@ pub fn mesh_loads(model: &PhysicsModel, state: &State, walls: &[Wall]) -> Vec<Ve
     order.sort_unstable_by_key(|&i| state.id[i]);
     let mut touching = smallvec::SmallVec::new();
     let mut carried = smallvec::SmallVec::new();
+    let mut patches = smallvec::SmallVec::new();
+    let zeros = vec![DVec3::ZERO; if state.omega.is_empty() { state.len() } else { 0 }];
+    let omegas = if state.omega.is_empty() { &zeros } else { &state.omega };
+    let inputs = ContactInputs { model, state, vel: &state.vel, omega: omegas, walls };
+    let poly = model.polyhedra && state.shape.len() == state.len();
     for i in order {
+        if poly && state.shape[i] != tumble_scene::SPHERE {
+            // A polyhedron's patch contact spreads its force over the patch's triangles by volume share.
+            for (w, wall) in walls.iter().enumerate() {
+                let SurfaceShape::Mesh(mesh) = &wall.shape else { continue };
+                patches.clear();
+                if hist {
+                    polyhedron_mesh::<true>(&inputs, i, wall, mesh, &mut patches);
+                } else {
+                    polyhedron_mesh::<false>(&inputs, i, wall, mesh, &mut patches);
+                }
+                for p in &patches {
+                    for &(t, share) in &p.triangles {
+                        loads[w][t as usize] -= share * p.contact.force.force;
+                    }
+                }
+            }
+            continue;
+        }
         let (x, r) = (state.pos[i], state.radius[i]);
         let extra = state.reach[i] - r;
         let omega = state.omega.get(i).copied().unwrap_or(DVec3::ZERO);

@@ -14,11 +14,12 @@
 use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
 use glam::DVec3;
 use tumble_contact::{normal_force, rolling_torque};
-use tumble_geom::{PolyContact, Polyhedron, Pose, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron};
+use smallvec::SmallVec;
+use tumble_geom::{MeshWall, PatchContact, PolyContact, Polyhedron, Pose, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron};
 use tumble_integrate::world_inverse_inertia_times;
 use tumble_scene::{PairParams, PolyhedronContact};
 use tumble_scene::{SPHERE, Wall};
-use tumble_state::Spring;
+use tumble_state::{MESH_KEY, Spring, WALL_KEY};
 
 /// Particle `i`'s polyhedron and pose, when it is one.
 #[inline(always)]
@@ -258,6 +259,7 @@ pub(crate) fn polyhedron_pair<const HIST: bool>(c: &ContactInputs, a: usize, b: 
 }
 
 /// One wall contact of a polyhedral particle.
+#[derive(Clone, Copy)]
 pub(crate) struct PolyhedronWallContact {
     /// Where the contact's tangential force acts (the wall's velocity there enters v_rel).
     pub point: DVec3,
@@ -274,32 +276,81 @@ pub(crate) struct PolyhedronWallContact {
 
 /// A polyhedral particle against one wall: the contact, the force, the torque about the centre
 /// (twisting friction included) and the power the wall's spin delivers beyond F · v_wall(point).
+/// A mesh wall gives one contact per flat patch: see [`polyhedron_mesh`].
 #[inline(always)]
 pub(crate) fn polyhedron_wall<const HIST: bool>(c: &ContactInputs, i: usize, w: &Wall, spring: &mut Spring) -> Option<PolyhedronWallContact> {
     let s = c.state;
     let (poly, pose) = body(c, i, s.pos[i])?;
+    if c.model.polyhedron_contact == PolyhedronContact::Volume {
+        let k = w.shape.polyhedron_volume(poly, &pose)?;
+        return Some(volume_wall_contact::<HIST>(c, i, w, &k, spring));
+    }
     let xi = s.pos[i];
-    // The particle's velocity relative to the wall material at `p` on a contact of normal `n`.
-    let v_at = |p: DVec3, n: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.contact_velocity(p, n);
+    let k = w.shape.polyhedron_contact(poly, &pose)?;
+    let v_at = |p: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.contact_velocity(p, k.normal);
+    let params = c.model.pair(s.material[i], w.material);
+    let (f, torque, _) = polyhedron_force::<HIST>(params, &k, v_at, xi, xi, s.mass[i], equivalent_radius(c, i), c.model.dt, spring);
+    Some(wall_contact(c, i, w, k.point, k.depth, f, torque, k.normal, manifold_spread(&k)))
+}
+
+/// Particle `i`'s overlap-volume contact `k` with wall `w`: the force law, then [`wall_contact`].
+#[inline(always)]
+fn volume_wall_contact<const HIST: bool>(c: &ContactInputs, i: usize, w: &Wall, k: &VolumeContact, spring: &mut Spring) -> PolyhedronWallContact {
+    let s = c.state;
+    let xi = s.pos[i];
+    let v_at = |p: DVec3| c.vel[i] + c.omega[i].cross(p - xi) - w.contact_velocity(p, k.normal);
+    let params = c.model.pair(s.material[i], w.material);
+    let rate = k.volume_rate(c.vel[i] - w.contact_velocity(xi, k.normal), c.omega[i] - w.angular_velocity(), DVec3::ZERO);
+    let (m, r) = (s.mass[i], equivalent_radius(c, i));
+    let (f, torque, _) = volume_force::<HIST>(params, k, contact_area(c, i), face_on_weight(c, i), rate, v_at, xi, xi, m, r, c.model.dt, spring);
+    wall_contact(c, i, w, k.point, k.depth, f, torque, k.normal, area_spread(k.area))
+}
+
+/// A wall contact from its force law's result: twisting friction added, the wall spin's power.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn wall_contact(c: &ContactInputs, i: usize, w: &Wall, point: DVec3, depth: f64, mut f: ContactForce, torque: DVec3, n: DVec3, spread: f64) -> PolyhedronWallContact {
+    let s = c.state;
     let params = c.model.pair(s.material[i], w.material);
     let wall_spin = w.angular_velocity();
     let spin = c.omega[i] - wall_spin;
-    let (r, m) = (equivalent_radius(c, i), s.mass[i]);
-    let (point, depth, mut f, torque, n, spread) = if c.model.polyhedron_contact == PolyhedronContact::Volume {
-        let k = w.shape.polyhedron_volume(poly, &pose)?;
-        let rate = k.volume_rate(c.vel[i] - w.contact_velocity(xi, k.normal), spin, DVec3::ZERO);
-        let v_at = |p: DVec3| v_at(p, k.normal);
-        let (f, torque, _) = volume_force::<HIST>(params, &k, contact_area(c, i), face_on_weight(c, i), rate, v_at, xi, xi, m, r, c.model.dt, spring);
-        (k.point, k.depth, f, torque, k.normal, area_spread(k.area))
-    } else {
-        let k = w.shape.polyhedron_contact(poly, &pose)?;
-        let v_at = |p: DVec3| v_at(p, k.normal);
-        let (f, torque, _) = polyhedron_force::<HIST>(params, &k, v_at, xi, xi, m, r, c.model.dt, spring);
-        (k.point, k.depth, f, torque, k.normal, manifold_spread(&k))
-    };
     let twist = twisting_torque(spread, n, params.tangential.friction(), f.normal, spin, inverse_inertia_about(c, i, n), c.model.dt);
     f.dissipation -= twist.dot(spin);
     let torque = torque + twist;
-    let spin_power = wall_spin.dot(torque - (point - xi).cross(f.force));
-    Some(PolyhedronWallContact { point, depth, force: f, torque, normal: n, spin_power })
+    let spin_power = wall_spin.dot(torque - (point - s.pos[i]).cross(f.force));
+    PolyhedronWallContact { point, depth, force: f, torque, normal: n, spin_power }
+}
+
+/// One contact of a polyhedral particle with a mesh wall's flat patch.
+pub(crate) struct PatchWallContact {
+    pub contact: PolyhedronWallContact,
+    /// The patch's spring key: WALL_KEY | MESH_KEY | (the mesh's first key + the patch).
+    pub key: u32,
+    /// The spring to keep (zero without history or when it ended).
+    pub spring: Spring,
+    /// The triangles under the overlap with their shares of its volume (they sum to one).
+    pub triangles: SmallVec<[(u32, f64); 4]>,
+}
+
+thread_local! {
+    /// The patch contacts of one particle with one mesh, reused from call to call.
+    static PATCHES: std::cell::RefCell<Vec<PatchContact>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Polyhedral particle `i` against mesh wall `w` (shape `mesh`), in the volume model: one contact
+/// per flat patch it overlaps, in patch order, each with its own spring (a patch border is a
+/// ridge: a contact crossing it starts afresh on the next patch), appended to `out`.
+#[inline(always)]
+pub(crate) fn polyhedron_mesh<const HIST: bool>(c: &ContactInputs, i: usize, w: &Wall, mesh: &MeshWall, out: &mut SmallVec<[PatchWallContact; 2]>) {
+    let s = c.state;
+    let Some((poly, pose)) = body(c, i, s.pos[i]) else { return };
+    PATCHES.with_borrow_mut(|patches| {
+        mesh.polyhedron_volumes(poly, &pose, patches);
+        for p in patches.drain(..) {
+            let key = WALL_KEY | MESH_KEY | (mesh.body.first_key + p.patch);
+            let mut spring = if HIST { s.history.find(i, key) } else { Spring::default() };
+            let contact = volume_wall_contact::<HIST>(c, i, w, &p.contact, &mut spring);
+            out.push(PatchWallContact { contact, key, spring, triangles: p.triangles });
+        }
+    });
 }

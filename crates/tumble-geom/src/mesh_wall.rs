@@ -4,8 +4,7 @@
 use crate::mesh::TriangleMesh;
 use crate::mesh_grid::TriangleGrid;
 use crate::surface::SurfaceContact;
-use crate::volume_contact::VolumeContact;
-use crate::{DQuat, DVec3, MeshContact, MeshPatches, Polyhedron, Pose, Region};
+use crate::{DQuat, DVec3, MeshContact, MeshPatches, PatchContact, Polyhedron, Pose, Region};
 use smallvec::SmallVec;
 use std::cell::RefCell;
 use std::sync::{Arc, OnceLock};
@@ -95,8 +94,8 @@ impl MeshWall {
     }
 
     /// The overlap-volume contacts of a polyhedron at `pose` with the mesh's flat patches, one
-    /// per patch it overlaps, each with its patch (the patch's lowest triangle), in patch order.
-    pub fn polyhedron_volumes(&self, poly: &Polyhedron, pose: &Pose, out: &mut Vec<(u32, VolumeContact)>) {
+    /// per patch it overlaps, in patch order.
+    pub fn polyhedron_volumes(&self, poly: &Polyhedron, pose: &Pose, out: &mut Vec<PatchContact>) {
         out.clear();
         let identity = self.is_identity();
         let local = if identity { *pose } else { Pose::new(self.rotation.inverse() * (pose.position - self.translation), self.rotation.inverse() * pose.rotation) };
@@ -106,8 +105,8 @@ impl MeshWall {
             body.patches().polyhedron_volumes(&body.mesh, poly, &local, candidates, out);
         });
         if !identity {
-            for (_, c) in out.iter_mut() {
-                c.move_rigidly(self.rotation, self.translation);
+            for c in out.iter_mut() {
+                c.contact.move_rigidly(self.rotation, self.translation);
             }
         }
     }

@@ -15,7 +15,19 @@ use crate::overlap_volume::{Moments, PLANE_TOLERANCE, Region, overlap_moments_in
 use crate::polyhedron_polyhedron::Buf;
 use crate::volume_contact::{CORNER_SMOOTHING, PenetratingPoint, VolumeContact, corners_inside, edge_density, edges_inside, segment_loads};
 use crate::{DVec3, Polyhedron, Pose, closest_point_on_triangle};
+use smallvec::SmallVec;
 use std::collections::HashMap;
+
+/// A polyhedron's contact with one flat patch of a mesh.
+#[derive(Clone, Debug)]
+pub struct PatchContact {
+    /// The patch, named by its lowest triangle index (stable while the contact slides over it).
+    pub patch: u32,
+    pub contact: VolumeContact,
+    /// The triangles under the overlap, each with its share of the overlap's volume (the shares
+    /// sum to one): how the contact's load and wear are spread over the triangles.
+    pub triangles: SmallVec<[(u32, f64); 4]>,
+}
 
 /// A mesh's flat patches and the outline corners each triangle carries.
 #[derive(Clone, Debug, Default)]
@@ -79,7 +91,7 @@ impl MeshPatches {
 
     /// The overlap-volume contacts of `poly` at `pose` with the patches of the `candidates`
     /// (triangle indices within twice its bounding radius, ascending), all in the mesh's frame,
-    /// appended to `out` as (patch, contact) in patch order. A one-sided mesh pushes only towards
+    /// appended to `out` in patch order. A one-sided mesh pushes only towards
     /// its normals' side (no triangle acts once the centre is behind it); a two-sided patch
     /// pushes towards the side the centre is on.
     pub fn polyhedron_volumes(
@@ -88,7 +100,7 @@ impl MeshPatches {
         poly: &Polyhedron,
         pose: &Pose,
         candidates: &[u32],
-        out: &mut Vec<(u32, VolumeContact)>,
+        out: &mut Vec<PatchContact>,
     ) {
         let (x, rb) = (pose.position, poly.bounding_radius());
         // (patch, triangle, height of the centre above the triangle's plane, whether within rb)
@@ -108,8 +120,8 @@ impl MeshPatches {
         while start < near.len() {
             let patch = near[start].0;
             let end = start + near[start..].iter().take_while(|e| e.0 == patch).count();
-            if let Some(c) = self.patch_volume(mesh, poly, pose, &near[start..end]) {
-                out.push((patch, c));
+            if let Some((contact, triangles)) = self.patch_volume(mesh, poly, pose, &near[start..end]) {
+                out.push(PatchContact { patch, contact, triangles });
             }
             start = end;
         }
@@ -118,7 +130,14 @@ impl MeshPatches {
     /// One patch's contact from its triangles near the polyhedron (patch, triangle, height,
     /// whether it acts): those within the bounding radius make the overlap, those within twice
     /// it give the outline sides a corner's depth is measured to.
-    fn patch_volume(&self, mesh: &TriangleMesh, poly: &Polyhedron, pose: &Pose, near: &[(u32, u32, f64, bool)]) -> Option<VolumeContact> {
+    #[allow(clippy::type_complexity)]
+    fn patch_volume(
+        &self,
+        mesh: &TriangleMesh,
+        poly: &Polyhedron,
+        pose: &Pose,
+        near: &[(u32, u32, f64, bool)],
+    ) -> Option<(VolumeContact, SmallVec<[(u32, f64); 4]>)> {
         let (x, rb) = (pose.position, poly.bounding_radius());
         let &(_, first, h, _) = near.iter().find(|e| e.3)?;
         let side = if h > 0.0 { 1.0 } else { -1.0 };
@@ -148,6 +167,7 @@ impl MeshPatches {
             let mut depth = 0.0f64;
             let mut found = false;
             let mut points = Vec::new();
+            let mut triangles: SmallVec<[(u32, f64); 4]> = SmallVec::new();
             for &(_, t, _, acts) in near {
                 if !acts {
                     continue;
@@ -157,6 +177,7 @@ impl MeshPatches {
                     sum.accumulate(&m);
                     depth = depth.max(d);
                     found = true;
+                    triangles.push((t, m.volume));
                 }
                 surface[0] = sc.b.planes[0];
                 corners_below(&mut points, &sc.a, &sc.b, &surface, t, mesh, origin, tau);
@@ -168,7 +189,12 @@ impl MeshPatches {
             if !found {
                 return None;
             }
-            VolumeContact::from_moments(&sum, origin, x, None, sum.area, depth, points)
+            // Volume shares; a grazing contact of no volume spreads evenly.
+            let (total, count) = (sum.volume, triangles.len() as f64);
+            for s in &mut triangles {
+                s.1 = if total > 0.0 { s.1 / total } else { 1.0 / count };
+            }
+            VolumeContact::from_moments(&sum, origin, x, None, sum.area, depth, points).map(|c| (c, triangles))
         })
     }
 

@@ -74,8 +74,21 @@ impl SurfaceShape {
             SurfaceShape::Quad(q) => q.polyhedron_contact(poly, pose),
             SurfaceShape::Cylinder(c) => c.polyhedron_contact(poly, pose),
             SurfaceShape::Prism(p) => p.polyhedron_contact(poly, pose),
-            // Scenes with polyhedra and mesh walls are refused by the plan.
+            // A mesh meets polyhedra in the volume model only (`MeshWall::polyhedron_volumes`).
             SurfaceShape::Mesh(_) => None,
+        }
+    }
+
+    /// How deep a convex polyhedron (at `pose`) reaches into this surface, if it touches: the
+    /// depth model's SAT depth, or for a mesh the deepest of its patch contacts.
+    pub fn polyhedron_depth(&self, poly: &Polyhedron, pose: &Pose) -> Option<f64> {
+        match self {
+            SurfaceShape::Mesh(m) => {
+                let mut contacts = Vec::new();
+                m.polyhedron_volumes(poly, pose, &mut contacts);
+                contacts.iter().map(|c| c.contact.depth).reduce(f64::max)
+            }
+            _ => self.polyhedron_contact(poly, pose).map(|c| c.depth),
         }
     }
 }

@@ -182,7 +182,7 @@ impl SurfaceShape {
                 let c = wall_hull_volume(poly, pose, p.hull.as_deref()?, &p.hull_pose)?;
                 Some(VolumeContact { turn_b: DVec3::ZERO, ..c })
             }
-            // Scenes with polyhedra and mesh walls are refused by the plan.
+            // A mesh gives one contact per flat patch: `MeshWall::polyhedron_volumes`.
             SurfaceShape::Mesh(_) => None,
         }
     }

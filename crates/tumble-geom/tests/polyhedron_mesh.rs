@@ -104,7 +104,7 @@ fn check_box(poly: &Polyhedron, outward: bool) -> (usize, usize) {
             for e in &expected {
                 // The nearest in normal and depth: a polyhedron wedged into an edge can meet both faces alike.
                 let miss = |f: &VolumeContact| (f.normal - e.normal).length() + (f.depth - e.depth).abs() / rb;
-                let (_, f) = found.iter().min_by(|a, b| miss(&a.1).total_cmp(&miss(&b.1))).expect("as many contacts as quads");
+                let f = &found.iter().min_by(|a, b| miss(&a.contact).total_cmp(&miss(&b.contact))).expect("as many contacts as quads").contact;
                 compare(f, e, x, poly.size(), &format!("trial {trial} at {x}"));
                 compared += 1;
             }
@@ -143,7 +143,16 @@ fn a_cube_lying_across_a_sheets_diagonal_feels_one_contact_as_on_the_quad() {
         let e = quad.polyhedron_volume(&cube, &pose).expect("the cube touches the quad");
         sheet.polyhedron_volumes(&cube, &pose, &mut found);
         assert_eq!(found.len(), 1, "at {x}");
-        compare(&found[0].1, &e, x, 0.2, &format!("at {x}"));
+        compare(&found[0].contact, &e, x, 0.2, &format!("at {x}"));
+        let shares = &found[0].triangles;
+        assert!((shares.iter().map(|s| s.1).sum::<f64>() - 1.0).abs() < 1e-12, "{shares:?}");
+    }
+    // Centred on the diagonal face-on, the cube overlaps both triangles alike; shifted off it, by
+    // the areas of its footprint on each side (a 0.2 square at (0.55, 0.45): 0.035 of 0.04 under [0, 1, 2]).
+    for (x, under_first) in [(DVec3::new(0.5, 0.5, 0.09), 0.5), (DVec3::new(0.55, 0.45, 0.09), 0.5 + 0.5 * (1.0 - 0.5 * 0.5))] {
+        sheet.polyhedron_volumes(&cube, &Pose::new(x, DQuat::IDENTITY), &mut found);
+        let share = found[0].triangles.iter().find(|s| s.0 == 0).map_or(0.0, |s| s.1);
+        assert!((share - under_first).abs() < 1e-9, "at {x}: {:?}, expected {under_first} under triangle 0", found[0].triangles);
     }
 }
 
@@ -164,9 +173,13 @@ fn a_moved_mesh_meets_a_polyhedron_as_the_mesh_with_moved_vertices_does() {
         moved.polyhedron_volumes(&cube, &pose, &mut a);
         direct.polyhedron_volumes(&cube, &pose, &mut b);
         assert_eq!(a.len(), b.len());
-        for ((pa, ca), (pb, cb)) in a.iter().zip(&b) {
-            assert_eq!(pa, pb);
-            compare(ca, cb, pose.position, 0.2, "moved");
+        for (pa, pb) in a.iter().zip(&b) {
+            assert_eq!(pa.patch, pb.patch);
+            assert_eq!(pa.triangles.len(), pb.triangles.len());
+            for (ta, tb) in pa.triangles.iter().zip(&pb.triangles) {
+                assert!(ta.0 == tb.0 && (ta.1 - tb.1).abs() < 1e-9, "shares {:?} against {:?}", pa.triangles, pb.triangles);
+            }
+            compare(&pa.contact, &pb.contact, pose.position, 0.2, "moved");
         }
         touched += !a.is_empty() as usize;
     }

@@ -304,7 +304,7 @@ fn check_wall_overlaps(
                         continue;
                     }
                     let pose = Pose::new(p.position[i], p.orientation[i]);
-                    shape.polyhedron_contact(&shapes[s as usize].body, &pose).map_or(0.0, |c| c.depth)
+                    shape.polyhedron_depth(&shapes[s as usize].body, &pose).unwrap_or(0.0)
                 }
             };
             let d = size(p, shapes, i);

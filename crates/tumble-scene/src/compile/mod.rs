@@ -49,11 +49,12 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let history_slots = tuning::history_slots(scene)?;
     let mechanics = model::mechanics(scene, &pairs, &shapes, &kinds, fluid.as_ref())?;
     if mechanics.polyhedra
+        && scene.contact.polyhedron_model == Some(PolyhedronModelName::Depth)
         && let Some(k) = scene.walls.iter().position(|w| w.mesh.is_some())
     {
         return Err(SceneError::field(
-            format!("walls[{k}].mesh"),
-            "polyhedral particles against mesh walls are not built yet; use spheres, or analytic walls (plane, quad, box, cylinder, lifters)",
+            "contact.polyhedron_model",
+            format!("\"depth\" has no contact with mesh walls (walls[{k}].mesh); use \"volume\" (the default) with meshes"),
         ));
     }
     let (cell_size, skin) = tuning::search(scene, &kinds, mechanics.cohesion, &domain)?;
