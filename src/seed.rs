@@ -87,7 +87,7 @@ fn carried_springs(
     (walls, mesh_triangles): (usize, usize),
     warnings: &mut Vec<String>,
 ) -> Result<HistorySlots, String> {
-    let mut out = HistorySlots::new(order.len(), slots);
+    let mut out = HistorySlots::new(order.len(), slots, from.history.rolling);
     let mut dropped = 0;
     for (new, &k) in order.iter().enumerate() {
         for (key, spring) in from.history.of(k) {
@@ -110,7 +110,7 @@ fn carried_springs(
                 return Err(format!("particle {} holds more springs than contact.history_slots = {slots}; raise it", from.id[k]));
             }
             out.key[new * slots + used] = key;
-            out.spring[new * slots + used] = spring;
+            out.set(new * slots + used, spring);
             out.count[new] += 1;
         }
     }

@@ -94,6 +94,7 @@ impl CpuSimulation {
             ));
         }
         self.state = snap.state.clone();
+        self.state.history.keep_rolling(self.plan.model.rolling_springs());
         self.step = snap.step;
         self.removed = snap.removed as usize;
         self.outlet_tally.clone_from(&snap.outlets);

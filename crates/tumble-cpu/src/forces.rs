@@ -12,7 +12,7 @@ use tumble_contact::{
 };
 use tumble_geom::{MeshWall, NO_CONTACT, SurfaceContact, SurfaceShape, sphere_sphere};
 use tumble_scene::{PairParams, PhysicsModel, SPHERE, Wall};
-use tumble_state::{ContactSum, MESH_KEY, Spring, State, WALL_KEY};
+use tumble_state::{ContactSum, MESH_KEY, RollingHalf, Spring, State, TangentialHalf, WALL_KEY};
 
 /// A particle's copy in cell order, for the candidate scan.
 #[derive(Clone, Copy, Debug, Default)]
@@ -221,10 +221,12 @@ pub fn pair_contact<const ROT: bool, const COH: bool, const PERIODIC: bool, cons
     out
 }
 
-/// Where a particle writes the springs it keeps this step (empty without history).
+/// Where a particle writes the springs it keeps this step (empty without history; `roll`
+/// empty unless the plan keeps rolling springs).
 pub struct SpringSlots<'a> {
     pub key: &'a mut [u32],
-    pub spring: &'a mut [Spring],
+    pub spring: &'a mut [TangentialHalf],
+    pub roll: &'a mut [RollingHalf],
 }
 
 impl SpringSlots<'_> {
@@ -233,9 +235,27 @@ impl SpringSlots<'_> {
     fn keep(&mut self, used: &mut u32, key: u32, spring: Spring) {
         if let Some(k) = self.key.get_mut(*used as usize) {
             *k = key;
-            self.spring[*used as usize] = spring;
+            self.spring[*used as usize] = spring.tangential();
+            if let Some(r) = self.roll.get_mut(*used as usize) {
+                *r = spring.rolling();
+            }
         }
         *used += 1;
+    }
+}
+
+/// The listed pairs' new springs as their lower ids hold them: tangential halves, and rolling
+/// halves when the plan keeps rolling springs (else empty).
+#[derive(Clone, Copy)]
+pub struct PairSprings<'a> {
+    pub spring: &'a [TangentialHalf],
+    pub roll: &'a [RollingHalf],
+}
+
+impl PairSprings<'_> {
+    #[inline(always)]
+    fn get(&self, k: usize) -> Spring {
+        Spring::from_parts(self.spring[k], self.roll.get(k).copied().unwrap_or_default())
     }
 }
 
@@ -250,7 +270,7 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     c: &ContactInputs,
     list: &NeighbourList,
     pairs: &[PairOut],
-    springs: &[Spring],
+    springs: PairSprings,
     i: usize,
     mut slots: SpringSlots,
     wall_loads: &mut [WallLoad],
@@ -260,9 +280,9 @@ pub fn gather<const ROT: bool, const COH: bool, const HIST: bool, const POLY: bo
     for &e in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
         let k = (e >> 1) as usize;
         let p = &pairs[k];
-        if HIST && springs[k].is_loaded() {
+        if HIST && springs.get(k).is_loaded() {
             let [a, b] = list.pairs[k];
-            let sp = springs[k];
+            let sp = springs.get(k);
             let (other, kept) = if e & 1 == 0 { (b, sp) } else { (a, sp.mirrored()) };
             slots.keep(&mut sum.springs, c.state.id[other as usize], kept);
         }

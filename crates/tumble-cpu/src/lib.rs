@@ -60,8 +60,10 @@ pub struct CpuSimulation {
     sums: Vec<ContactSum>,
     neighbours: NeighbourList,
     pair_out: Vec<PairOut>,
-    /// Each listed pair's new spring as its lower id holds it (history only).
-    pair_spring: Vec<Spring>,
+    /// Each listed pair's new spring as its lower id holds it (history only): the tangential
+    /// halves, and the rolling halves when the plan keeps rolling springs.
+    pair_spring: Vec<tumble_state::TangentialHalf>,
+    pair_roll: Vec<tumble_state::RollingHalf>,
     /// The next generation of spring slots, written by the gather and then swapped in.
     history_next: HistorySlots,
     history_overflow: Option<HistoryOverflow>,
@@ -108,8 +110,10 @@ impl CpuSimulation {
 
     /// Sets up `scene` starting from `state` (a state of the same model: [`State::from_scene`]'s
     /// arrays, springs included) instead of the scene's particles.
-    pub fn from_state(scene: CompiledScene, state: State, threads: usize) -> Self {
+    pub fn from_state(scene: CompiledScene, mut state: State, threads: usize) -> Self {
         let threads = threads.max(1);
+        let rolling = scene.plan.model.rolling_springs();
+        state.history.keep_rolling(rolling);
         let pool = std::sync::Arc::new(rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool"));
         let slots = state.history.slots;
         // A one-cell placeholder: the first broad phase sizes the real grid to the particles.
@@ -132,7 +136,8 @@ impl CpuSimulation {
             neighbours,
             pair_out: Vec::new(),
             pair_spring: Vec::new(),
-            history_next: HistorySlots::new(0, slots),
+            pair_roll: Vec::new(),
+            history_next: HistorySlots::new(0, slots, rolling),
             history_overflow: None,
             last_resort: None,
             eval_vel: Vec::new(),

@@ -1,7 +1,7 @@
 //! The step: broad phase, contacts, body forces, integration (ARCHITECTURE.md, "The step (CPU)").
 
 use crate::CpuSimulation;
-use crate::forces::{ContactInputs, SortedEntry, SpringSlots, WORN_SLOTS, WallLoad, Worn, gather, pair_contact};
+use crate::forces::{ContactInputs, PairOut, PairSprings, SortedEntry, SpringSlots, WORN_SLOTS, WallLoad, Worn, gather, pair_contact};
 use crate::neighbours::NeighbourList;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -13,7 +13,7 @@ use tumble_integrate::{
     world_inverse_inertia_times,
 };
 use tumble_scene::Drag;
-use tumble_state::{HistoryOverflow, Spring};
+use tumble_state::{HistoryOverflow, RollingHalf, Spring, TangentialHalf};
 
 /// Per-particle body-force context, copied out of the plan once per pass.
 #[derive(Clone, Copy)]
@@ -201,7 +201,7 @@ impl CpuSimulation {
         let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
         let inputs = ContactInputs { model: &self.plan.model, state: &self.state, vel, omega, walls: &self.walls };
         let n = self.state.len();
-        let (list, pair_out, pair_spring, sums) = (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.sums);
+        let (list, pair_out, pair_spring, pair_roll, sums) = (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.pair_roll, &mut self.sums);
         let next = &mut self.history_next;
         // Each particle's share of the wall-load slots (empty without walls).
         let loads = &mut self.candidate_loads;
@@ -219,23 +219,46 @@ impl CpuSimulation {
         self.pool.install(|| {
             let pairs = list.pairs.par_iter().with_min_len(1024);
             if HIST {
-                pairs
-                    .map(|p| {
+                if next.rolling {
+                    // Three outputs per pair: written in place, in list order.
+                    let m = list.pairs.len();
+                    pair_out.resize(m, PairOut::default());
+                    pair_spring.resize(m, TangentialHalf::default());
+                    pair_roll.resize(m, RollingHalf::default());
+                    pair_out.par_iter_mut().zip(pair_spring.par_iter_mut()).zip(pair_roll.par_iter_mut()).zip(pairs).for_each(|(((out, t), r), p)| {
                         let mut spring = Spring::default();
-                        (pair_contact::<ROT, COH, PERIODIC, HIST, POLY>(&inputs, p[0] as usize, p[1] as usize, &mut spring), spring)
-                    })
-                    .unzip_into_vecs(pair_out, pair_spring);
+                        *out = pair_contact::<ROT, COH, PERIODIC, HIST, POLY>(&inputs, p[0] as usize, p[1] as usize, &mut spring);
+                        *t = spring.tangential();
+                        *r = spring.rolling();
+                    });
+                } else {
+                    pair_roll.clear();
+                    pairs
+                        .map(|p| {
+                            let mut spring = Spring::default();
+                            (pair_contact::<ROT, COH, PERIODIC, HIST, POLY>(&inputs, p[0] as usize, p[1] as usize, &mut spring), spring.tangential())
+                        })
+                        .unzip_into_vecs(pair_out, pair_spring);
+                }
+                let springs = PairSprings { spring: pair_spring, roll: pair_roll };
                 next.resize(n);
                 let slots = next.slots;
+                // Each particle's rolling slots, or empty ones when the plan keeps none.
+                let rolls = if next.rolling {
+                    rayon::iter::Either::Left(next.roll.par_chunks_mut(slots))
+                } else {
+                    rayon::iter::Either::Right((0..n).into_par_iter().map(|_| <&mut [RollingHalf]>::default()))
+                };
                 (0..n)
                     .into_par_iter()
                     .zip(next.key.par_chunks_mut(slots))
                     .zip(next.spring.par_chunks_mut(slots))
+                    .zip(rolls)
                     .zip(next.count.par_iter_mut())
                     .zip(chunks.into_par_iter())
                     .with_min_len(512)
-                    .map(|((((i, key), spring), count), (power, worn))| {
-                        let sum = gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, pair_spring, i, SpringSlots { key, spring }, power, worn);
+                    .map(|(((((i, key), spring), roll), count), (power, worn))| {
+                        let sum = gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, springs, i, SpringSlots { key, spring, roll }, power, worn);
                         *count = sum.springs.min(slots as u32) as u16;
                         sum
                     })
@@ -249,7 +272,7 @@ impl CpuSimulation {
                     .zip(chunks.into_par_iter())
                     .with_min_len(512)
                     .map(|(i, (power, worn))| {
-                        gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, &[], i, SpringSlots { key: &mut [], spring: &mut [] }, power, worn)
+                        gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, PairSprings { spring: &[], roll: &[] }, i, SpringSlots { key: &mut [], spring: &mut [], roll: &mut [] }, power, worn)
                     })
                     .collect_into_vec(sums);
             }

@@ -77,14 +77,14 @@ impl GpuSimulation {
             return state;
         }
         let index: std::collections::HashMap<u32, usize> = state.id.iter().enumerate().map(|(i, &id)| (id, i)).collect();
-        let mut history = tumble_state::HistorySlots::new(state.len(), slots);
+        let mut history = tumble_state::HistorySlots::new(state.len(), slots, false);
         for ((owner, key), (xi, energy)) in self.stored_springs() {
             let Some(&i) = index.get(&owner) else { continue };
             let used = history.count[i] as usize;
             if used < slots {
                 let xi = glam::DVec3::new(f32::from_bits(xi[0]) as f64, f32::from_bits(xi[1]) as f64, f32::from_bits(xi[2]) as f64);
                 history.key[i * slots + used] = key;
-                history.spring[i * slots + used] = tumble_state::Spring { xi, energy: f32::from_bits(energy) as f64, ..Default::default() };
+                history.spring[i * slots + used] = tumble_state::TangentialHalf { xi, energy: f32::from_bits(energy) as f64 };
                 history.count[i] += 1;
             }
         }

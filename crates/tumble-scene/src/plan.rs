@@ -376,6 +376,11 @@ pub struct PhysicsModel {
 }
 
 impl PhysicsModel {
+    /// Some pair keeps an EPSD2 rolling spring beside its tangential one.
+    pub fn rolling_springs(&self) -> bool {
+        self.history && self.pairs.iter().any(|p| p.rolling > 0.0 && p.rolling_model == RollingModel::Epsd2)
+    }
+
     /// Contact parameters of materials `a` and `b`.
     #[inline]
     pub fn pair(&self, a: u16, b: u16) -> &PairParams {

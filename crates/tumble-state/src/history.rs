@@ -42,16 +42,57 @@ impl Spring {
     }
 }
 
+/// The tangential half of a stored [`Spring`]: what every contact with history keeps.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TangentialHalf {
+    pub xi: DVec3,
+    pub energy: f64,
+}
+
+/// The rolling half of a stored [`Spring`], kept only by plans with EPSD2 rolling springs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RollingHalf {
+    pub roll: DVec3,
+    pub roll_energy: f64,
+}
+
+impl Spring {
+    #[inline(always)]
+    pub fn tangential(&self) -> TangentialHalf {
+        TangentialHalf { xi: self.xi, energy: self.energy }
+    }
+
+    #[inline(always)]
+    pub fn rolling(&self) -> RollingHalf {
+        RollingHalf { roll: self.roll, roll_energy: self.roll_energy }
+    }
+
+    #[inline(always)]
+    pub fn from_parts(t: TangentialHalf, r: RollingHalf) -> Spring {
+        Spring { xi: t.xi, energy: t.energy, roll: r.roll, roll_energy: r.roll_energy }
+    }
+}
+
 /// One generation of spring slots: `slots` per particle, the first `count[i]` in use.
 ///
+/// The tangential halves and the rolling halves lie in separate arrays, and the rolling array
+/// is empty unless the plan keeps rolling springs (EPSD2): a scene without them moves half the
+/// bytes per contact through the step.
+///
 /// Serialised compactly, with the slots in use only (a packed bed uses about a third of
-/// them): what is beyond `count[i]` is never read, so a restore may leave it zero.
+/// them): what is beyond `count[i]` is never read, so a restore may leave it zero. The
+/// serialised form holds whole [`Spring`]s (rolling halves zero when not kept) whatever the
+/// arrays' layout.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct HistorySlots {
     pub slots: usize,
     pub count: Vec<u16>,
     pub key: Vec<u32>,
-    pub spring: Vec<Spring>,
+    pub spring: Vec<TangentialHalf>,
+    /// Empty, or one per slot when rolling springs are kept.
+    pub roll: Vec<RollingHalf>,
+    /// Whether rolling halves are kept.
+    pub rolling: bool,
 }
 
 /// [`HistorySlots`] as serialised: the counts, then the keys and springs in use, particle by particle.
@@ -67,24 +108,29 @@ impl Serialize for HistorySlots {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         let n = self.count.len();
         let used = (0..n).flat_map(|i| i * self.slots..i * self.slots + self.count[i] as usize);
-        let (key, spring) = used.map(|k| (self.key[k], self.spring[k])).unzip();
+        let (key, spring) = used.map(|k| (self.key[k], self.get(k))).unzip();
         UsedSlots { slots: self.slots, count: self.count.clone(), key, spring }.serialize(serializer)
     }
 }
 
 impl<'de> Deserialize<'de> for HistorySlots {
+    /// Keeps the rolling halves when any is loaded; [`HistorySlots::keep_rolling`] then sets the
+    /// layout the plan asks for.
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let used = UsedSlots::deserialize(deserializer)?;
         let total: usize = used.count.iter().map(|&c| c as usize).sum();
         if used.count.iter().any(|&c| c as usize > used.slots) || used.key.len() != total || used.spring.len() != total {
             return Err(serde::de::Error::custom("contact history: slot counts do not match the springs"));
         }
-        let mut slots = HistorySlots::new(used.count.len(), used.slots);
+        let rolling = used.spring.iter().any(|s| s.rolling() != RollingHalf::default());
+        let mut slots = HistorySlots::new(used.count.len(), used.slots, rolling);
         let mut next = 0;
         for (i, &c) in used.count.iter().enumerate() {
             let base = i * used.slots;
             slots.key[base..base + c as usize].copy_from_slice(&used.key[next..next + c as usize]);
-            slots.spring[base..base + c as usize].copy_from_slice(&used.spring[next..next + c as usize]);
+            for (k, s) in used.spring[next..next + c as usize].iter().enumerate() {
+                slots.set(base + k, *s);
+            }
             next += c as usize;
         }
         slots.count = used.count;
@@ -93,9 +139,42 @@ impl<'de> Deserialize<'de> for HistorySlots {
 }
 
 impl HistorySlots {
-    /// Empty slots for `n` particles (`slots` = 0 when the plan has no history).
-    pub fn new(n: usize, slots: usize) -> Self {
-        HistorySlots { slots, count: vec![0; if slots > 0 { n } else { 0 }], key: vec![0; n * slots], spring: vec![Spring::default(); n * slots] }
+    /// Empty slots for `n` particles (`slots` = 0 when the plan has no history), with rolling
+    /// halves when `rolling`.
+    pub fn new(n: usize, slots: usize, rolling: bool) -> Self {
+        HistorySlots {
+            slots,
+            count: vec![0; if slots > 0 { n } else { 0 }],
+            key: vec![0; n * slots],
+            spring: vec![TangentialHalf::default(); n * slots],
+            roll: vec![RollingHalf::default(); if rolling { n * slots } else { 0 }],
+            rolling,
+        }
+    }
+
+    /// Keeps the rolling halves (zero where none was stored) or drops them, as a plan asks.
+    pub fn keep_rolling(&mut self, rolling: bool) {
+        self.rolling = rolling;
+        if rolling {
+            self.roll.resize(self.key.len(), RollingHalf::default());
+        } else {
+            self.roll = Vec::new();
+        }
+    }
+
+    /// The whole spring in slot `k`.
+    #[inline(always)]
+    pub fn get(&self, k: usize) -> Spring {
+        Spring::from_parts(self.spring[k], self.roll.get(k).copied().unwrap_or_default())
+    }
+
+    /// Stores `spring` in slot `k` (its rolling half only where rolling halves are kept).
+    #[inline(always)]
+    pub fn set(&mut self, k: usize, spring: Spring) {
+        self.spring[k] = spring.tangential();
+        if let Some(r) = self.roll.get_mut(k) {
+            *r = spring.rolling();
+        }
     }
 
     /// The spring particle `i` holds for `key`, zero when the contact is new.
@@ -104,7 +183,7 @@ impl HistorySlots {
         let base = i * self.slots;
         let used = self.count[i] as usize;
         match self.key[base..base + used].iter().position(|&k| k == key) {
-            Some(s) => self.spring[base + s],
+            Some(s) => self.get(base + s),
             None => Spring::default(),
         }
     }
@@ -112,7 +191,7 @@ impl HistorySlots {
     /// Particle `i`'s springs: (key, spring) in slot order.
     pub fn of(&self, i: usize) -> impl Iterator<Item = (u32, Spring)> + '_ {
         let base = i * self.slots;
-        (base..base + self.count[i] as usize).map(|s| (self.key[s], self.spring[s]))
+        (base..base + self.count[i] as usize).map(|s| (self.key[s], self.get(s)))
     }
 
     /// Springs held in all, each pair counted from both sides.
@@ -132,6 +211,9 @@ impl HistorySlots {
         }
         self.key = blocks(&self.key, order, self.slots);
         self.spring = blocks(&self.spring, order, self.slots);
+        if self.rolling {
+            self.roll = blocks(&self.roll, order, self.slots);
+        }
     }
 
     /// Keeps the blocks of the particles for which `keep` is true.
@@ -148,7 +230,10 @@ impl HistorySlots {
         if self.slots > 0 {
             self.count.resize(n, 0);
             self.key.resize(n * self.slots, 0);
-            self.spring.resize(n * self.slots, Spring::default());
+            self.spring.resize(n * self.slots, TangentialHalf::default());
+            if self.rolling {
+                self.roll.resize(n * self.slots, RollingHalf::default());
+            }
         }
     }
 }
@@ -179,11 +264,11 @@ mod tests {
 
     #[test]
     fn blocks_follow_their_particle_through_a_permutation_and_removal() {
-        let mut h = HistorySlots::new(3, 2);
+        let mut h = HistorySlots::new(3, 2, false);
         for i in 0..3 {
             h.count[i] = 1;
             h.key[2 * i] = 10 + i as u32;
-            h.spring[2 * i] = Spring { xi: DVec3::splat(i as f64), energy: i as f64, ..Default::default() };
+            h.set(2 * i, Spring { xi: DVec3::splat(i as f64), energy: i as f64, ..Default::default() });
         }
         h.permute(&[2, 0, 1]);
         assert_eq!(h.find(0, 12).xi, DVec3::splat(2.0));

@@ -23,7 +23,7 @@ mod state;
 pub use backend::{AdapterInfo, Backend, BackendInfo, Frame};
 pub use contact_sum::ContactSum;
 pub use fault::Fault;
-pub use history::{HistoryOverflow, HistorySlots, MESH_KEY, Spring, WALL_KEY};
+pub use history::{HistoryOverflow, HistorySlots, MESH_KEY, RollingHalf, Spring, TangentialHalf, WALL_KEY};
 pub use observables::{DrumFrame, DrumProfile, Observables, TrackRow, drum_profiles, no_drum_profile, quantile_rank, tracks};
 pub use snapshot::{
     DeviceImage, NeighbourState, NeighbourStateRef, OutletTally, SNAPSHOT_VERSION, ServoState, Snapshot, SnapshotError, SnapshotRef, WallState,

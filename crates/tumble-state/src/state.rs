@@ -98,7 +98,7 @@ impl State {
         if plan.model.domain.periodic.iter().any(|&p| p) {
             s.image = vec![[0; 3]; n];
         }
-        s.history = HistorySlots::new(n, if plan.model.history { plan.tuning.history_slots } else { 0 });
+        s.history = HistorySlots::new(n, if plan.model.history { plan.tuning.history_slots } else { 0 }, plan.model.rolling_springs());
         s
     }
 
