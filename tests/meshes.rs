@@ -346,21 +346,18 @@ fn a_ball_rolling_over_a_bar_given_as_a_mesh_moves_as_over_the_analytic_bar() {
     assert!(x < 1e-9 && u < 1e-9 && w < 1e-9, "{x:e} {u:e} {w:e}");
 }
 
-#[test]
-fn a_bed_at_rest_on_a_mesh_presses_its_weight_on_the_floor_triangles() {
-    let (lo, hi) = (DVec3::ZERO, DVec3::new(0.1, 0.1, 0.12));
-    let (v, mut t) = box_triangles_subdivided(lo, hi, 3);
-    t.iter_mut().for_each(|t| t.swap(1, 2));
-    let file = folder("bed").join("box.obj");
-    write_obj(&file, &v, &t);
+/// Glass `particles` (a `[[particles]]` body) settled for 0.6 s in a closed mesh box from the
+/// origin to `hi` (three squares a face, two triangles each), on the CPU: the run and the box's triangles.
+fn settled_in_a_mesh_box(name: &str, hi: DVec3, particles: &str) -> (Simulation, Vec<[u32; 3]>) {
+    let (file, t) = container(name, hi, 3);
     let text = format!(
-        r#"name = "mesh-bed"
+        r#"name = "mesh-{name}"
 [run]
 duration = 0.6
 integrator = "verlet"
 [domain]
 min = [0.0, 0.0, 0.0]
-max = [0.1, 0.1, 0.12]
+max = [{}, {}, {}]
 [gravity]
 acceleration = [0.0, 0.0, -9.81]
 [[materials]]
@@ -372,17 +369,26 @@ restitution = 0.2
 tangential = {{ model = "history", friction = 0.4 }}
 [[particles]]
 material = "glass"
-shape = {{ sphere = {{ diameter = 0.015 }} }}
-lattice = {{ min = [0.01, 0.01, 0.01], max = [0.09, 0.09, 0.1], spacing = 0.02, jitter = 0.1 }}
+{particles}
 [[walls]]
 name = "box"
 material = "glass"
 mesh = {{ file = "{}", closed = true }}
 "#,
+        hi.x,
+        hi.y,
+        hi.z,
         file.display()
     );
     let mut s = Simulation::new(compile(&parse_scene(&text).unwrap()).unwrap(), 1);
     s.advance(s.plan().run.steps);
+    (s, t)
+}
+
+#[test]
+fn a_bed_at_rest_on_a_mesh_presses_its_weight_on_the_floor_triangles() {
+    let particles = "shape = { sphere = { diameter = 0.015 } }\nlattice = { min = [0.01, 0.01, 0.01], max = [0.09, 0.09, 0.1], spacing = 0.02, jitter = 0.1 }";
+    let (s, t) = settled_in_a_mesh_box("bed", DVec3::new(0.1, 0.1, 0.12), particles);
     let st = s.cpu().state();
     let weight = st.mass.iter().sum::<f64>() * 9.81;
     let loads = tumble_cpu::network::mesh_loads(&s.plan().model, st, s.cpu().walls());
@@ -447,8 +453,8 @@ material = "glass"
 }
 
 /// A box of `n`×`n` squares a face, two triangles each, facing inward.
-fn container(name: &str, n: usize) -> (PathBuf, Vec<[u32; 3]>) {
-    let (v, mut t) = box_triangles_subdivided(DVec3::ZERO, DVec3::new(0.2, 0.15, 0.1), n);
+fn container(name: &str, hi: DVec3, n: usize) -> (PathBuf, Vec<[u32; 3]>) {
+    let (v, mut t) = box_triangles_subdivided(DVec3::ZERO, hi, n);
     t.iter_mut().for_each(|t| t.swap(1, 2));
     let file = folder(name).join(format!("box{n}.obj"));
     write_obj(&file, &v, &t);
@@ -465,7 +471,7 @@ fn a_cube_tumbling_in_a_triangulated_box_follows_the_analytic_box() {
     println!("analytic box: at most {} contacts", analytic.1);
     assert!(analytic.1 >= 2, "the throw must reach several walls at once");
     for n in [1, 4] {
-        let (file, t) = container("cube", n);
+        let (file, t) = container("cube", DVec3::new(0.2, 0.15, 0.1), n);
         let (mesh, most) = trajectory(&cube_scene(start, 0.12, &format!("mesh = {{ file = \"{}\", closed = true }}", file.display())), 24);
         let [x, u, w] = worst(&analytic.0, &mesh);
         println!("cube, container of {} triangles: position {x:.1e}, velocity {u:.1e}, spin {w:.1e}; at most {most} contacts", t.len());
@@ -476,38 +482,8 @@ fn a_cube_tumbling_in_a_triangulated_box_follows_the_analytic_box() {
 
 #[test]
 fn a_bed_of_cubes_at_rest_on_a_mesh_presses_its_weight_on_the_floor_triangles() {
-    let (file, t) = container("cube-bed", 3);
-    let text = format!(
-        r#"name = "mesh-cube-bed"
-[run]
-duration = 0.6
-integrator = "verlet"
-[domain]
-min = [0.0, 0.0, 0.0]
-max = [0.2, 0.15, 0.1]
-[gravity]
-acceleration = [0.0, 0.0, -9.81]
-[[materials]]
-name = "glass"
-density = 2500.0
-[contact]
-normal = {{ model = "linear", stiffness = 2.0e3 }}
-restitution = 0.2
-tangential = {{ model = "history", friction = 0.4 }}
-[[particles]]
-material = "glass"
-shape = {{ cube = {{ edge = 0.012 }} }}
-orientation = "random"
-lattice = {{ min = [0.012, 0.012, 0.012], max = [0.19, 0.14, 0.06], spacing = 0.02 }}
-[[walls]]
-name = "box"
-material = "glass"
-mesh = {{ file = "{}", closed = true }}
-"#,
-        file.display()
-    );
-    let mut s = Simulation::new(compile(&parse_scene(&text).unwrap()).unwrap(), 1);
-    s.advance(s.plan().run.steps);
+    let particles = "shape = { cube = { edge = 0.012 } }\norientation = \"random\"\nlattice = { min = [0.012, 0.012, 0.012], max = [0.19, 0.14, 0.06], spacing = 0.02 }";
+    let (s, t) = settled_in_a_mesh_box("cube-bed", DVec3::new(0.2, 0.15, 0.1), particles);
     let st = s.cpu().state();
     let weight = st.mass.iter().sum::<f64>() * 9.81;
     let loads = tumble_cpu::network::mesh_loads(&s.plan().model, st, s.cpu().walls());
