@@ -387,7 +387,8 @@ mesh = {{ file = "{}", closed = true }}
 
 #[test]
 fn a_bed_at_rest_on_a_mesh_presses_its_weight_on_the_floor_triangles() {
-    let particles = "shape = { sphere = { diameter = 0.015 } }\nlattice = { min = [0.01, 0.01, 0.01], max = [0.09, 0.09, 0.1], spacing = 0.02, jitter = 0.1 }";
+    let particles =
+        "shape = { sphere = { diameter = 0.015 } }\nlattice = { min = [0.01, 0.01, 0.01], max = [0.09, 0.09, 0.1], spacing = 0.02, jitter = 0.1 }";
     let (s, t) = settled_in_a_mesh_box("bed", DVec3::new(0.1, 0.1, 0.12), particles);
     let st = s.cpu().state();
     let weight = st.mass.iter().sum::<f64>() * 9.81;

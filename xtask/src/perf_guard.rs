@@ -84,7 +84,10 @@ fn guard(args: &[String]) -> Result<(), String> {
     };
     let short = &commit[..10];
     println!("base {short} against {against}, {pairs} pairs");
-    println!("{:<8} {:>7} {:>6} {:>14} {:>14} {:>22} {:>22}", "bed", "threads", "steps", "base p-s/s", "new p-s/s", "ratio median (range)", "process-time ratio");
+    println!(
+        "{:<8} {:>7} {:>6} {:>14} {:>14} {:>22} {:>22}",
+        "bed", "threads", "steps", "base p-s/s", "new p-s/s", "ratio median (range)", "process-time ratio"
+    );
     let mut rows = String::new();
     for bed in &beds {
         let scene = root.join(bed.scene);
@@ -124,7 +127,9 @@ fn guard(args: &[String]) -> Result<(), String> {
             rows.push_str(&format!("{},{},{},{},{},{:.6e}\n", &head[..10], today(), bed.name, t, steps, median(&speed[1])));
         }
     }
-    println!("ratios are new / base throughput (above 1: the new build is faster); the process-time ratio is base / new wall time of the whole command, set-up included");
+    println!(
+        "ratios are new / base throughput (above 1: the new build is faster); the process-time ratio is base / new wall time of the whole command, set-up included"
+    );
     if record {
         let path = root.join(RECORD);
         let mut text = std::fs::read_to_string(&path).unwrap_or_else(|_| "commit,date,bed,threads,steps,particle_steps_per_s\n".into());
@@ -144,7 +149,13 @@ fn list<T: std::str::FromStr>(args: &[String], name: &str, default: &str) -> Res
 /// The newest commit in the record.
 fn last_recorded(root: &Path) -> Result<String, String> {
     let text = std::fs::read_to_string(root.join(RECORD)).map_err(|e| format!("{RECORD}: {e} (name a revision to compare with)"))?;
-    text.lines().skip(1).filter_map(|l| l.split(',').next()).filter(|c| !c.is_empty()).last().map(str::to_owned).ok_or_else(|| format!("{RECORD} records no commit yet: name a revision"))
+    text.lines()
+        .skip(1)
+        .filter_map(|l| l.split(',').next())
+        .filter(|c| !c.is_empty())
+        .last()
+        .map(str::to_owned)
+        .ok_or_else(|| format!("{RECORD} records no commit yet: name a revision"))
 }
 
 fn git(root: &Path, args: &[&str]) -> Result<String, String> {
@@ -217,7 +228,17 @@ fn run_once(bin: &Path, scene: &Path, duration: f64, threads: usize, dir: &Path)
     let _ = std::fs::remove_dir_all(&out);
     let start = Instant::now();
     let result = Command::new(bin)
-        .args(["run", &scene.to_string_lossy(), "--quiet", "--threads", &threads.to_string(), "--duration", &duration.to_string(), "--out", &out.to_string_lossy()])
+        .args([
+            "run",
+            &scene.to_string_lossy(),
+            "--quiet",
+            "--threads",
+            &threads.to_string(),
+            "--duration",
+            &duration.to_string(),
+            "--out",
+            &out.to_string_lossy(),
+        ])
         .output()
         .map_err(|e| format!("{}: {e}", bin.display()))?;
     let seconds = start.elapsed().as_secs_f64();

@@ -13,9 +13,11 @@
 
 use crate::forces::{ContactForce, ContactInputs, PairOut, tangential_part};
 use glam::DVec3;
-use tumble_contact::{normal_force, rolling_torque};
 use smallvec::SmallVec;
-use tumble_geom::{MeshWall, PatchContact, PolyContact, Polyhedron, Pose, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron};
+use tumble_contact::{normal_force, rolling_torque};
+use tumble_geom::{
+    MeshWall, PatchContact, PolyContact, Polyhedron, Pose, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron,
+};
 use tumble_integrate::world_inverse_inertia_times;
 use tumble_scene::{PairParams, PolyhedronContact};
 use tumble_scene::{SPHERE, Wall};
@@ -309,7 +311,17 @@ fn volume_wall_contact<const HIST: bool>(c: &ContactInputs, i: usize, w: &Wall, 
 /// A wall contact from its force law's result: twisting friction added, the wall spin's power.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn wall_contact(c: &ContactInputs, i: usize, w: &Wall, point: DVec3, depth: f64, mut f: ContactForce, torque: DVec3, n: DVec3, spread: f64) -> PolyhedronWallContact {
+fn wall_contact(
+    c: &ContactInputs,
+    i: usize,
+    w: &Wall,
+    point: DVec3,
+    depth: f64,
+    mut f: ContactForce,
+    torque: DVec3,
+    n: DVec3,
+    spread: f64,
+) -> PolyhedronWallContact {
     let s = c.state;
     let params = c.model.pair(s.material[i], w.material);
     let wall_spin = w.angular_velocity();

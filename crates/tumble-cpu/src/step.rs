@@ -201,7 +201,8 @@ impl CpuSimulation {
         let (vel, omega) = if use_eval { (&self.eval_vel, &self.eval_omega) } else { (&self.state.vel, &self.state.omega) };
         let inputs = ContactInputs { model: &self.plan.model, state: &self.state, vel, omega, walls: &self.walls };
         let n = self.state.len();
-        let (list, pair_out, pair_spring, pair_roll, sums) = (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.pair_roll, &mut self.sums);
+        let (list, pair_out, pair_spring, pair_roll, sums) =
+            (&self.neighbours, &mut self.pair_out, &mut self.pair_spring, &mut self.pair_roll, &mut self.sums);
         let next = &mut self.history_next;
         // Each particle's share of the wall-load slots (empty without walls).
         let loads = &mut self.candidate_loads;
@@ -225,12 +226,14 @@ impl CpuSimulation {
                     pair_out.resize(m, PairOut::default());
                     pair_spring.resize(m, TangentialHalf::default());
                     pair_roll.resize(m, RollingHalf::default());
-                    pair_out.par_iter_mut().zip(pair_spring.par_iter_mut()).zip(pair_roll.par_iter_mut()).zip(pairs).for_each(|(((out, t), r), p)| {
-                        let mut spring = Spring::default();
-                        *out = pair_contact::<ROT, COH, PERIODIC, HIST, POLY>(&inputs, p[0] as usize, p[1] as usize, &mut spring);
-                        *t = spring.tangential();
-                        *r = spring.rolling();
-                    });
+                    pair_out.par_iter_mut().zip(pair_spring.par_iter_mut()).zip(pair_roll.par_iter_mut()).zip(pairs).for_each(
+                        |(((out, t), r), p)| {
+                            let mut spring = Spring::default();
+                            *out = pair_contact::<ROT, COH, PERIODIC, HIST, POLY>(&inputs, p[0] as usize, p[1] as usize, &mut spring);
+                            *t = spring.tangential();
+                            *r = spring.rolling();
+                        },
+                    );
                 } else {
                     pair_roll.clear();
                     pairs
@@ -272,7 +275,16 @@ impl CpuSimulation {
                     .zip(chunks.into_par_iter())
                     .with_min_len(512)
                     .map(|(i, (power, worn))| {
-                        gather::<ROT, COH, HIST, POLY>(&inputs, list, pair_out, PairSprings { spring: &[], roll: &[] }, i, SpringSlots { key: &mut [], spring: &mut [], roll: &mut [] }, power, worn)
+                        gather::<ROT, COH, HIST, POLY>(
+                            &inputs,
+                            list,
+                            pair_out,
+                            PairSprings { spring: &[], roll: &[] },
+                            i,
+                            SpringSlots { key: &mut [], spring: &mut [], roll: &mut [] },
+                            power,
+                            worn,
+                        )
                     })
                     .collect_into_vec(sums);
             }

@@ -48,10 +48,10 @@ pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosin
 pub use mesh::{DEFAULT_CURVATURE, EdgeKind, MeshError, MeshReport, OPEN, TriangleMesh, box_triangles, box_triangles_subdivided};
 pub use mesh_grid::TriangleGrid;
 pub use mesh_wall::{MeshBody, MeshWall, MeshWallContact};
-pub use polyhedron_mesh::{MeshPatches, PatchContact};
 pub use overlap_volume::{OverlapVolume, overlap_volume, overlap_volume_about};
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};
+pub use polyhedron_mesh::{MeshPatches, PatchContact};
 pub use polyhedron_polyhedron::{
     ContactFeature, ManifoldPoint, PolyContact, SAT_MAX_EDGE_PAIRS, SeparationCache, polyhedron_polyhedron, polyhedron_polyhedron_cached,
     polyhedron_polyhedron_gjk, polyhedron_polyhedron_sat, segment_closest_points,

@@ -98,7 +98,11 @@ impl MeshWall {
     pub fn polyhedron_volumes(&self, poly: &Polyhedron, pose: &Pose, out: &mut Vec<PatchContact>) {
         out.clear();
         let identity = self.is_identity();
-        let local = if identity { *pose } else { Pose::new(self.rotation.inverse() * (pose.position - self.translation), self.rotation.inverse() * pose.rotation) };
+        let local = if identity {
+            *pose
+        } else {
+            Pose::new(self.rotation.inverse() * (pose.position - self.translation), self.rotation.inverse() * pose.rotation)
+        };
         let body = &self.body;
         CANDIDATES.with_borrow_mut(|candidates| {
             body.grid.candidates(local.position, 2.0 * poly.bounding_radius(), candidates);

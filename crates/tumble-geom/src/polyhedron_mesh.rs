@@ -94,14 +94,7 @@ impl MeshPatches {
     /// appended to `out` in patch order. A one-sided mesh pushes only towards
     /// its normals' side (no triangle acts once the centre is behind it); a two-sided patch
     /// pushes towards the side the centre is on.
-    pub fn polyhedron_volumes(
-        &self,
-        mesh: &TriangleMesh,
-        poly: &Polyhedron,
-        pose: &Pose,
-        candidates: &[u32],
-        out: &mut Vec<PatchContact>,
-    ) {
+    pub fn polyhedron_volumes(&self, mesh: &TriangleMesh, poly: &Polyhedron, pose: &Pose, candidates: &[u32], out: &mut Vec<PatchContact>) {
         let (x, rb) = (pose.position, poly.bounding_radius());
         // (patch, triangle, height of the centre above the triangle's plane, whether within rb)
         let mut near: Buf<(u32, u32, f64, bool)> = Buf::new();
@@ -274,7 +267,16 @@ fn surface_depth(surface: &[(DVec3, f64)], p: DVec3, tau: f64) -> Option<(f64, D
 /// The polyhedron's (`a`) corners in the prism `b`, their depths smoothed over `tau` against
 /// the `surface`.
 #[allow(clippy::too_many_arguments)]
-fn corners_below(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, surface: &[(DVec3, f64)], t: u32, mesh: &TriangleMesh, origin: DVec3, tau: f64) {
+fn corners_below(
+    out: &mut Vec<PenetratingPoint>,
+    a: &Region,
+    b: &Region,
+    surface: &[(DVec3, f64)],
+    t: u32,
+    mesh: &TriangleMesh,
+    origin: DVec3,
+    tau: f64,
+) {
     for &v in &a.vertices {
         if !inside_sides(b, v, t, mesh) {
             continue;
@@ -289,7 +291,16 @@ fn corners_below(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, surfac
 /// points per piece on which one plane of the `surface` the piece lies inside is the nearest
 /// (as `edges_inside` weighs them).
 #[allow(clippy::too_many_arguments)]
-fn edges_below(out: &mut Vec<PenetratingPoint>, a: &Region, b: &Region, surface: &[(DVec3, f64)], t: u32, mesh: &TriangleMesh, origin: DVec3, density: f64) {
+fn edges_below(
+    out: &mut Vec<PenetratingPoint>,
+    a: &Region,
+    b: &Region,
+    surface: &[(DVec3, f64)],
+    t: u32,
+    mesh: &TriangleMesh,
+    origin: DVec3,
+    density: f64,
+) {
     for &[p0, p1] in &a.edges {
         let e = p1 - p0;
         let (mut lo, mut hi) = (0.0f64, 1.0f64);

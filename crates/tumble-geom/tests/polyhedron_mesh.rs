@@ -2,7 +2,9 @@
 //! the same box of six quads does, face by face, whatever the triangulation, from outside
 //! (ridges and corners) and from inside (a container's valleys); a sheet as the quad it tiles.
 
-use tumble_geom::{DEFAULT_CURVATURE, DQuat, DVec3, MeshWall, Polyhedron, Pose, Quad, SurfaceShape, TriangleMesh, VolumeContact, box_triangles_subdivided};
+use tumble_geom::{
+    DEFAULT_CURVATURE, DQuat, DVec3, MeshWall, Polyhedron, Pose, Quad, SurfaceShape, TriangleMesh, VolumeContact, box_triangles_subdivided,
+};
 
 /// The six faces of the unit box as quads whose normals point out (`outward`) or in.
 fn box_quads(outward: bool) -> Vec<SurfaceShape> {
@@ -52,7 +54,14 @@ fn compare(a: &VolumeContact, b: &VolumeContact, x: DVec3, scale: f64, what: &st
     assert!(close(a.volume, b.volume, s3), "{what}: volume {} against {}", a.volume, b.volume);
     assert!(near(a.push, b.push, s2), "{what}: push {} against {}", a.push, b.push);
     assert!(near(a.turn_a, b.turn_a, s3), "{what}: turn {} against {}", a.turn_a, b.turn_a);
-    assert!(close(a.area, b.area, s2) && close(a.depth, b.depth, scale), "{what}: area {} against {}, depth {} against {}", a.area, b.area, a.depth, b.depth);
+    assert!(
+        close(a.area, b.area, s2) && close(a.depth, b.depth, scale),
+        "{what}: area {} against {}, depth {} against {}",
+        a.area,
+        b.area,
+        a.depth,
+        b.depth
+    );
     assert!(near(a.point, b.point, scale), "{what}: point {} against {}", a.point, b.point);
     let (fa, ta, ea) = point_loads(a, x);
     let (fb, tb, eb) = point_loads(b, x);
@@ -94,7 +103,10 @@ fn check_box(poly: &Polyhedron, outward: bool) -> (usize, usize) {
                 }
             }
         }
-        let turn = DQuat::from_axis_angle(DVec3::new(random(&mut seed) - 0.5, random(&mut seed) - 0.5, random(&mut seed) - 0.5).normalize(), 6.0 * random(&mut seed));
+        let turn = DQuat::from_axis_angle(
+            DVec3::new(random(&mut seed) - 0.5, random(&mut seed) - 0.5, random(&mut seed) - 0.5).normalize(),
+            6.0 * random(&mut seed),
+        );
         let pose = Pose::new(x, turn);
         let expected: Vec<VolumeContact> = quads.iter().filter_map(|q| q.polyhedron_volume(poly, &pose)).collect();
         several += (expected.len() > 1) as usize;
@@ -115,7 +127,9 @@ fn check_box(poly: &Polyhedron, outward: bool) -> (usize, usize) {
 
 #[test]
 fn a_triangulated_box_meets_a_polyhedron_as_its_six_quads_do() {
-    for (name, poly) in [("cube", Polyhedron::cube(0.2)), ("tetrahedron", Polyhedron::tetrahedron(0.25)), ("dodecahedron", Polyhedron::dodecahedron(0.1))] {
+    for (name, poly) in
+        [("cube", Polyhedron::cube(0.2)), ("tetrahedron", Polyhedron::tetrahedron(0.25)), ("dodecahedron", Polyhedron::dodecahedron(0.1))]
+    {
         for outward in [true, false] {
             let (compared, several) = check_box(&poly, outward);
             println!("{name}, {}: {compared} contacts compared, {several} poses on two or three faces", if outward { "outside" } else { "inside" });
@@ -185,6 +199,3 @@ fn a_moved_mesh_meets_a_polyhedron_as_the_mesh_with_moved_vertices_does() {
     }
     assert!(touched > 50, "{touched}");
 }
-
-
-

@@ -386,7 +386,11 @@ impl PlacementGrid {
 
     fn coords(&self, x: DVec3) -> [usize; 3] {
         let c = (x - self.min) / self.cell;
-        [(c.x.floor().max(0.0) as usize).min(self.dims[0] - 1), (c.y.floor().max(0.0) as usize).min(self.dims[1] - 1), (c.z.floor().max(0.0) as usize).min(self.dims[2] - 1)]
+        [
+            (c.x.floor().max(0.0) as usize).min(self.dims[0] - 1),
+            (c.y.floor().max(0.0) as usize).min(self.dims[1] - 1),
+            (c.z.floor().max(0.0) as usize).min(self.dims[2] - 1),
+        ]
     }
 
     fn index(&self, [i, j, k]: [usize; 3]) -> usize {
