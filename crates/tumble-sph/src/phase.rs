@@ -1,0 +1,316 @@
+//! The fluid phase: its particles, its grid and the symplectic step.
+
+use rayon::prelude::*;
+use tumble_geom::DVec3;
+
+use crate::eos::Tait;
+use crate::neighbours::{FluidGrid, SKIN};
+use crate::particles::{FluidParticles, ParticleKind};
+use crate::rates::{Method, PairInputs, Rates, evaluate, prepare};
+use crate::settings::{FluidSettings, Viscosity};
+
+/// The three conditions on the fluid's time step (Monaghan 1992; Morris et al. 1997).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimeStepLimits {
+    /// Δt ≤ 0.25 h / (c₀ + v): a sound wave crosses a quarter of h per step.
+    pub cfl: f64,
+    /// Δt ≤ 0.125 h² ρ₀ / μ: momentum diffuses across an eighth of h² per step.
+    pub viscous: f64,
+    /// Δt ≤ 0.25 √(h / |a|).
+    pub force: f64,
+}
+
+impl TimeStepLimits {
+    /// The limits for a flow of speed `speed` whose particles accelerate at most at `acceleration`.
+    pub fn new(settings: &FluidSettings, speed: f64, acceleration: f64) -> Self {
+        let h = settings.h;
+        TimeStepLimits {
+            cfl: 0.25 * h / (settings.sound_speed + speed),
+            viscous: if settings.mu > 0.0 { 0.125 * h * h * settings.rho0 / settings.mu } else { f64::INFINITY },
+            force: if acceleration > 0.0 { 0.25 * (h / acceleration).sqrt() } else { f64::INFINITY },
+        }
+    }
+
+    /// The limits a plan uses before the flow exists: the expected speed c₀/10 and the external
+    /// acceleration.
+    pub fn planned(settings: &FluidSettings) -> Self {
+        Self::new(settings, 0.1 * settings.sound_speed, settings.external_acceleration().length())
+    }
+
+    pub fn dt(&self) -> f64 {
+        self.cfl.min(self.viscous).min(self.force)
+    }
+
+    /// Which condition binds, in words.
+    pub fn binding(&self) -> &'static str {
+        let dt = self.dt();
+        if dt == self.cfl {
+            "the sound speed (CFL)"
+        } else if dt == self.viscous {
+            "the viscosity"
+        } else {
+            "the largest acceleration"
+        }
+    }
+}
+
+/// Why a fluid step could not be trusted.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FluidFault {
+    /// A fluid particle's position, velocity or density is not finite.
+    NotFinite { id: u32, time: f64 },
+    /// A particle moved further in one step than the grid's skin allows: the flow outran the
+    /// sound speed the time step was chosen for.
+    TooFast { id: u32, time: f64, speed: f64, sound_speed: f64, dt_that_works: f64 },
+}
+
+impl std::fmt::Display for FluidFault {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FluidFault::NotFinite { id, time } => {
+                write!(f, "fluid particle {id} has a non-finite position, velocity or density at t = {time:.6e} s")
+            }
+            FluidFault::TooFast { id, time, speed, sound_speed, dt_that_works } => write!(
+                f,
+                "fluid particle {id} moves at {speed:.4e} m/s at t = {time:.6e} s, {:.2} times the sound speed {sound_speed:.4e} m/s: \
+                 the fluid is unstable; raise the sound speed or use a time step of at most {dt_that_works:.4e} s",
+                speed / sound_speed
+            ),
+        }
+    }
+}
+
+impl std::error::Error for FluidFault {}
+
+/// The fluid's sums at one instant (the observables of an output row).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FluidObservables {
+    pub fluid_particles: usize,
+    pub mass: f64,
+    pub momentum: DVec3,
+    pub kinetic_energy: f64,
+    /// −Σ m g·x (gravity only, not the body force).
+    pub potential_energy: f64,
+    /// Σ m e(ρ), the energy the equation of state stores in compression.
+    pub elastic_energy: f64,
+    /// max |ρ/ρ₀ − 1| over the fluid.
+    pub largest_density_deviation: f64,
+    pub largest_speed: f64,
+}
+
+/// A weakly compressible SPH fluid: fluid and wall particles, stepped by the symplectic scheme.
+pub struct FluidPhase {
+    settings: FluidSettings,
+    method: Method,
+    grid: FluidGrid,
+    particles: FluidParticles,
+    inputs: PairInputs,
+    rates: Rates,
+    start_velocity: Vec<DVec3>,
+    start_density: Vec<f64>,
+    time: f64,
+    steps: u64,
+}
+
+impl FluidPhase {
+    /// A phase over `particles`; refuses settings no step could use.
+    pub fn new(settings: FluidSettings, mut particles: FluidParticles) -> Result<Self, String> {
+        let positive =
+            [("spacing", settings.spacing), ("smoothing length h", settings.h), ("density", settings.rho0), ("sound speed", settings.sound_speed)];
+        for (name, v) in positive {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(format!("the fluid's {name} must be positive and finite (got {v})"));
+            }
+        }
+        if !(settings.mu >= 0.0 && settings.mu.is_finite()) {
+            return Err(format!("the fluid's viscosity must be ≥ 0 and finite (got {})", settings.mu));
+        }
+        if settings.viscosity == Viscosity::Laminar && settings.mu == 0.0 {
+            return Err("laminar viscosity needs the fluid's viscosity μ > 0 (or choose the artificial viscosity)".into());
+        }
+        let mut grid = FluidGrid::new(settings.domain, 2.0 * settings.h)?;
+        for x in particles.position.iter_mut() {
+            *x = grid.wrap(*x);
+        }
+        grid.sort(&mut particles);
+        let method = Method::new(&settings);
+        Ok(FluidPhase {
+            settings,
+            method,
+            grid,
+            particles,
+            inputs: PairInputs::default(),
+            rates: Rates::default(),
+            start_velocity: Vec::new(),
+            start_density: Vec::new(),
+            time: 0.0,
+            steps: 0,
+        })
+    }
+
+    pub fn settings(&self) -> &FluidSettings {
+        &self.settings
+    }
+
+    pub fn particles(&self) -> &FluidParticles {
+        &self.particles
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    pub fn equation_of_state(&self) -> Tait {
+        self.method.eos
+    }
+
+    pub(crate) fn grid(&self) -> &FluidGrid {
+        &self.grid
+    }
+
+    pub(crate) fn kernel(&self) -> crate::kernel::WendlandC2 {
+        self.method.kernel
+    }
+
+    /// The pressure of every particle at the last evaluation (walls: extrapolated).
+    pub fn pressure(&self) -> &[f64] {
+        &self.inputs.pressure
+    }
+
+    /// The time-step limits of the current state (its largest speed and acceleration).
+    pub fn time_step_limits(&self) -> TimeStepLimits {
+        let (speed, acc) = self
+            .particles
+            .kind
+            .par_iter()
+            .zip(self.particles.velocity.par_iter())
+            .zip(self.rates.acceleration.par_iter())
+            .filter(|((k, _), _)| **k == ParticleKind::Fluid)
+            .map(|((_, v), a)| (v.length(), a.length()))
+            .reduce(|| (0.0, 0.0), |x, y| (x.0.max(y.0), x.1.max(y.1)));
+        TimeStepLimits::new(&self.settings, speed, acc.max(self.settings.external_acceleration().length()))
+    }
+
+    /// One step of Δt: the symplectic position-Verlet scheme of DualSPHysics (Monaghan 2005):
+    /// rates at n give the half-step state; rates there give v^{n+1} = v^n + Δt a^{n+½},
+    /// x^{n+1} = x^{n+½} + ½Δt v^{n+1}, ρ^{n+1} = ρ^n (2 − ε)/(2 + ε) with ε = −Δt (dρ/dt)^{n+½}/ρ^{n+½}.
+    pub fn step(&mut self, dt: f64) -> Result<(), FluidFault> {
+        self.grid.sort(&mut self.particles);
+        let half = 0.5 * dt;
+        prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs);
+        evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
+        self.start_velocity.clone_from(&self.particles.velocity);
+        self.start_density.clone_from(&self.particles.density);
+        let grid = &self.grid;
+        let rates = &self.rates;
+        let p = &mut self.particles;
+        let first_move: f64 = p
+            .position
+            .par_iter_mut()
+            .zip(p.velocity.par_iter_mut())
+            .zip(p.density.par_iter_mut())
+            .zip(p.kind.par_iter())
+            .enumerate()
+            .map(|(i, (((x, v), rho), k))| {
+                let moved = match k {
+                    ParticleKind::Fluid => {
+                        let advect = *v + rates.xsph[i];
+                        *x = grid.wrap(*x + half * advect);
+                        *v += half * rates.acceleration[i];
+                        *rho += half * rates.density_rate[i];
+                        advect.length()
+                    }
+                    ParticleKind::Wall => {
+                        *x = grid.wrap(*x + half * *v);
+                        v.length()
+                    }
+                };
+                moved * half
+            })
+            .reduce(|| 0.0, f64::max);
+        prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs);
+        evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
+        let grid = &self.grid;
+        let rates = &self.rates;
+        let (v0, rho0) = (&self.start_velocity, &self.start_density);
+        let p = &mut self.particles;
+        let (fastest, second_move) = p
+            .position
+            .par_iter_mut()
+            .zip(p.velocity.par_iter_mut())
+            .zip(p.density.par_iter_mut())
+            .zip(p.kind.par_iter())
+            .enumerate()
+            .map(|(i, (((x, v), rho), k))| {
+                let moved = match k {
+                    ParticleKind::Fluid => {
+                        *v = v0[i] + dt * rates.acceleration[i];
+                        let advect = *v + rates.xsph[i];
+                        *x = grid.wrap(*x + half * advect);
+                        let eps = -dt * rates.density_rate[i] / *rho;
+                        *rho = rho0[i] * (2.0 - eps) / (2.0 + eps);
+                        advect.length()
+                    }
+                    ParticleKind::Wall => {
+                        *x = grid.wrap(*x + half * *v);
+                        v.length()
+                    }
+                };
+                (i, moved * half)
+            })
+            .reduce(|| (usize::MAX, -1.0), |a, b| if b.1 > a.1 || (b.1 == a.1 && b.0 < a.0) { b } else { a });
+        self.time += dt;
+        self.steps += 1;
+        self.check(fastest, first_move + second_move, dt)
+    }
+
+    fn check(&self, fastest: usize, moved: f64, dt: f64) -> Result<(), FluidFault> {
+        let p = &self.particles;
+        let bad = (0..p.len()).into_par_iter().find_first(|&i| {
+            p.kind[i] == ParticleKind::Fluid && !(p.position[i].is_finite() && p.velocity[i].is_finite() && p.density[i].is_finite())
+        });
+        if let Some(i) = bad {
+            return Err(FluidFault::NotFinite { id: p.id[i], time: self.time });
+        }
+        // Each of two particles may close (SKIN − 1)·h of the cell's slack of (SKIN − 1)·2h.
+        let skin = (SKIN - 1.0) * self.settings.h;
+        if moved > skin && fastest < p.len() {
+            let speed = moved / dt;
+            return Err(FluidFault::TooFast {
+                id: p.id[fastest],
+                time: self.time,
+                speed,
+                sound_speed: self.settings.sound_speed,
+                dt_that_works: skin / speed,
+            });
+        }
+        Ok(())
+    }
+
+    /// The fluid's sums, in the particles' (deterministic) cell order.
+    pub fn observables(&self) -> FluidObservables {
+        let p = &self.particles;
+        let eos = self.method.eos;
+        let mut o = FluidObservables::default();
+        for i in 0..p.len() {
+            if p.kind[i] != ParticleKind::Fluid {
+                continue;
+            }
+            let m = p.mass[i];
+            let v = p.velocity[i];
+            o.fluid_particles += 1;
+            o.mass += m;
+            o.momentum += m * v;
+            o.kinetic_energy += 0.5 * m * v.length_squared();
+            o.potential_energy -= m * self.settings.gravity.dot(p.position[i]);
+            o.elastic_energy += m * eos.elastic_energy(p.density[i]);
+            o.largest_density_deviation = o.largest_density_deviation.max((p.density[i] / eos.rho0 - 1.0).abs());
+            o.largest_speed = o.largest_speed.max(v.length());
+        }
+        o
+    }
+}

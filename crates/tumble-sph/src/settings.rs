@@ -1,0 +1,79 @@
+//! What a fluid phase is told: the method's switches and the fluid's properties, as plain data.
+
+use tumble_geom::{DVec3, PeriodicBox};
+
+use crate::kernel::Dimension;
+
+/// How momentum diffuses.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Viscosity {
+    /// The laminar term of Morris, Fox & Zhu (1997) with the fluid's dynamic viscosity.
+    Laminar,
+    /// Monaghan's (1992) artificial viscosity with coefficient α (0.01–0.1), for violent flows;
+    /// the fluid's dynamic viscosity then only enters the time step.
+    Artificial { alpha: f64 },
+}
+
+/// The density-diffusion (δ-SPH) term added to the continuity equation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DensityDiffusion {
+    None,
+    /// Molteni & Colagrossi (2009): the whole density difference diffuses; it pulls a column at
+    /// rest away from its hydrostatic gradient near the free surface.
+    MolteniColagrossi {
+        delta: f64,
+    },
+    /// Fourtakas et al. (2019): only the difference beyond the hydrostatic one diffuses.
+    Fourtakas {
+        delta: f64,
+    },
+}
+
+impl DensityDiffusion {
+    pub fn delta(self) -> f64 {
+        match self {
+            DensityDiffusion::None => 0.0,
+            DensityDiffusion::MolteniColagrossi { delta } | DensityDiffusion::Fourtakas { delta } => delta,
+        }
+    }
+}
+
+/// Everything the fluid's step reads, compiled from a scene (or written by a test).
+#[derive(Clone, Debug)]
+pub struct FluidSettings {
+    pub dimension: Dimension,
+    /// Initial particle spacing Δp, m.
+    pub spacing: f64,
+    /// Smoothing length h, m (≈ 1.3 Δp); the kernel reaches 2h.
+    pub h: f64,
+    /// Reference density ρ₀, kg/m³.
+    pub rho0: f64,
+    /// Dynamic viscosity μ, Pa·s.
+    pub mu: f64,
+    /// Reference sound speed c₀, m/s (10× the largest expected flow speed keeps density within ~1 %).
+    pub sound_speed: f64,
+    pub viscosity: Viscosity,
+    pub density_diffusion: DensityDiffusion,
+    /// Monaghan's (2000) tensile-instability correction, acting only where the pressure is negative.
+    pub tensile_correction: bool,
+    /// XSPH coefficient ε (0 turns it off): particles move with v − ε Σ (m_b/ρ̄_ab) v_ab W_ab.
+    pub xsph: f64,
+    pub gravity: DVec3,
+    /// An acceleration on the fluid alone (drives a periodic channel flow).
+    pub body_force: DVec3,
+    /// The region the cell grid covers; its periodic axes are the fluid's. Particles leaving a
+    /// non-periodic side are still found (binned into the edge cells), only more slowly.
+    pub domain: PeriodicBox,
+}
+
+impl FluidSettings {
+    /// The acceleration every fluid particle feels besides the other particles.
+    pub fn external_acceleration(&self) -> DVec3 {
+        self.gravity + self.body_force
+    }
+
+    /// The mass of one particle on the lattice of spacing Δp: ρ₀ Δp² in 2D (per metre of span), ρ₀ Δp³ in 3D.
+    pub fn particle_mass(&self) -> f64 {
+        self.rho0 * self.spacing.powi(self.dimension.count())
+    }
+}

@@ -1,0 +1,52 @@
+//! Filling a phase: fluid blocks at rest in hydrostatic balance, and the dummy-particle walls of a tank.
+
+use tumble_geom::DVec3;
+
+use crate::eos::Tait;
+use crate::particles::{Aabb, ClosedSides, FluidParticles, ParticleKind, lattice_points, wall_shell};
+use crate::settings::FluidSettings;
+
+/// Layers of wall particles so that a fluid particle touching the wall has a full kernel: ⌈2h/Δp⌉.
+pub fn wall_layers(settings: &FluidSettings) -> usize {
+    (2.0 * settings.h / settings.spacing - 1e-9).ceil() as usize
+}
+
+/// Adds a block of fluid on the lattice anchored at `region.min`, moving at `velocity`. With
+/// gravity, the density starts hydrostatic below the block's own free surface (half a spacing
+/// above its highest particle), so a column at rest starts at rest.
+pub fn add_fluid_block(particles: &mut FluidParticles, settings: &FluidSettings, region: Aabb, velocity: DVec3) -> usize {
+    let points = lattice_points(region, region.min, settings.spacing, settings.dimension);
+    let g = settings.gravity.length();
+    let up = if g > 0.0 { -settings.gravity / g } else { DVec3::ZERO };
+    let top = points.iter().map(|x| up.dot(*x)).fold(f64::NEG_INFINITY, f64::max) + 0.5 * settings.spacing;
+    let eos = Tait::new(settings.rho0, settings.sound_speed);
+    let mass = settings.particle_mass();
+    for &x in &points {
+        let depth = top - up.dot(x);
+        let rho = if g > 0.0 { eos.density(settings.rho0 * g * depth) } else { settings.rho0 };
+        particles.push(ParticleKind::Fluid, x, velocity, rho, mass);
+    }
+    points.len()
+}
+
+/// Adds the dummy particles of a box's closed sides (a tank: `inner` is the fluid's side of the
+/// walls), moving at `velocity`.
+pub fn add_wall_box(particles: &mut FluidParticles, settings: &FluidSettings, inner: Aabb, closed: ClosedSides, velocity: DVec3) -> usize {
+    let points = wall_shell(inner, closed, wall_layers(settings), settings.spacing, settings.dimension);
+    let mass = settings.particle_mass();
+    for &x in &points {
+        particles.push(ParticleKind::Wall, x, velocity, settings.rho0, mass);
+    }
+    points.len()
+}
+
+/// Adds wall particles on the lattice filling the box `lower`–`upper` (anchored at `lower`),
+/// moving at `velocity`: a channel's plate.
+pub fn add_wall_slab(particles: &mut FluidParticles, settings: &FluidSettings, lower: DVec3, upper: DVec3, velocity: DVec3) -> usize {
+    let points = lattice_points(Aabb::new(lower, upper), lower, settings.spacing, settings.dimension);
+    let mass = settings.particle_mass();
+    for &x in &points {
+        particles.push(ParticleKind::Wall, x, velocity, settings.rho0, mass);
+    }
+    points.len()
+}
