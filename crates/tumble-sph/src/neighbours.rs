@@ -4,7 +4,7 @@
 use tumble_broad::{CellGrid, permute};
 use tumble_geom::{DVec3, PeriodicBox};
 
-use crate::particles::FluidParticles;
+use crate::particles::{FluidParticles, ParticleKind};
 
 /// Cells are this much wider than the kernel's reach, so the grid of a step's start still finds
 /// every pair within 2h at the step's half and end, as long as no particle moves more than
@@ -16,6 +16,9 @@ pub struct FluidGrid {
     grid: CellGrid,
     /// The cell of each particle in its sorted position.
     cells: Vec<u32>,
+    /// How many fluid particles precede each sorted slot (one more entry than particles), so a
+    /// run of slots holding walls only is skipped whole by whoever gathers from the fluid.
+    fluid_before: Vec<u32>,
     domain: PeriodicBox,
     any_periodic: bool,
 }
@@ -46,7 +49,13 @@ impl FluidGrid {
                 padded.max[k] = padded.min[k] + cell;
             }
         }
-        Ok(FluidGrid { grid: CellGrid::new(&padded, cell), cells: Vec::new(), domain, any_periodic: domain.periodic.iter().any(|&p| p) })
+        Ok(FluidGrid {
+            grid: CellGrid::new(&padded, cell),
+            cells: Vec::new(),
+            fluid_before: Vec::new(),
+            domain,
+            any_periodic: domain.periodic.iter().any(|&p| p),
+        })
     }
 
     /// Bins the particles and reorders every array of `particles` into cell order.
@@ -61,6 +70,13 @@ impl FluidGrid {
         permute(&mut particles.velocity, order);
         permute(&mut particles.density, order);
         permute(&mut particles.mass, order);
+        self.fluid_before.clear();
+        self.fluid_before.push(0);
+        let mut count = 0u32;
+        for &k in &particles.kind {
+            count += (k == ParticleKind::Fluid) as u32;
+            self.fluid_before.push(count);
+        }
     }
 
     /// r_a − r_b, the minimum image along periodic axes.
@@ -83,6 +99,22 @@ impl FluidGrid {
         self.grid.for_each_neighbour_run(self.cells[i] as usize, |start, end| {
             for j in start..end {
                 f(j)
+            }
+        });
+    }
+
+    /// Like [`FluidGrid::for_each_candidate`], but only the fluid particles among them; runs of
+    /// slots holding walls only cost one comparison.
+    #[inline]
+    pub fn for_each_fluid_candidate(&self, i: usize, kind: &[ParticleKind], mut f: impl FnMut(usize)) {
+        self.grid.for_each_neighbour_run(self.cells[i] as usize, |start, end| {
+            if self.fluid_before[end] == self.fluid_before[start] {
+                return;
+            }
+            for j in start..end {
+                if kind[j] == ParticleKind::Fluid {
+                    f(j)
+                }
             }
         });
     }

@@ -88,3 +88,39 @@ fn column_at_rest_with_molteni_colagrossi_diffusion() {
 fn column_at_rest_with_laminar_viscosity() {
     check_column(DensityDiffusion::Fourtakas { delta: 0.1 }, Viscosity::Laminar, 0.02);
 }
+
+/// The same column in 3D (a square tank, 16 particles over the height at CI size): pressure on
+/// the vertical axis, density, walls.
+#[test]
+fn column_at_rest_in_3d() {
+    let (width, height, n) = (0.1, 0.16, 16);
+    let mut phase = column_3d(width, height, n, DensityDiffusion::Fourtakas { delta: 0.1 }, Viscosity::Artificial { alpha: 0.02 });
+    let dt = TimeStepLimits::planned(phase.settings()).dt();
+    let (dp, h, rho0) = (phase.settings().spacing, phase.settings().h, phase.settings().rho0);
+    run_to(&mut phase, 0.5, dt);
+    let o = phase.observables();
+    let bottom = rho0 * G * height;
+    let mut worst: f64 = 0.0;
+    let mut depth = 2.0 * h;
+    while depth <= height - 0.5 * dp {
+        let p = phase.pressure_at(DVec3::new(0.5 * width, 0.5 * width, height - depth)).expect("inside the fluid");
+        worst = worst.max((p - rho0 * G * depth).abs() / bottom);
+        depth += dp;
+    }
+    let p = phase.particles();
+    let escaped = (0..p.len())
+        .filter(|&i| p.kind[i] == ParticleKind::Fluid)
+        .filter(|&i| {
+            let x = p.position[i];
+            x.x < 0.0 || x.x > width || x.y < 0.0 || x.y > width || x.z < 0.0
+        })
+        .count();
+    println!(
+        "3D column: worst pressure error {:.3} % of ρgH, density deviation {:.3} %, escaped {escaped}",
+        100.0 * worst,
+        100.0 * o.largest_density_deviation
+    );
+    assert_eq!(escaped, 0);
+    assert!(worst < 0.02, "pressure off hydrostatic by {:.3} % of ρgH", 100.0 * worst);
+    assert!(o.largest_density_deviation < 0.01);
+}
