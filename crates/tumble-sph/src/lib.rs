@@ -11,6 +11,7 @@
 //! Monaghan's (2000) tensile correction; XSPH; dummy wall particles with the condition of
 //! Adami, Hu & Adams (2012) and a short-range repulsion; a true 2D mode (the x–z plane).
 
+pub mod cases;
 mod eos;
 mod kernel;
 mod neighbours;

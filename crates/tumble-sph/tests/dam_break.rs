@@ -5,12 +5,8 @@ mod common;
 
 use common::*;
 use tumble_geom::DVec3;
+use tumble_sph::cases::MARTIN_MOYCE_FRONT;
 use tumble_sph::*;
-
-/// Martin & Moyce (1952), Phil. Trans. R. Soc. A 244, 312–324, Fig. 3, n² = 2, a = 2.25 in:
-/// the front Z = x/a against T = t √(2g/a), as digitised in PySPH's examples (db_exp_data.py).
-pub const MARTIN_MOYCE: [(f64, f64); 7] =
-    [(0.832, 1.217), (1.219, 1.474), (1.997, 2.292), (2.547, 2.995), (3.345, 4.134), (4.034, 4.944), (4.418, 5.881)];
 
 /// The front x/a at the experiment's times, by linear interpolation of the front recorded every step.
 fn fronts(a: f64, per_height: usize, viscosity: Viscosity) -> Vec<(f64, f64, f64)> {
@@ -23,7 +19,7 @@ fn fronts(a: f64, per_height: usize, viscosity: Viscosity) -> Vec<(f64, f64, f64
         phase.step(dt).unwrap_or_else(|e| panic!("{e}"));
         history.push((phase.time(), phase.front(DVec3::X)));
     }
-    MARTIN_MOYCE
+    MARTIN_MOYCE_FRONT
         .iter()
         .filter(|(t, _)| *t / time_scale <= t_end)
         .map(|&(t_star, z_exp)| {
