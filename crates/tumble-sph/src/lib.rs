@@ -26,7 +26,7 @@ pub use eos::{GAMMA, Tait};
 pub use kernel::{Dimension, WendlandC2};
 pub use neighbours::SKIN;
 pub use particles::{Aabb, ClosedSides, FluidParticles, ParticleKind, lattice_points, wall_shell};
-pub use phase::{FluidFault, FluidObservables, FluidPhase, TimeStepLimits};
+pub use phase::{FluidFault, FluidObservables, FluidPhase, FluidSnapshot, TimeStepLimits};
 pub use rates::Rates;
 pub use settings::{DensityDiffusion, FluidSettings, Viscosity};
 pub use setup::{add_fluid_block, add_wall_box, add_wall_slab, wall_layers};

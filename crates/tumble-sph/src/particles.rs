@@ -5,7 +5,7 @@ use tumble_geom::DVec3;
 use crate::kernel::Dimension;
 
 /// What a particle is: a moving fluid particle or a dummy particle of a wall.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum ParticleKind {
     Fluid,
     /// A wall's dummy particle (Adami, Hu & Adams 2012): moves with its wall; its pressure is
@@ -14,7 +14,7 @@ pub enum ParticleKind {
 }
 
 /// The particles of the fluid phase, fluid and walls together, in cell order after each step.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FluidParticles {
     /// The identity of each particle, stable across the re-sorting by cell.
     pub id: Vec<u32>,

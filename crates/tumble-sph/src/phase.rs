@@ -98,6 +98,16 @@ pub struct FluidObservables {
     pub largest_speed: f64,
 }
 
+/// The fluid's section of a snapshot: everything a step reads that is not settings. The arrays
+/// are kept in their sorted order, so a restored phase re-sorts exactly as the saved one would
+/// have, and continues bit-identically.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FluidSnapshot {
+    pub time: f64,
+    pub steps: u64,
+    pub particles: FluidParticles,
+}
+
 /// A weakly compressible SPH fluid: fluid and wall particles, stepped by the symplectic scheme.
 pub struct FluidPhase {
     settings: FluidSettings,
@@ -174,6 +184,28 @@ impl FluidPhase {
 
     pub(crate) fn kernel(&self) -> crate::kernel::WendlandC2 {
         self.method.kernel
+    }
+
+    /// The fluid's state for a checkpoint.
+    pub fn snapshot(&self) -> FluidSnapshot {
+        FluidSnapshot { time: self.time, steps: self.steps, particles: self.particles.clone() }
+    }
+
+    /// Continues from `snapshot` (taken from a phase with the same settings); refuses one whose
+    /// arrays disagree in length or hold non-finite values, changing nothing.
+    pub fn restore(&mut self, snapshot: &FluidSnapshot) -> Result<(), String> {
+        let p = &snapshot.particles;
+        let n = p.position.len();
+        if [p.id.len(), p.kind.len(), p.velocity.len(), p.density.len(), p.mass.len()].iter().any(|&len| len != n) {
+            return Err("the fluid snapshot's arrays differ in length".into());
+        }
+        if !(p.position.iter().all(|x| x.is_finite()) && p.velocity.iter().all(|v| v.is_finite()) && p.density.iter().all(|r| r.is_finite())) {
+            return Err("the fluid snapshot holds non-finite values".into());
+        }
+        self.particles = snapshot.particles.clone();
+        self.time = snapshot.time;
+        self.steps = snapshot.steps;
+        Ok(())
     }
 
     /// The pressure of every particle at the last evaluation (walls: extrapolated).
