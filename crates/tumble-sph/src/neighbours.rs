@@ -1,6 +1,7 @@
 //! The fluid's cell grid: tumble-broad's counting sort at the fluid's own cell size, 2h plus a
 //! skin, rebuilt and the particles re-sorted once per step.
 
+use rayon::prelude::*;
 use tumble_broad::{CellGrid, permute};
 use tumble_geom::{DVec3, PeriodicBox};
 
@@ -19,6 +20,12 @@ pub struct FluidGrid {
     /// How many fluid particles precede each sorted slot (one more entry than particles), so a
     /// run of slots holding walls only is skipped whole by whoever gathers from the fluid.
     fluid_before: Vec<u32>,
+    /// Each particle's neighbours within the cell size (2h plus the skin) at the last sort, in
+    /// the grid's slot order: all particles for a fluid particle, the fluid for a wall particle.
+    /// Built once per step, read by both of the step's evaluations.
+    list_start: Vec<usize>,
+    list: Vec<u32>,
+    reach2: f64,
     domain: PeriodicBox,
     any_periodic: bool,
 }
@@ -53,6 +60,9 @@ impl FluidGrid {
             grid: CellGrid::new(&padded, cell),
             cells: Vec::new(),
             fluid_before: Vec::new(),
+            list_start: Vec::new(),
+            list: Vec::new(),
+            reach2: cell * cell,
             domain,
             any_periodic: domain.periodic.iter().any(|&p| p),
         })
@@ -77,6 +87,60 @@ impl FluidGrid {
             count += (k == ParticleKind::Fluid) as u32;
             self.fluid_before.push(count);
         }
+        self.build_lists(particles);
+    }
+
+    /// The neighbour lists, built by fixed chunks of particles in parallel and joined in order:
+    /// the same lists for any number of threads.
+    fn build_lists(&mut self, particles: &FluidParticles) {
+        const CHUNK: usize = 256;
+        let n = particles.len();
+        let (kind, position) = (&particles.kind, &particles.position);
+        let this = &*self;
+        let pieces: Vec<(Vec<u32>, Vec<u32>)> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let range = c * CHUNK..((c + 1) * CHUNK).min(n);
+                let mut counts = Vec::with_capacity(range.len());
+                let mut list = Vec::new();
+                for i in range {
+                    let before = list.len();
+                    let xi = position[i];
+                    let wall = kind[i] == ParticleKind::Wall;
+                    this.grid.for_each_neighbour_run(this.cells[i] as usize, |start, end| {
+                        if wall && this.fluid_before[end] == this.fluid_before[start] {
+                            return;
+                        }
+                        for j in start..end {
+                            if j != i && !(wall && kind[j] != ParticleKind::Fluid) && this.separation(xi, position[j]).length_squared() < this.reach2
+                            {
+                                list.push(j as u32);
+                            }
+                        }
+                    });
+                    counts.push((list.len() - before) as u32);
+                }
+                (counts, list)
+            })
+            .collect();
+        self.list_start.clear();
+        self.list_start.push(0);
+        let mut total = 0usize;
+        for (counts, _) in &pieces {
+            for &c in counts {
+                total += c as usize;
+                self.list_start.push(total);
+            }
+        }
+        self.list.resize(total, 0);
+        let mut rest = &mut self.list[..];
+        let mut slices = Vec::with_capacity(pieces.len());
+        for (_, piece) in &pieces {
+            let (head, tail) = rest.split_at_mut(piece.len());
+            slices.push(head);
+            rest = tail;
+        }
+        slices.into_par_iter().zip(pieces.par_iter()).for_each(|(out, (_, piece))| out.copy_from_slice(piece));
     }
 
     /// r_a − r_b, the minimum image along periodic axes.
@@ -92,34 +156,16 @@ impl FluidGrid {
         if self.any_periodic { self.domain.wrap(x) } else { x }
     }
 
-    /// Calls `f(j)` for every particle (sorted index) in the cells around sorted particle `i`'s
-    /// cell, `i` included, in ascending slot order within each run.
+    /// Calls `f(j)` for every neighbour of sorted particle `i` in its list (within 2h plus the
+    /// skin at the last sort; fluid only for a wall particle), in ascending slot order.
     #[inline]
     pub fn for_each_candidate(&self, i: usize, mut f: impl FnMut(usize)) {
-        self.grid.for_each_neighbour_run(self.cells[i] as usize, |start, end| {
-            for j in start..end {
-                f(j)
-            }
-        });
+        for &j in &self.list[self.list_start[i]..self.list_start[i + 1]] {
+            f(j as usize)
+        }
     }
 
-    /// Like [`FluidGrid::for_each_candidate`], but only the fluid particles among them; runs of
-    /// slots holding walls only cost one comparison.
-    #[inline]
-    pub fn for_each_fluid_candidate(&self, i: usize, kind: &[ParticleKind], mut f: impl FnMut(usize)) {
-        self.grid.for_each_neighbour_run(self.cells[i] as usize, |start, end| {
-            if self.fluid_before[end] == self.fluid_before[start] {
-                return;
-            }
-            for j in start..end {
-                if kind[j] == ParticleKind::Fluid {
-                    f(j)
-                }
-            }
-        });
-    }
-
-    /// Like [`FluidGrid::for_each_candidate`] around an arbitrary point (a probe).
+    /// Calls `f(j)` for every particle in the cells around an arbitrary point (a probe).
     pub fn for_each_candidate_near(&self, x: DVec3, mut f: impl FnMut(usize)) {
         let c = self.grid.cell_coords(self.wrap(x));
         let [nx, ny, _] = self.grid.dims();

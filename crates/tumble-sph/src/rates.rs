@@ -127,7 +127,7 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
             let mut sum_p = 0.0;
             let mut sum_rho_r = DVec3::ZERO;
             let mut sum_v = DVec3::ZERO;
-            grid.for_each_fluid_candidate(w, kind, |f| {
+            grid.for_each_candidate(w, |f| {
                 let d = grid.separation(xw, position[f]);
                 let r2 = d.length_squared();
                 if r2 >= method.support2 {
