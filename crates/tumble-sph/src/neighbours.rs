@@ -156,13 +156,11 @@ impl FluidGrid {
         if self.any_periodic { self.domain.wrap(x) } else { x }
     }
 
-    /// Calls `f(j)` for every neighbour of sorted particle `i` in its list (within 2h plus the
-    /// skin at the last sort; fluid only for a wall particle), in ascending slot order.
+    /// Sorted particle `i`'s neighbours in its list (within 2h plus the skin at the last sort;
+    /// fluid only for a wall particle), in ascending slot order.
     #[inline]
-    pub fn for_each_candidate(&self, i: usize, mut f: impl FnMut(usize)) {
-        for &j in &self.list[self.list_start[i]..self.list_start[i + 1]] {
-            f(j as usize)
-        }
+    pub fn neighbours(&self, i: usize) -> &[u32] {
+        &self.list[self.list_start[i]..self.list_start[i + 1]]
     }
 
     /// Calls `f(j)` for every particle in the cells around an arbitrary point (a probe).

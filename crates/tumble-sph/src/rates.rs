@@ -127,18 +127,19 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
             let mut sum_p = 0.0;
             let mut sum_rho_r = DVec3::ZERO;
             let mut sum_v = DVec3::ZERO;
-            grid.for_each_candidate(w, |f| {
+            for &f in grid.neighbours(w) {
+                let f = f as usize;
                 let d = grid.separation(xw, position[f]);
                 let r2 = d.length_squared();
                 if r2 >= method.support2 {
-                    return;
+                    continue;
                 }
                 let wk = method.kernel.value(r2.sqrt());
                 sum_w += wk;
                 sum_p += fluid_pressure[f] * wk;
                 sum_rho_r += p.density[f] * wk * d;
                 sum_v += wk * velocity[f];
-            });
+            }
             if sum_w > 0.0 {
                 let pw = (sum_p + method.external.dot(sum_rho_r)) / sum_w;
                 (pw, method.eos.density(pw), 2.0 * velocity[w] - sum_v / sum_w)
@@ -188,14 +189,12 @@ pub(crate) fn evaluate(method: &Method, grid: &FluidGrid, p: &FluidParticles, in
             let mut drho = 0.0;
             let mut diffusion = 0.0;
             let mut xsph = DVec3::ZERO;
-            grid.for_each_candidate(a, |b| {
-                if b == a {
-                    return;
-                }
+            for &b in grid.neighbours(a) {
+                let b = b as usize;
                 let d = grid.separation(xa, position[b]);
                 let r2 = d.length_squared();
                 if r2 >= method.support2 {
-                    return;
+                    continue;
                 }
                 let r = r2.sqrt();
                 let gw = method.kernel.gradient_over_r(r);
@@ -246,7 +245,7 @@ pub(crate) fn evaluate(method: &Method, grid: &FluidGrid, p: &FluidParticles, in
                     // A linear penalty: zero at r₀ and continuous, so it only acts in a violent impact.
                     acc += (method.repulsion_stiffness * (method.repulsion_reach - r) / r) * d;
                 }
-            });
+            }
             *acc_out = acc + method.external;
             *drho_out = drho + method.diffusion_scale * diffusion;
             *xsph_out = method.xsph * xsph;
