@@ -7,10 +7,17 @@ use tumble_geom::{DVec3, PeriodicBox};
 
 use crate::particles::{FluidParticles, ParticleKind};
 
-/// Cells are this much wider than the kernel's reach, so the grid of a step's start still finds
-/// every pair within 2h at the step's half and end, as long as no particle moves more than
-/// (SKIN − 1)·h in one step (checked after every step).
-pub const SKIN: f64 = 1.1;
+/// Cells, and the neighbour lists, reach this much further than the kernel: 2h·SKIN = 2h + 0.4h.
+/// The lists stay complete while no particle has moved more than (SKIN − 1)·2h/2 = 0.2h since
+/// they were built. They are rebuilt (and the arrays re-sorted) before a step once some particle
+/// has moved half of that, and a particle that moves more than the other half within one step
+/// stops the run; so the lists last several steps and never miss a pair.
+pub const SKIN: f64 = 1.2;
+
+/// How far a particle may move between two list builds, in units of h.
+pub fn rebuild_distance(h: f64) -> f64 {
+    0.5 * (SKIN - 1.0) * h
+}
 
 #[derive(Clone, Debug)]
 pub struct FluidGrid {
@@ -26,6 +33,8 @@ pub struct FluidGrid {
     list_start: Vec<usize>,
     list: Vec<u32>,
     reach2: f64,
+    /// The positions the lists were built from (sorted order).
+    built: Vec<DVec3>,
     domain: PeriodicBox,
     any_periodic: bool,
 }
@@ -39,7 +48,7 @@ impl FluidGrid {
         for k in 0..3 {
             if domain.periodic[k] && extent[k] < 2.0 * cell {
                 return Err(format!(
-                    "the periodic {} axis is {:.4e} m long; the fluid needs at least {:.4e} m (twice 2.2 h)",
+                    "the periodic {} axis is {:.4e} m long; the fluid needs at least {:.4e} m (two cells of 2.4 h)",
                     ["x", "y", "z"][k],
                     extent[k],
                     2.0 * cell
@@ -63,14 +72,40 @@ impl FluidGrid {
             list_start: Vec::new(),
             list: Vec::new(),
             reach2: cell * cell,
+            built: Vec::new(),
             domain,
             any_periodic: domain.periodic.iter().any(|&p| p),
         })
     }
 
-    /// Bins the particles and reorders every array of `particles` into cell order.
+    /// Bins the particles, reorders every array of `particles` into cell order and builds the
+    /// neighbour lists from their current positions.
     pub fn sort(&mut self, particles: &mut FluidParticles) {
-        self.grid.build(&particles.position);
+        self.built.clone_from(&particles.position);
+        self.index(particles);
+    }
+
+    /// Rebuilds the lists of `particles`, already in the cell order of a sort at positions
+    /// `built`, as that sort built them: the stable counting sort of sorted arrays is the
+    /// identity, so the lists come out the same (a restored phase continues bit-identically).
+    pub fn rebuild_at(&mut self, particles: &mut FluidParticles, built: &[DVec3]) {
+        self.built.clear();
+        self.built.extend_from_slice(built);
+        self.index(particles);
+    }
+
+    /// The positions the current lists were built from.
+    pub fn built_positions(&self) -> &[DVec3] {
+        &self.built
+    }
+
+    /// The largest distance a particle has moved since the lists were built.
+    pub fn largest_displacement(&self, positions: &[DVec3]) -> f64 {
+        positions.par_iter().zip(self.built.par_iter()).map(|(&x, &x0)| self.separation(x, x0).length()).reduce(|| 0.0, f64::max)
+    }
+
+    fn index(&mut self, particles: &mut FluidParticles) {
+        self.grid.build(&self.built);
         let order = self.grid.order();
         self.cells.clear();
         self.cells.extend(order.iter().map(|&i| self.grid.cell_of(i as usize) as u32));
@@ -80,6 +115,7 @@ impl FluidGrid {
         permute(&mut particles.velocity, order);
         permute(&mut particles.density, order);
         permute(&mut particles.mass, order);
+        permute(&mut self.built, order);
         self.fluid_before.clear();
         self.fluid_before.push(0);
         let mut count = 0u32;
@@ -95,7 +131,8 @@ impl FluidGrid {
     fn build_lists(&mut self, particles: &FluidParticles) {
         const CHUNK: usize = 256;
         let n = particles.len();
-        let (kind, position) = (&particles.kind, &particles.position);
+        let kind = &particles.kind;
+        let position = &self.built;
         let this = &*self;
         let pieces: Vec<(Vec<u32>, Vec<u32>)> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
