@@ -165,12 +165,54 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
 /// - XSPH: −ε Σ (m_b/ρ̄_ab) v_ab W;
 /// - the wall repulsion within Δp/2 of a wall particle, k (r₀ − r) along r_ab.
 pub(crate) fn evaluate(method: &Method, grid: &FluidGrid, p: &FluidParticles, inputs: &PairInputs, out: &mut Rates) {
+    // One copy of the pass per combination of the method's switches, so none is tested per pair.
+    let laminar = matches!(method.viscosity, Viscosity::Laminar);
+    let diffuse = method.diffusion_scale != 0.0;
+    let fourtakas = matches!(method.diffusion, DensityDiffusion::Fourtakas { .. });
+    let (tensile, xsph) = (method.tensile, method.xsph != 0.0);
+    macro_rules! dispatch {
+        ($($l:literal $d:literal $f:literal $t:literal $x:literal),*) => {
+            match (laminar, diffuse, fourtakas, tensile, xsph) {
+                $(($l, $d, $f, $t, $x) => evaluate_with::<$l, $d, $f, $t, $x>(method, grid, p, inputs, out),)*
+            }
+        };
+    }
+    dispatch!(
+        false false false false false, false false false false true, false false false true false, false false false true true,
+        false false true false false, false false true false true, false false true true false, false false true true true,
+        false true false false false, false true false false true, false true false true false, false true false true true,
+        false true true false false, false true true false true, false true true true false, false true true true true,
+        true false false false false, true false false false true, true false false true false, true false false true true,
+        true false true false false, true false true false true, true false true true false, true false true true true,
+        true true false false false, true true false false true, true true false true false, true true false true true,
+        true true true false false, true true true false true, true true true true false, true true true true true
+    )
+}
+
+/// The pass of [`evaluate`] for one combination of switches: laminar (else artificial)
+/// viscosity, density diffusion, its hydrostatic correction, the tensile correction, XSPH.
+fn evaluate_with<const LAMINAR: bool, const DIFFUSE: bool, const FOURTAKAS: bool, const TENSILE: bool, const XSPH: bool>(
+    method: &Method,
+    grid: &FluidGrid,
+    p: &FluidParticles,
+    inputs: &PairInputs,
+    out: &mut Rates,
+) {
     let n = p.len();
     out.resize(n);
     let (kind, position, velocity, density, mass) = (&p.kind, &p.position, &p.velocity, &p.density, &p.mass);
     let pressure = &inputs.pressure;
     let vhat = &inputs.viscous_velocity;
-    let tensile_factor = |pr: f64, rho: f64| if method.tensile && pr < 0.0 { -0.2 * pr / (rho * rho) } else { 0.0 };
+    let tensile_factor = |pr: f64, rho: f64| if TENSILE && pr < 0.0 { -0.2 * pr / (rho * rho) } else { 0.0 };
+    let alpha = match method.viscosity {
+        Viscosity::Artificial { alpha } => alpha,
+        Viscosity::Laminar => 0.0,
+    };
+    // The method's constants as locals, so they stay in registers across the pair loop.
+    let (support2, eta2, laminar_eta2, two_mu) = (method.support2, method.eta2, method.laminar_eta2, method.two_mu);
+    let (kernel, w_dp, av_scale) = (method.kernel, method.w_dp, alpha * method.eos.c0 * method.kernel.h());
+    let (hydrostatic_scale, external) = (method.density_per_pressure * method.rho0, method.external);
+    let (reach, stiffness) = (method.repulsion_reach, method.repulsion_stiffness);
     out.acceleration.par_iter_mut().zip(out.density_rate.par_iter_mut()).zip(out.xsph.par_iter_mut()).enumerate().for_each(
         |(a, ((acc_out, drho_out), xsph_out))| {
             if kind[a] != ParticleKind::Fluid {
@@ -193,11 +235,11 @@ pub(crate) fn evaluate(method: &Method, grid: &FluidGrid, p: &FluidParticles, in
                 let b = b as usize;
                 let d = grid.separation(xa, position[b]);
                 let r2 = d.length_squared();
-                if r2 >= method.support2 {
+                if r2 >= support2 {
                     continue;
                 }
                 let r = r2.sqrt();
-                let gw = method.kernel.gradient_over_r(r);
+                let gw = kernel.gradient_over_r(r);
                 let grad = d * gw;
                 let mb = mass[b];
                 let rho_b = density[b];
@@ -207,43 +249,40 @@ pub(crate) fn evaluate(method: &Method, grid: &FluidGrid, p: &FluidParticles, in
                 let v_ab = va - velocity[b];
                 drho += mb * v_ab.dot(grad);
                 let mut p_term = pa_term + pb / (rho_b * rho_b);
-                if method.tensile {
+                if TENSILE {
                     let rb = tensile_factor(pb, rho_b);
                     if ra + rb > 0.0 {
-                        let f = method.kernel.value(r) / method.w_dp;
+                        let f = kernel.value(r) / w_dp;
                         let f2 = f * f;
                         p_term += (ra + rb) * f2 * f2;
                     }
                 }
                 let v_visc = va - vhat[b];
-                match method.viscosity {
-                    Viscosity::Laminar => {
-                        acc += (mb * method.two_mu * r2 * gw / (rho_a * rho_b * (r2 + method.laminar_eta2))) * v_visc;
-                    }
-                    Viscosity::Artificial { alpha } => {
-                        let vr = v_visc.dot(d);
-                        if vr < 0.0 {
-                            let mean_rho = 0.5 * (rho_a + rho_b);
-                            p_term -= alpha * method.eos.c0 * method.kernel.h() * vr / (mean_rho * (r2 + method.eta2));
-                        }
+                if LAMINAR {
+                    acc += (mb * two_mu * r2 * gw / (rho_a * rho_b * (r2 + laminar_eta2))) * v_visc;
+                } else {
+                    let vr = v_visc.dot(d);
+                    if vr < 0.0 {
+                        let mean_rho = 0.5 * (rho_a + rho_b);
+                        p_term -= av_scale * vr / (mean_rho * (r2 + eta2));
                     }
                 }
                 acc -= (mb * p_term) * grad;
                 if fluid_b {
-                    if method.diffusion_scale != 0.0 {
+                    if DIFFUSE {
                         let mut drho_ab = rho_a - rho_b;
-                        if let DensityDiffusion::Fourtakas { .. } = method.diffusion {
+                        if FOURTAKAS {
                             // ρ_H(a) − ρ_H(b) = ρ₀ g·r_ab / c₀² to first order in ρ₀ g r / B.
-                            drho_ab -= method.density_per_pressure * method.rho0 * method.external.dot(d);
+                            drho_ab -= hydrostatic_scale * external.dot(d);
                         }
-                        diffusion += 2.0 * drho_ab * r2 * gw / (r2 + method.eta2) * (mb / rho_b);
+                        diffusion += 2.0 * drho_ab * r2 * gw / (r2 + eta2) * (mb / rho_b);
                     }
-                    if method.xsph != 0.0 {
-                        xsph -= (mb / (0.5 * (rho_a + rho_b)) * method.kernel.value(r)) * v_ab;
+                    if XSPH {
+                        xsph -= (mb / (0.5 * (rho_a + rho_b)) * kernel.value(r)) * v_ab;
                     }
-                } else if r < method.repulsion_reach && r > 0.0 {
+                } else if r < reach && r > 0.0 {
                     // A linear penalty: zero at r₀ and continuous, so it only acts in a violent impact.
-                    acc += (method.repulsion_stiffness * (method.repulsion_reach - r) / r) * d;
+                    acc += (stiffness * (reach - r) / r) * d;
                 }
             }
             *acc_out = acc + method.external;
