@@ -141,7 +141,7 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
                 sum_v += wk * velocity[f];
             }
             if sum_w > 0.0 {
-                let pw = (sum_p + method.external.dot(sum_rho_r)) / sum_w;
+                let pw = ((sum_p + method.external.dot(sum_rho_r)) / sum_w).max(0.0);
                 (pw, method.eos.density(pw), 2.0 * velocity[w] - sum_v / sum_w)
             } else {
                 (0.0, method.rho0, velocity[w])
