@@ -102,9 +102,10 @@ impl Rates {
 
 /// Pressure of the fluid particles from the equation of state, then each wall particle's
 /// pressure, density and viscous velocity extrapolated from the fluid (Adami et al. 2012):
-/// P_w = (Σ P_f W + (g − a_w)·Σ ρ_f r_wf W) / Σ W, ρ_w from the equation of state,
+/// P_w = max(0, (Σ P_f W + (g − a_w)·Σ ρ_f r_wf W) / Σ W), ρ_w from the equation of state,
 /// v̂_w = 2 v_w − Σ v_f W / Σ W. A wall particle with no fluid in reach has P = 0, ρ = ρ₀.
-/// Walls move at constant velocity, so a_w = 0.
+/// Walls move at constant velocity, so a_w = 0. The clamp keeps a wall from holding a thin
+/// film by suction (particles clung to the wall a dam break had left, docs/sph.md).
 pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles, inputs: &mut PairInputs) {
     let n = p.len();
     inputs.pressure.resize(n, 0.0);
