@@ -82,12 +82,8 @@ fn at(record: &Record, t: f64, f: impl Fn(&(f64, f64, f64, f64)) -> f64) -> Opti
     Some(f(r0) + (f(r1) - f(r0)) * (t - r0.0) / (r1.0 - r0.0))
 }
 
-fn root() -> std::path::PathBuf {
-    crate::mill::root()
-}
-
 fn write(name: &str, text: &str) -> Result<(), String> {
-    let out = root().join("docs").join("charts").join(name);
+    let out = crate::mill::root().join("docs").join("charts").join(name);
     std::fs::write(&out, text).map_err(|e| format!("cannot write {}: {e}", out.display()))?;
     eprintln!("wrote {}", out.display());
     Ok(())

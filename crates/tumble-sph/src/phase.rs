@@ -98,6 +98,27 @@ pub struct FluidObservables {
     pub largest_speed: f64,
 }
 
+/// Moves every particle by half a step: a wall particle with its velocity, a fluid particle with
+/// the advection velocity `fluid` returns after updating its velocity and density in place.
+/// Returns the particle that moved furthest (the lowest index among equals) and how far.
+fn drift(grid: &FluidGrid, p: &mut FluidParticles, half: f64, fluid: impl Fn(usize, &mut DVec3, &mut f64) -> DVec3 + Sync) -> (usize, f64) {
+    p.position
+        .par_iter_mut()
+        .zip(p.velocity.par_iter_mut())
+        .zip(p.density.par_iter_mut())
+        .zip(p.kind.par_iter())
+        .enumerate()
+        .map(|(i, (((x, v), rho), k))| {
+            let advect = match k {
+                ParticleKind::Fluid => fluid(i, v, rho),
+                ParticleKind::Wall => *v,
+            };
+            *x = grid.wrap(*x + half * advect);
+            (i, advect.length() * half)
+        })
+        .reduce(|| (usize::MAX, -1.0), |a, b| if b.1 > a.1 || (b.1 == a.1 && b.0 < a.0) { b } else { a })
+}
+
 /// The fluid's section of a snapshot: everything a step reads that is not settings. The arrays
 /// are kept in their sorted order, so a restored phase re-sorts exactly as the saved one would
 /// have, and continues bit-identically.
@@ -262,64 +283,23 @@ impl FluidPhase {
         evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
         self.start_velocity.clone_from(&self.particles.velocity);
         self.start_density.clone_from(&self.particles.density);
-        let grid = &self.grid;
         let rates = &self.rates;
-        let p = &mut self.particles;
-        let first_move: f64 = p
-            .position
-            .par_iter_mut()
-            .zip(p.velocity.par_iter_mut())
-            .zip(p.density.par_iter_mut())
-            .zip(p.kind.par_iter())
-            .enumerate()
-            .map(|(i, (((x, v), rho), k))| {
-                let moved = match k {
-                    ParticleKind::Fluid => {
-                        let advect = *v + rates.xsph[i];
-                        *x = grid.wrap(*x + half * advect);
-                        *v += half * rates.acceleration[i];
-                        *rho += half * rates.density_rate[i];
-                        advect.length()
-                    }
-                    ParticleKind::Wall => {
-                        *x = grid.wrap(*x + half * *v);
-                        v.length()
-                    }
-                };
-                moved * half
-            })
-            .reduce(|| 0.0, f64::max);
+        let (_, first_move) = drift(&self.grid, &mut self.particles, half, |i, v, rho| {
+            let advect = *v + rates.xsph[i];
+            *v += half * rates.acceleration[i];
+            *rho += half * rates.density_rate[i];
+            advect
+        });
         prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs);
         evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
-        let grid = &self.grid;
         let rates = &self.rates;
         let (v0, rho0) = (&self.start_velocity, &self.start_density);
-        let p = &mut self.particles;
-        let (fastest, second_move) = p
-            .position
-            .par_iter_mut()
-            .zip(p.velocity.par_iter_mut())
-            .zip(p.density.par_iter_mut())
-            .zip(p.kind.par_iter())
-            .enumerate()
-            .map(|(i, (((x, v), rho), k))| {
-                let moved = match k {
-                    ParticleKind::Fluid => {
-                        *v = v0[i] + dt * rates.acceleration[i];
-                        let advect = *v + rates.xsph[i];
-                        *x = grid.wrap(*x + half * advect);
-                        let eps = -dt * rates.density_rate[i] / *rho;
-                        *rho = rho0[i] * (2.0 - eps) / (2.0 + eps);
-                        advect.length()
-                    }
-                    ParticleKind::Wall => {
-                        *x = grid.wrap(*x + half * *v);
-                        v.length()
-                    }
-                };
-                (i, moved * half)
-            })
-            .reduce(|| (usize::MAX, -1.0), |a, b| if b.1 > a.1 || (b.1 == a.1 && b.0 < a.0) { b } else { a });
+        let (fastest, second_move) = drift(&self.grid, &mut self.particles, half, |i, v, rho| {
+            *v = v0[i] + dt * rates.acceleration[i];
+            let eps = -dt * rates.density_rate[i] / *rho;
+            *rho = rho0[i] * (2.0 - eps) / (2.0 + eps);
+            *v + rates.xsph[i]
+        });
         self.time += dt;
         self.steps += 1;
         self.check(fastest, first_move + second_move, dt)?;

@@ -149,15 +149,22 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
             }
         })
         .collect();
-    for (w, (pw, rho, v)) in walls.into_iter().enumerate() {
-        if kind[w] == ParticleKind::Wall {
-            inputs.pressure[w] = pw;
-            p.density[w] = rho;
-            inputs.viscous_velocity[w] = v;
-        } else {
-            inputs.viscous_velocity[w] = velocity[w];
-        }
-    }
+    inputs
+        .pressure
+        .par_iter_mut()
+        .zip(inputs.viscous_velocity.par_iter_mut())
+        .zip(p.density.par_iter_mut())
+        .zip(walls.par_iter())
+        .enumerate()
+        .for_each(|(i, (((pr, vv), rho), &(pw, rho_w, v)))| {
+            if kind[i] == ParticleKind::Wall {
+                *pr = pw;
+                *rho = rho_w;
+                *vv = v;
+            } else {
+                *vv = velocity[i];
+            }
+        });
 }
 
 /// Each fluid particle's rates, gathered over its neighbours:

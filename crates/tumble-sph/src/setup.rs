@@ -32,18 +32,17 @@ pub fn add_fluid_block(particles: &mut FluidParticles, settings: &FluidSettings,
 /// Adds the dummy particles of a box's closed sides (a tank: `inner` is the fluid's side of the
 /// walls), moving at `velocity`.
 pub fn add_wall_box(particles: &mut FluidParticles, settings: &FluidSettings, inner: Aabb, closed: ClosedSides, velocity: DVec3) -> usize {
-    let points = wall_shell(inner, closed, wall_layers(settings), settings.spacing, settings.dimension);
-    let mass = settings.particle_mass();
-    for &x in &points {
-        particles.push(ParticleKind::Wall, x, velocity, settings.rho0, mass);
-    }
-    points.len()
+    push_walls(particles, settings, wall_shell(inner, closed, wall_layers(settings), settings.spacing, settings.dimension), velocity)
 }
 
 /// Adds wall particles on the lattice filling the box `lower`–`upper` (anchored at `lower`),
 /// moving at `velocity`: a channel's plate.
 pub fn add_wall_slab(particles: &mut FluidParticles, settings: &FluidSettings, lower: DVec3, upper: DVec3, velocity: DVec3) -> usize {
-    let points = lattice_points(Aabb::new(lower, upper), lower, settings.spacing, settings.dimension);
+    push_walls(particles, settings, lattice_points(Aabb::new(lower, upper), lower, settings.spacing, settings.dimension), velocity)
+}
+
+/// Adds wall particles at `points`, at rest density and lattice mass, moving at `velocity`.
+fn push_walls(particles: &mut FluidParticles, settings: &FluidSettings, points: Vec<DVec3>, velocity: DVec3) -> usize {
     let mass = settings.particle_mass();
     for &x in &points {
         particles.push(ParticleKind::Wall, x, velocity, settings.rho0, mass);
