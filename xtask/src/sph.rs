@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use crate::svg::{LinearAxis, LogAxis, Shape, Style, Svg, YAxis, linear_frame};
 use tumble_geom::DVec3;
-use tumble_sph::cases::{ColumnInTank, G, MARTIN_MOYCE_FRONT};
+use tumble_sph::cases::{ColumnInTank, G, MARTIN_MOYCE_FRONT, interpolate};
 use tumble_sph::{DensityDiffusion, FluidPhase, ParticleKind, TimeStepLimits};
 
 /// Martin & Moyce's column width, 2.25 in.
@@ -74,12 +74,7 @@ fn dam_break(case: ColumnInTank, t_star_end: f64) -> Record {
 
 /// The record's value of column `f` at dimensionless time `t`, interpolated linearly.
 fn at(record: &Record, t: f64, f: impl Fn(&(f64, f64, f64, f64)) -> f64) -> Option<f64> {
-    let k = record.rows.partition_point(|r| r.0 < t);
-    if k == 0 || k >= record.rows.len() {
-        return None;
-    }
-    let (r0, r1) = (&record.rows[k - 1], &record.rows[k]);
-    Some(f(r0) + (f(r1) - f(r0)) * (t - r0.0) / (r1.0 - r0.0))
+    interpolate(&record.rows, t, |r| r.0, f)
 }
 
 fn write(name: &str, text: &str) -> Result<(), String> {

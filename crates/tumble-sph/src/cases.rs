@@ -89,3 +89,14 @@ impl ColumnInTank {
 /// the surge front Z = x/a against T = t √(2g/a), as digitised in PySPH's examples.
 pub const MARTIN_MOYCE_FRONT: [(f64, f64); 7] =
     [(0.832, 1.217), (1.219, 1.474), (1.997, 2.292), (2.547, 2.995), (3.345, 4.134), (4.034, 4.944), (4.418, 5.881)];
+
+/// A recorded quantity at time `t`, interpolated linearly between the two rows around it
+/// (`time` and `value` read a row); none outside the record.
+pub fn interpolate<R>(rows: &[R], t: f64, time: impl Fn(&R) -> f64, value: impl Fn(&R) -> f64) -> Option<f64> {
+    let k = rows.partition_point(|r| time(r) < t);
+    if k == 0 || k >= rows.len() {
+        return None;
+    }
+    let (r0, r1) = (&rows[k - 1], &rows[k]);
+    Some(value(r0) + (value(r1) - value(r0)) * (t - time(r0)) / (time(r1) - time(r0)))
+}

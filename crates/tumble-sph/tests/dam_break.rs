@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use tumble_geom::DVec3;
-use tumble_sph::cases::MARTIN_MOYCE_FRONT;
+use tumble_sph::cases::{MARTIN_MOYCE_FRONT, interpolate};
 use tumble_sph::*;
 
 /// The front x/a at the experiment's times, by linear interpolation of the front recorded every step.
@@ -24,9 +24,7 @@ fn fronts(a: f64, per_height: usize, viscosity: Viscosity) -> Vec<(f64, f64, f64
         .filter(|(t, _)| *t / time_scale <= t_end)
         .map(|&(t_star, z_exp)| {
             let t = t_star / time_scale;
-            let k = history.partition_point(|(s, _)| *s < t).max(1);
-            let ((t0, x0), (t1, x1)) = (history[k - 1], history[k]);
-            let x = x0 + (x1 - x0) * (t - t0) / (t1 - t0);
+            let x = interpolate(&history, t, |r| r.0, |r| r.1).expect("the front was recorded past every compared time");
             (t_star, x / a, z_exp)
         })
         .collect()
