@@ -116,6 +116,11 @@ pub fn main_with(cli: Cli) -> i32 {
             if pass { 0 } else { 1 }
         }
         Command::Plan { scene } => match load_scene(&scene, None, None) {
+            Ok(c) if c.plan.sph.is_some() && c.particles.is_empty() && c.plan.model.sources.is_empty() => {
+                // Fluid alone: no DEM particle, and the fluid runs on the CPU so far.
+                print_out(&c.plan.describe(0));
+                0
+            }
             Ok(c) => {
                 // The device's cell grid is sized for the capacity; its arrays grow to it in chunks.
                 let (start, n) = (c.particles.len() as u64, c.particles.len() as u64 + c.plan.inserted_at_most());
@@ -245,8 +250,9 @@ fn finish_run(result: Result<crate::RunSummary, RunError>) -> i32 {
             for w in &s.warnings {
                 eprintln!("warning: {w}");
             }
+            let phases: String = s.phase_particles.iter().map(|(name, n)| format!(" and {n} {name} particles")).collect();
             print_out(&format!(
-                "{} steps of {} particles in {:.3} s: {:.3e} particle-steps/s; outputs in {}\n",
+                "{} steps of {} particles{phases} in {:.3} s: {:.3e} particle-steps/s; outputs in {}\n",
                 s.steps,
                 s.particles,
                 s.wall_seconds,
@@ -255,7 +261,7 @@ fn finish_run(result: Result<crate::RunSummary, RunError>) -> i32 {
             ));
             0
         }
-        Err(e @ (RunError::Unstable(_) | RunError::Capacity(_) | RunError::Lost(_))) => {
+        Err(e @ (RunError::Unstable(_) | RunError::Capacity(_) | RunError::Lost(_) | RunError::Phase(_))) => {
             eprintln!("error: {e}");
             3
         }

@@ -195,3 +195,44 @@ impl AgglomeratesCsv {
         self.w.flush()
     }
 }
+
+/// The phases' tables (`fluid.csv`, `probe_<name>.csv`): each file opened at its first row.
+pub struct PhaseCsv {
+    dir: std::path::PathBuf,
+    append: bool,
+    files: Vec<(String, BufWriter<File>)>,
+}
+
+impl PhaseCsv {
+    /// Files in `dir`, new or (`append`) continued.
+    pub fn open(dir: &Path, append: bool) -> Self {
+        PhaseCsv { dir: dir.to_path_buf(), append, files: Vec::new() }
+    }
+
+    /// One row at time `t` in each table's file (header `t,<columns>` on a new file).
+    pub fn row(&mut self, t: f64, tables: &[tumble_state::PhaseTable]) -> std::io::Result<()> {
+        for table in tables {
+            let k = match self.files.iter().position(|(f, _)| *f == table.file) {
+                Some(k) => k,
+                None => {
+                    let w = open_csv(&self.dir, &table.file, self.append, |w| writeln!(w, "t,{}", table.columns.join(",")))?;
+                    self.files.push((table.file.clone(), w));
+                    self.files.len() - 1
+                }
+            };
+            let w = &mut self.files[k].1;
+            write!(w, "{t}")?;
+            for v in &table.values {
+                write!(w, ",{v}")?;
+            }
+            writeln!(w)?;
+            w.flush()?;
+        }
+        Ok(())
+    }
+
+    /// The files written so far.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.files.iter().map(|(f, _)| f.as_str())
+    }
+}

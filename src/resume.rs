@@ -72,6 +72,16 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
     let (mut sim, _) = set_up(backend, compiled, options.threads, backend == BackendName::Gpu)?;
     sim.restore(&snapshot).map_err(|e| refuse(format!("{shown}: {e}")))?;
     sim.set_feeder_books(books.feeder.clone());
+    if books.phases.len() != sim.phases().len() {
+        return Err(refuse(format!(
+            "{shown}: the checkpoint holds {} phases beside the particles, the scene {}",
+            books.phases.len(),
+            sim.phases().len()
+        )));
+    }
+    for (phase, bytes) in sim.phases_mut().iter_mut().zip(&books.phases) {
+        phase.restore(bytes).map_err(|e| refuse(format!("{shown}: {e}")))?;
+    }
     let total = sim.plan().run.steps;
     if sim.steps() >= total {
         return Err(refuse(format!(

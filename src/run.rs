@@ -64,6 +64,8 @@ pub struct RunSummary {
     pub out_dir: PathBuf,
     pub steps: u64,
     pub particles: usize,
+    /// Each phase beside the particles: its name and moving particles (the fluid's).
+    pub phase_particles: Vec<(&'static str, usize)>,
     pub wall_seconds: f64,
     pub particle_steps_per_second: f64,
     pub final_observables: crate::Observables,
@@ -114,6 +116,9 @@ pub enum RunError {
     Lost(String),
     /// A run cannot be resumed (no checkpoint, a damaged or mismatched one); nothing was changed.
     Resume(String),
+    /// A phase beside the particles (the SPH fluid) stopped: its cause and a Δt that works;
+    /// outputs so far were written.
+    Phase(String),
 }
 
 impl fmt::Display for RunError {
@@ -128,6 +133,7 @@ impl fmt::Display for RunError {
             RunError::OutputFolder(e) => write!(f, "{e}"),
             RunError::Lost(e) => write!(f, "{e}"),
             RunError::Resume(e) => write!(f, "cannot resume: {e}"),
+            RunError::Phase(e) => write!(f, "{e}"),
         }
     }
 }
@@ -204,6 +210,9 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
         let fluid = sim.plan().model.fluid.is_some();
         io(&out_dir, outputs.obs.row(&frame.observables, fluid, sim.removed(), &extra.row(&sim, &frame)))?;
         io(&out_dir, outputs.tracks.rows(0.0, &frame.tracks))?;
+        for phase in sim.phases() {
+            io(&out_dir, outputs.phases.row(0.0, &phase.tables()))?;
+        }
         if let Some(w) = outputs.agglo.as_mut() {
             let a = agglomerates_of(sim.plan(), state);
             io(&out_dir, w.row(0.0, &a))?;
@@ -217,7 +226,8 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
     let monitor = Monitor::new(sim.plan(), &initial, monitor_range);
     // The starting state is checked before step 1.
     let stopped = monitor.check(0, &initial).err().map(Stop::Unstable);
-    let books = Books { initial_particles, monitor, extra, last_agglomerates, files: Vec::new(), series: Vec::new(), feeder: None };
+    let books =
+        Books { initial_particles, monitor, extra, last_agglomerates, files: Vec::new(), series: Vec::new(), feeder: None, phases: Vec::new() };
     let checkpoint_every = checkpoint_every(sim.plan(), options.checkpoint_interval.or(scene.as_ref().and_then(|s| s.checkpoint_interval)));
     let mut run = Run::new(sim, out_dir, options, books, outputs, scene, plan_text, None, checkpoint_every);
     run.warnings = seed_warnings;
@@ -229,6 +239,9 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
 /// checkpoint there and `seed` is set; the warnings say what the seed did not carry over.
 pub(crate) fn set_up(backend: BackendName, compiled: CompiledScene, threads: usize, seed: bool) -> Result<(Simulation, Vec<String>), RunError> {
     let on = |e: tumble_gpu::GpuError| RunError::Backend(format!("backend {}: {e}", backend.name()));
+    if backend == BackendName::Gpu && compiled.plan.sph.is_some() {
+        return Err(RunError::Backend("backend gpu: the SPH fluid ([sph]) runs on the CPU backend so far; use --backend cpu".into()));
+    }
     let Some(from) = compiled.plan.run.start_from.clone().filter(|_| seed) else {
         return Ok((Simulation::on(backend, compiled, threads).map_err(on)?, Vec::new()));
     };
@@ -257,6 +270,8 @@ pub(crate) enum Stop {
     Unstable(Instability),
     Capacity(String),
     Lost(String),
+    /// A phase stopped (its cause and a Δt that works).
+    Phase(String),
     Interrupted,
 }
 

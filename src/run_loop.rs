@@ -7,7 +7,7 @@ use crate::checkpoint::{self, CheckpointHeader, SceneRecord};
 use crate::feeder::FeederBooks;
 use crate::flow::FlowCounter;
 use crate::monitor::Monitor;
-use crate::output::{AgglomeratesCsv, ExtraColumns, ObservablesCsv, TracksCsv};
+use crate::output::{AgglomeratesCsv, ExtraColumns, ObservablesCsv, PhaseCsv, TracksCsv};
 use crate::progress::Progress;
 use crate::run::{CheckpointReport, RunError, RunOptions, RunSummary, Stop, agglomerates_of, io, lost_warning, too_many_lost};
 use crate::summary::summary_json;
@@ -31,6 +31,8 @@ pub(crate) struct Books {
     pub(crate) series: SeriesIndex,
     /// The sources' books (None without sources).
     pub(crate) feeder: Option<FeederBooks>,
+    /// Each phase's snapshot section, in the simulation's order of phases.
+    pub(crate) phases: Vec<Vec<u8>>,
 }
 
 /// The run's output files.
@@ -39,6 +41,7 @@ pub(crate) struct Outputs {
     pub(crate) tracks: TracksCsv,
     pub(crate) agglo: Option<AgglomeratesCsv>,
     pub(crate) snapshots: Option<SnapshotWriter>,
+    pub(crate) phases: PhaseCsv,
 }
 
 impl Outputs {
@@ -59,7 +62,13 @@ impl Outputs {
             (Some(_), None) => Some(SnapshotWriter::create(dir, plan)?),
             (Some(_), Some(books)) => Some(SnapshotWriter::reopen(dir, plan, books.series.clone())?),
         };
-        Ok(Outputs { obs: ObservablesCsv::open(dir, plan, append)?, tracks: TracksCsv::open(dir, plan, append)?, agglo, snapshots })
+        Ok(Outputs {
+            obs: ObservablesCsv::open(dir, plan, append)?,
+            tracks: TracksCsv::open(dir, plan, append)?,
+            agglo,
+            snapshots,
+            phases: PhaseCsv::open(dir, append),
+        })
     }
 
     /// The length of each CSV file now (every row is flushed as it is written).
@@ -68,6 +77,7 @@ impl Outputs {
         if self.agglo.is_some() {
             names.push("agglomerates.csv");
         }
+        names.extend(self.phases.names());
         names.into_iter().map(|n| Ok((n.to_string(), std::fs::metadata(dir.join(n))?.len()))).collect()
     }
 }
@@ -138,9 +148,14 @@ impl<'o> Run<'o> {
                 target = target.min(next(self.sim.steps(), k));
             }
             let chunk = (target - self.sim.steps()).min(MAX_CHUNK);
-            let n = self.sim.particles() as u128;
+            let n = self.sim.all_particles() as u128;
+            let before = self.sim.steps();
             self.sim.advance(chunk);
-            particle_steps += n * chunk as u128;
+            particle_steps += n * (self.sim.steps() - before) as u128;
+            if let Some(e) = self.sim.phase_fault() {
+                stopped = Some(Stop::Phase(e.to_string()));
+                break;
+            }
             if let Some(fault) = self.sim.fault() {
                 stopped = Some(Stop::Capacity(self.books.monitor.explain_fault(fault.to_string())));
                 break;
@@ -217,6 +232,9 @@ impl<'o> Run<'o> {
                     ))
                 });
             io(out_dir, self.outputs.tracks.rows(o.time, &frame.tracks))?;
+            for phase in sim.phases() {
+                io(out_dir, self.outputs.phases.row(o.time, &phase.tables()))?;
+            }
             if let (Some(w), Some(state)) = (self.outputs.agglo.as_mut(), frame.state.as_deref()) {
                 let a = agglomerates_of(sim.plan(), state);
                 io(out_dir, w.row(o.time, &a))?;
@@ -238,6 +256,7 @@ impl<'o> Run<'o> {
         self.books.files = io(&self.out_dir, self.outputs.lengths(&self.out_dir))?;
         self.books.series = self.outputs.snapshots.as_ref().map(|w| w.index().clone()).unwrap_or_default();
         self.books.feeder = self.sim.feeder_books().cloned();
+        self.books.phases = self.sim.phases().iter().map(|p| p.snapshot()).collect();
         let header = CheckpointHeader {
             tumble_version: env!("CARGO_PKG_VERSION").to_string(),
             scene: self.scene.clone(),
@@ -267,6 +286,7 @@ impl<'o> Run<'o> {
             out_dir: self.out_dir.clone(),
             steps: sim.steps(),
             particles: sim.particles(),
+            phase_particles: sim.phases().iter().map(|p| (p.name(), p.particles())).collect(),
             wall_seconds,
             particle_steps_per_second: particle_steps as f64 / wall_seconds.max(1e-12),
             final_observables: sim.observables(),
@@ -285,6 +305,7 @@ impl<'o> Run<'o> {
             Some(Stop::Unstable(e)) => Some(e.to_string()),
             Some(Stop::Capacity(e)) => Some(e.clone()),
             Some(Stop::Lost(e)) => Some(e.clone()),
+            Some(Stop::Phase(e)) => Some(e.clone()),
             Some(Stop::Interrupted) => {
                 let resume = if self.checkpoint_every.is_some() {
                     format!("; `tumble resume {}` continues it", self.out_dir.display())
@@ -307,6 +328,7 @@ impl<'o> Run<'o> {
             Some(Stop::Unstable(e)) => Err(RunError::Unstable(e)),
             Some(Stop::Capacity(e)) => Err(RunError::Capacity(e)),
             Some(Stop::Lost(e)) => Err(RunError::Lost(e)),
+            Some(Stop::Phase(e)) => Err(RunError::Phase(e)),
             Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir: self.out_dir }),
             None | Some(Stop::Ended(_)) => Ok(summary),
         }

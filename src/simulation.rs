@@ -7,12 +7,16 @@ use tumble_cpu::CpuSimulation;
 use tumble_gpu::{GpuError, GpuSimulation};
 use tumble_scene::schema::BackendName;
 use tumble_scene::{CompiledScene, Plan};
-use tumble_state::{AdapterInfo, Backend, DrumProfile, Fault, Frame, Observables, Snapshot, SnapshotError, State, TrackRow};
+use tumble_state::{AdapterInfo, Backend, DrumProfile, Fault, Frame, Observables, Phase, Snapshot, SnapshotError, State, TrackRow};
 
 /// A simulation on one backend: the CPU reference (f64), the GPU (f32), or any other
 /// [`Backend`].
 pub struct Simulation {
     backend: Box<dyn Backend>,
+    /// The phases beside the particles (an SPH fluid), on the same clock.
+    phases: Vec<Box<dyn Phase>>,
+    /// Why a phase stopped (its fault, with a Δt that works); the run stops there.
+    phase_fault: Option<String>,
     /// The plan's particle sources (None without any).
     feeder: Option<Feeder>,
     /// Why an insertion was refused (the backend's capacity); the run stops there.
@@ -21,12 +25,14 @@ pub struct Simulation {
 
 impl Simulation {
     /// Sets up a compiled scene on the CPU backend with `threads` threads.
-    pub fn new(scene: CompiledScene, threads: usize) -> Self {
-        Self::with_backend(Box::new(CpuSimulation::new(scene, threads)))
+    pub fn new(mut scene: CompiledScene, threads: usize) -> Self {
+        let phases = phases(&mut scene, threads);
+        Self::with_backend(Box::new(CpuSimulation::new(scene, threads))).with_phases(phases)
     }
 
     /// Sets up a compiled scene on the GPU backend (the process's adapter).
     pub fn gpu(scene: CompiledScene) -> Result<Self, GpuError> {
+        refuse_fluid_on_gpu(&scene)?;
         Ok(Self::with_backend(Box::new(GpuSimulation::new(scene)?)))
     }
 
@@ -42,15 +48,48 @@ impl Simulation {
     /// [`CpuSimulation::from_state`]; the GPU takes the springs in f32).
     pub fn from_state(backend: BackendName, scene: CompiledScene, state: State, threads: usize) -> Result<Self, GpuError> {
         Ok(match backend {
-            BackendName::Cpu => Self::with_backend(Box::new(CpuSimulation::from_state(scene, state, threads))),
-            BackendName::Gpu => Self::with_backend(Box::new(GpuSimulation::from_state(scene, state)?)),
+            BackendName::Cpu => {
+                let mut scene = scene;
+                let phases = phases(&mut scene, threads);
+                Self::with_backend(Box::new(CpuSimulation::from_state(scene, state, threads))).with_phases(phases)
+            }
+            BackendName::Gpu => {
+                refuse_fluid_on_gpu(&scene)?;
+                Self::with_backend(Box::new(GpuSimulation::from_state(scene, state)?))
+            }
         })
+    }
+
+    /// Adds phases beside the particles, stepped on the same clock.
+    pub fn with_phases(mut self, phases: Vec<Box<dyn Phase>>) -> Self {
+        self.phases.extend(phases);
+        self
+    }
+
+    /// The phases beside the particles.
+    pub fn phases(&self) -> &[Box<dyn Phase>] {
+        &self.phases
+    }
+
+    /// The phases, mutably (restoring a checkpoint).
+    pub fn phases_mut(&mut self) -> &mut [Box<dyn Phase>] {
+        &mut self.phases
+    }
+
+    /// Why a phase stopped, if one did.
+    pub fn phase_fault(&self) -> Option<&str> {
+        self.phase_fault.as_deref()
+    }
+
+    /// Particles of every phase: the DEM's and each other phase's moving ones.
+    pub fn all_particles(&self) -> usize {
+        self.particles() + self.phases.iter().map(|p| p.particles()).sum::<usize>()
     }
 
     /// Wraps any backend; the sources' events due at its current step run now.
     pub fn with_backend(backend: Box<dyn Backend>) -> Self {
         let feeder = Feeder::new(backend.as_ref());
-        let mut sim = Simulation { backend, feeder, feed_error: None };
+        let mut sim = Simulation { backend, phases: Vec::new(), phase_fault: None, feeder, feed_error: None };
         sim.feed();
         sim
     }
@@ -131,6 +170,13 @@ impl Simulation {
             let stop = next.map_or(end, |s| s.min(end));
             let before = self.steps();
             self.backend.advance(stop - before);
+            let dt = self.plan().model.dt;
+            for p in &mut self.phases {
+                if let Err(e) = p.advance(self.backend.steps() - before, dt) {
+                    self.phase_fault = Some(format!("{}: {e}", p.name()));
+                    return;
+                }
+            }
             if self.steps() != stop {
                 break;
             }
@@ -212,9 +258,9 @@ impl Simulation {
         self.backend.neighbour_builds()
     }
 
-    /// Memory this simulation's particle and grid arrays take, bytes (GPU: device memory).
+    /// Memory this simulation's particle and grid arrays take, bytes (GPU: device memory), with its phases'.
     pub fn memory_bytes(&self) -> u64 {
-        self.backend.memory_bytes()
+        self.backend.memory_bytes() + self.phases.iter().map(|p| p.memory_bytes()).sum::<u64>()
     }
 
     /// Bytes per particle of this backend's state.
@@ -258,5 +304,24 @@ impl Simulation {
     /// The GPU simulation, on the GPU backend.
     pub fn gpu_simulation(&mut self) -> Option<&mut GpuSimulation> {
         self.downcast_mut::<GpuSimulation>()
+    }
+}
+
+/// The phases a compiled scene holds besides its particles (their starting particles taken from it).
+fn phases(scene: &mut CompiledScene, threads: usize) -> Vec<Box<dyn Phase>> {
+    match (&scene.plan.sph, scene.fluid.take()) {
+        (Some(plan), Some(particles)) => {
+            let fluid = crate::sph_phase::SphPhase::new(plan, particles, threads).expect("compile checked the fluid's settings");
+            vec![Box::new(fluid)]
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// The SPH fluid runs on the CPU backend so far.
+fn refuse_fluid_on_gpu(scene: &CompiledScene) -> Result<(), GpuError> {
+    match scene.plan.sph {
+        Some(_) => Err(GpuError::Unsupported("the SPH fluid ([sph]) runs on the CPU backend so far; use --backend cpu".into())),
+        None => Ok(()),
     }
 }

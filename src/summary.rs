@@ -74,6 +74,15 @@ pub(crate) fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, st
     if let Some(step) = s.resumed_from_step {
         value["resumed_from_step"] = serde_json::json!(step);
     }
+    for phase in sim.phases() {
+        // Each phase's particles, memory and final row (its first table), under its name.
+        let last: serde_json::Map<String, serde_json::Value> = phase
+            .tables()
+            .first()
+            .map(|t| t.columns.iter().zip(&t.values).map(|(c, &v)| (c.clone(), finite_or_null(v))).collect())
+            .unwrap_or_default();
+        value[phase.name()] = serde_json::json!({ "particles": phase.particles(), "memory_bytes": phase.memory_bytes(), "final": last });
+    }
     if let Some(c) = &s.checkpoints {
         value["checkpoints"] = serde_json::json!({
             "every_steps": c.every_steps,

@@ -134,7 +134,14 @@ fn requested_particles(scene: &tumble::Scene) -> f64 {
             g.random.as_ref().map_or(0.0, |r| r.count as f64)
         }
     };
-    scene.particles.iter().map(group).filter(|n| n.is_finite()).sum()
+    let fluid = scene.sph.as_ref().map_or(0.0, |s| {
+        // The SPH fluid's regions on their lattice (in 2D, x and z).
+        let axes: &[usize] = if s.dimension == 2 { &[0, 2] } else { &[0, 1, 2] };
+        let region =
+            |b: &tumble_scene::schema::SphBoxSection| axes.iter().map(|&k| ((b.max[k] - b.min[k]) / s.spacing).floor().max(0.0)).product::<f64>();
+        s.regions.iter().filter_map(|r| r.box_.as_ref()).map(region).filter(|n| n.is_finite()).sum::<f64>()
+    });
+    scene.particles.iter().map(group).filter(|n| n.is_finite()).sum::<f64>() + fluid
 }
 
 /// Linux's MemAvailable in bytes (0 where unknown, so every scene is compiled).
@@ -170,7 +177,7 @@ fn run_case(bytes: &[u8], scratch: &Path) -> Verdict {
         Err(e) => return check_refusal(&e, text).map(|_| compile_class(&e)),
     };
     gpu_plan_estimate(&compiled);
-    let n = compiled.particles.len();
+    let n = compiled.particles.len() + compiled.fluid.as_ref().map_or(0, |f| f.len());
     if n > if compiled.plan.model.polyhedra { MAX_STEPPED_POLYHEDRA } else { MAX_STEPPED_PARTICLES } {
         return Ok("compiled (too many particles to step)".into());
     }

@@ -95,7 +95,7 @@ fn drum_of_cubes_books_its_energy() {
 fn frictionless_cubes_dropped_in_a_static_drum_book_their_energy() {
     let mut s = scene("drum_cubes.toml");
     s.run.duration = 0.6;
-    s.contact.tangential = Default::default();
+    s.contact.as_mut().unwrap().tangential = Default::default();
     for w in &mut s.walls {
         w.motion = None;
     }

@@ -21,7 +21,7 @@ fn scene(model: RollingModelName, angle_deg: f64, speed: f64, restitution: f64, 
     floor.restitution = restitution;
     floor.velocity = DVec3::new(speed, 0.0, 0.0);
     let mut scene = floor.parsed();
-    scene.contact.rolling_model = Some(model);
+    scene.contact.as_mut().unwrap().rolling_model = Some(model);
     // Rolling: the contact point at −R ẑ is at rest, v + ω × (−R ẑ) = 0.
     scene.particles[0].angular_velocity = Some([0.0, speed / R, 0.0]);
     scene
@@ -155,7 +155,7 @@ fn epsd2_without_history_is_refused_naming_the_field() {
     let mut floor = FloorScene::incline(FrictionModel::ViscousCoulomb, 0.5, 0.0, 0.1);
     floor.rolling_friction = MU_R;
     let mut s = floor.parsed();
-    s.contact.rolling_model = Some(RollingModelName::Epsd2);
+    s.contact.as_mut().unwrap().rolling_model = Some(RollingModelName::Epsd2);
     let err = compile(&s).unwrap_err().to_string();
     println!("{err}");
     assert!(err.contains("contact.rolling_model") && err.contains("history"), "{err}");

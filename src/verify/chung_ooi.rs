@@ -192,7 +192,7 @@ impl ImpactSetup {
         scene.run.duration = 0.2 * t_h + 1.6 * t_h;
         scene.run.monitor.enabled = false;
         scene.run.allow_unstable_dt = true;
-        scene.contact.no_attraction = self.no_attraction;
+        scene.contact.as_mut().expect("the case has a [contact] table").no_attraction = self.no_attraction;
         let compiled = compile(&scene).expect("chung-ooi scene compiles");
         let steps = compiled.plan.run.steps;
         let mut sim = Simulation::on(backend, compiled, 1).unwrap_or_else(|e| panic!("{backend:?}: {e}"));

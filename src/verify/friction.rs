@@ -193,7 +193,7 @@ pub fn oblique_impact_with(
         duration: gap / vn + 2.0 * t_col,
     };
     let mut parsed = scene.parsed();
-    parsed.contact.no_attraction = no_attraction;
+    parsed.contact.as_mut().expect("the case has a [contact] table").no_attraction = no_attraction;
     let compiled = compile(&parsed).expect("oblique impact scene compiles");
     let steps = compiled.plan.run.steps;
     let mut sim = on(backend, compiled);

@@ -121,7 +121,11 @@ impl SnapshotWriter {
     /// Writes snapshot `index` of `state` (the run's particles at `time`) and rewrites the .pvd files.
     pub fn write(&mut self, index: usize, sim: &Simulation, time: f64, state: &State) -> io::Result<()> {
         let plan = sim.plan();
-        self.add("particles", index, time, &particles_vtp(state, plan.model.gravity))?;
+        // A scene of fluid alone has no particle series.
+        let fluid_alone = !sim.phases().is_empty() && plan.model.sources.is_empty() && state.is_empty();
+        if !fluid_alone {
+            self.add("particles", index, time, &particles_vtp(state, plan.model.gravity))?;
+        }
         if plan.model.polyhedra {
             self.add("bodies", index, time, &bodies_vtp(plan, state))?;
         }
@@ -135,7 +139,25 @@ impl SnapshotWriter {
         if plan.run.contacts {
             self.add("contacts", index, time, &contacts::contacts_vtp(plan, state, &sim.walls()))?;
         }
+        for phase in sim.phases() {
+            self.add(phase.name(), index, time, &phase_vtp(&phase.points()))?;
+        }
         Ok(())
+    }
+}
+
+/// A phase's particles (an SPH fluid's fluid and wall particles) as VTK XML PolyData: one vertex
+/// per particle with the phase's fields as point data.
+pub fn phase_vtp(p: &tumble_state::PhasePoints) -> PolyData {
+    let mut point_data: Vec<Array> = p.scalars.iter().map(|(name, v)| Array::f64(name, 1, v.clone())).collect();
+    point_data.extend(p.vectors.iter().map(|(name, v)| Array::f64(name, 3, v.iter().flat_map(|x| x.to_array()).collect())));
+    point_data.extend(p.integers.iter().map(|(name, v)| Array::i32(name, v.clone())));
+    PolyData {
+        points: p.positions.iter().flat_map(|x| x.to_array()).collect(),
+        verts: Cells::of((0..p.positions.len()).map(|k| [k])),
+        point_data,
+        point_attributes: (p.scalars.first().map(|(n, _)| n.to_string()), p.vectors.first().map(|(n, _)| n.to_string())),
+        ..Default::default()
     }
 }
 

@@ -94,7 +94,7 @@ fn scene_for(point: OperatingPoint, params: &Params, seed: u64) -> Scene {
     scene.run.seed = seed;
     scene.run.snapshot_interval = None;
     scene.run.duration = SPIN_UP + params.revolutions.unwrap_or(1.0) * 60.0 / rpm;
-    let c = &mut scene.contact;
+    let c = scene.contact.as_mut().expect("the lab mill has a [contact] table");
     if let Some(mu) = params.ball_friction {
         set_friction(&mut c.tangential, mu);
     }

@@ -223,7 +223,8 @@ fn run_point(base: &tumble::Scene, o: &Options, stk: f64, sy: f64, window: (f64,
     if let Some(f) = scene.fluid.as_mut() {
         f.viscosity = Some(ViscositySpec::Target(StokesTarget { stokes_number: stk }));
     }
-    scene.contact.cohesion = Some(CohesionSection { stiffness: None, stickiness_number: Some(sy), collision_speed: None });
+    scene.contact.as_mut().expect("the bed has a [contact] table").cohesion =
+        Some(CohesionSection { stiffness: None, stickiness_number: Some(sy), collision_speed: None });
     for g in &mut scene.particles {
         if let Some(r) = g.random.as_mut() {
             r.count = o.particles;

@@ -50,8 +50,20 @@ impl Plan {
             };
             let _ = writeln!(s, "outlet       {}: deletes particles whose centre enters {region}", o.name);
         }
-        let _ = writeln!(s, "integrator   {}", model.integrator.name());
+        let dem = particles > 0 || !model.sources.is_empty() || self.sph.is_none();
+        if dem {
+            let _ = writeln!(s, "integrator   {}", model.integrator.name());
+        }
         let _ = writeln!(s, "dt           {:.6e} s ({} steps to t = {} s)", model.dt, run.steps, run.duration);
+        if let Some(fluid) = &self.sph {
+            describe_sph(&mut s, fluid);
+        }
+        if !dem {
+            for w in &report.warnings {
+                let _ = writeln!(s, "warning: {w}");
+            }
+            return s;
+        }
         if let Some(t) = ts.collision_time {
             let _ = writeln!(s, "t_col        {:.6e} s ({:.1} steps per collision)", t, t / model.dt);
         }
@@ -113,5 +125,62 @@ impl Plan {
             let _ = writeln!(s, "warning: {w}");
         }
         s
+    }
+}
+
+/// The fluid's lines: its particles, method, time-step limits and probes.
+fn describe_sph(s: &mut String, p: &crate::SphPlan) {
+    use tumble_sph::{DensityDiffusion, Dimension, Viscosity};
+    let f = &p.settings;
+    let dimension = match f.dimension {
+        Dimension::Two => "2D (the x–z plane, per metre of span)",
+        Dimension::Three => "3D",
+    };
+    let _ = writeln!(
+        s,
+        "fluid        SPH, {dimension}: {} fluid and {} wall particles, spacing {:.4e} m, h = {:.4e} m ({} spacings)",
+        p.fluid_particles,
+        p.wall_particles,
+        f.spacing,
+        f.h,
+        f.h / f.spacing
+    );
+    let viscosity = match f.viscosity {
+        Viscosity::Laminar => format!("laminar viscosity (Morris) mu = {:e} Pa s", f.mu),
+        Viscosity::Artificial { alpha } => format!("artificial viscosity alpha = {alpha} (mu = {:e} Pa s enters dt only)", f.mu),
+    };
+    let diffusion = match f.density_diffusion {
+        DensityDiffusion::None => "no density diffusion".to_string(),
+        DensityDiffusion::MolteniColagrossi { delta } => format!("delta-SPH (Molteni-Colagrossi) delta = {delta}"),
+        DensityDiffusion::Fourtakas { delta } => format!("delta-SPH (Fourtakas) delta = {delta}"),
+    };
+    let _ = writeln!(
+        s,
+        "fluid method Wendland C2; Tait rho0 = {} kg/m³, c0 = {:.4} m/s ({:.1} times the expected speed {:.4} m/s); {viscosity}; {diffusion}; tensile correction {}; XSPH {}",
+        f.rho0,
+        f.sound_speed,
+        f.sound_speed / p.expected_speed,
+        p.expected_speed,
+        if f.tensile_correction { "on" } else { "off" },
+        if f.xsph > 0.0 { format!("epsilon = {}", f.xsph) } else { "off".into() }
+    );
+    let l = &p.limits;
+    let _ = writeln!(
+        s,
+        "fluid dt     {:.6e} s, set by {}: CFL 0.25 h/(c0 + v) = {:.4e} s, viscous 0.125 h² rho0/mu = {:.4e} s, force 0.25 sqrt(h/|g|) = {:.4e} s",
+        l.dt(),
+        l.binding(),
+        l.cfl,
+        l.viscous,
+        l.force
+    );
+    for probe in &p.probes {
+        let what = match probe.kind {
+            crate::SphProbeKind::Pressure(x) => format!("pressure at {x}"),
+            crate::SphProbeKind::Velocity(x) => format!("velocity at {x}"),
+            crate::SphProbeKind::Gauge { from, top } => format!("water height from {from} up to z = {top}"),
+            crate::SphProbeKind::Front(d) => format!("front along {d}"),
+        };
+        let _ = writeln!(s, "fluid probe  {}: {what} (probe_{}.csv)", probe.name, probe.name);
     }
 }

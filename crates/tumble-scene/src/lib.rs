@@ -50,7 +50,7 @@ pub use mesh_walls::MESH_TRIANGLES_AT_MOST;
 pub use particles::InitialParticles;
 pub use plan::{
     CompiledScene, Drag, Drum, Feature, Fluid, Material, Motion, PairParams, PhysicsModel, Plan, PlanReport, PolyhedronContact, RunSettings, Servo,
-    Timescales, Tuning, Wall,
+    SphPlan, SphProbe, SphProbeKind, Timescales, Tuning, Wall,
 };
 pub use rng::Rng;
 pub use schema::Scene;

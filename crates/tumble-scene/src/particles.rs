@@ -211,8 +211,8 @@ pub(crate) fn compile_particles(
         }
     }
     let particles = generate(scene, material_index, &group_shape, &shapes)?;
-    if particles.is_empty() && scene.sources.is_empty() {
-        return Err(SceneError::field("particles", "the scene has no particles; add a [[particles]] group or a [[sources]] entry"));
+    if particles.is_empty() && scene.sources.is_empty() && scene.sph.is_none() {
+        return Err(SceneError::field("particles", "the scene has no particles; add a [[particles]] group, a [[sources]] entry or an [sph] fluid"));
     }
     for i in 0..particles.len() {
         if !particles.position[i].is_finite() || !particles.velocity[i].is_finite() {

@@ -332,6 +332,42 @@ pub struct Plan {
     pub run: RunSettings,
     pub tuning: Tuning,
     pub report: PlanReport,
+    /// The SPH fluid's phase, when the scene has one.
+    pub sph: Option<SphPlan>,
+}
+
+/// What the SPH fluid phase is built from, besides its starting particles.
+#[derive(Clone, Debug)]
+pub struct SphPlan {
+    pub settings: tumble_sph::FluidSettings,
+    /// The limits on Δt at the expected speed and the external acceleration.
+    pub limits: tumble_sph::TimeStepLimits,
+    /// The largest flow speed the sound speed was chosen for, m/s.
+    pub expected_speed: f64,
+    pub fluid_particles: usize,
+    pub wall_particles: usize,
+    pub probes: Vec<SphProbe>,
+    /// What `tumble plan` warns about the method's settings.
+    pub warnings: Vec<String>,
+}
+
+/// A measurement of the fluid written at every output row (probe_<name>.csv).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SphProbe {
+    pub name: String,
+    pub kind: SphProbeKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SphProbeKind {
+    /// Pressure at a point, Pa.
+    Pressure(DVec3),
+    /// Velocity at a point, m/s.
+    Velocity(DVec3),
+    /// Water height on the vertical line from `from` up to z = `top`, m.
+    Gauge { from: DVec3, top: f64 },
+    /// The fluid's largest extent along a unit vector, m.
+    Front(DVec3),
 }
 
 /// What the force and integration kernels need to advance the particles by one step.
@@ -494,6 +530,8 @@ impl Plan {
 pub struct CompiledScene {
     pub plan: Plan,
     pub particles: InitialParticles,
+    /// The SPH fluid's starting particles (fluid and walls), with `plan.sph`.
+    pub fluid: Option<tumble_sph::FluidParticles>,
 }
 
 #[cfg(test)]

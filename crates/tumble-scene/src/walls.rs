@@ -44,7 +44,10 @@ pub(crate) fn compile_walls(
     let mut mesh_keys = 0u32;
     for (k, w) in scene.walls.iter().enumerate() {
         let f = |x: &str| format!("walls[{k}].{x}");
-        let material = lookup(f("material"), &w.material)?;
+        let material = match &w.material {
+            Some(m) => lookup(f("material"), m)?,
+            None => return Err(SceneError::field(f("material"), "missing: particles meet a wall through its material; name one of [[materials]]")),
+        };
         let name = names[k].clone();
         let given = [w.plane.is_some(), w.quad.is_some(), w.box_.is_some(), w.cylinder.is_some(), w.lifters.is_some(), w.mesh.is_some()];
         if given.iter().filter(|&&b| b).count() != 1 {

@@ -40,6 +40,16 @@ pub struct FluidGrid {
 }
 
 impl FluidGrid {
+    /// Bytes the grid's per-particle arrays and neighbour lists hold (the cell table aside).
+    pub fn memory_bytes(&self) -> u64 {
+        let size = |len: usize, each: usize| (len * each) as u64;
+        size(self.cells.capacity(), 4)
+            + size(self.fluid_before.capacity(), 4)
+            + size(self.list_start.capacity(), 8)
+            + size(self.list.capacity(), 4)
+            + size(self.built.capacity(), 24)
+    }
+
     /// A grid over `domain` for a kernel of reach `support` (2h). Periodic axes must hold two
     /// cells, so that the minimum image is the only image within reach.
     pub fn new(domain: PeriodicBox, support: f64) -> Result<Self, String> {

@@ -212,6 +212,21 @@ impl FluidPhase {
         self.method.kernel
     }
 
+    /// Bytes the phase's arrays, rates and neighbour lists hold.
+    pub fn memory_bytes(&self) -> u64 {
+        let p = &self.particles;
+        let n = |v: usize, each: usize| (v * each) as u64;
+        n(p.id.capacity(), 4)
+            + n(p.kind.capacity(), size_of::<ParticleKind>())
+            + n(p.position.capacity() + p.velocity.capacity(), 24)
+            + n(p.density.capacity() + p.mass.capacity(), 8)
+            + n(self.inputs.pressure.capacity(), 8)
+            + n(self.inputs.viscous_velocity.capacity(), 24)
+            + n(self.rates.acceleration.capacity() + self.rates.xsph.capacity() + self.start_velocity.capacity(), 24)
+            + n(self.rates.density_rate.capacity() + self.start_density.capacity(), 8)
+            + self.grid.memory_bytes()
+    }
+
     /// The fluid's state for a checkpoint.
     pub fn snapshot(&self) -> FluidSnapshot {
         FluidSnapshot {

@@ -17,6 +17,7 @@ mod contact_sum;
 mod fault;
 mod history;
 mod observables;
+mod phase;
 mod snapshot;
 mod state;
 
@@ -25,6 +26,7 @@ pub use contact_sum::ContactSum;
 pub use fault::Fault;
 pub use history::{HistoryOverflow, HistorySlots, MESH_KEY, RollingHalf, Spring, TangentialHalf, WALL_KEY};
 pub use observables::{DrumFrame, DrumProfile, Observables, TrackRow, drum_profiles, no_drum_profile, quantile_rank, tracks};
+pub use phase::{Phase, PhasePoints, PhaseTable};
 pub use snapshot::{
     DeviceImage, NeighbourState, NeighbourStateRef, OutletTally, SNAPSHOT_VERSION, ServoState, Snapshot, SnapshotError, SnapshotRef, WallState,
 };

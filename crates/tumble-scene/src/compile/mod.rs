@@ -8,12 +8,13 @@ mod model;
 mod pairs;
 mod report;
 mod run;
+mod sph;
 mod tuning;
 
 use crate::SceneError;
 use crate::particles::compile_particles;
 use crate::plan::{CompiledScene, PhysicsModel, Plan, PlanReport, PolyhedronContact, RunSettings, Tuning};
-use crate::schema::{PolyhedronModelName, Scene, V3};
+use crate::schema::{MaterialSection, PolyhedronModelName, Scene, V3};
 use crate::targets::{MovableMeans, Targets};
 use glam::DVec3;
 
@@ -23,12 +24,23 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         return Err(SceneError::field("name", "must not be empty"));
     }
     check_name(&scene.name)?;
+    let fluid_alone;
+    let scene = if scene.has_particles() || scene.sph.is_none() {
+        if scene.contact.is_none() {
+            return Err(SceneError::field("contact", "missing: particles need the [contact] table (normal, restitution)"));
+        }
+        scene
+    } else {
+        fluid_alone = without_particles(scene);
+        &fluid_alone
+    };
     let table = materials::materials(scene)?;
     let domain = model::domain(scene)?;
     let pair_laws = pairs::pair_laws(scene, &table)?;
     let (particles, mut shapes) = compile_particles(scene, &table.index, &domain)?;
     let densities: Vec<f64> = table.materials.iter().map(|m| m.density).collect();
     let gravity = model::gravity(scene)?;
+    let sph = sph::sph(scene, &domain, gravity)?;
     let (mut sources, prototypes) =
         crate::sources::compile_sources(scene, &table.index, &densities, &mut shapes, &domain, gravity, scene.particles.len() as u16)?;
     let outlets = crate::sources::compile_outlets(scene)?;
@@ -49,7 +61,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let history_slots = tuning::history_slots(scene)?;
     let mechanics = model::mechanics(scene, &pairs, &shapes, &kinds, fluid.as_ref())?;
     if mechanics.polyhedra
-        && scene.contact.polyhedron_model == Some(PolyhedronModelName::Depth)
+        && scene.contact().polyhedron_model == Some(PolyhedronModelName::Depth)
         && let Some(k) = scene.walls.iter().position(|w| w.mesh.is_some())
     {
         return Err(SceneError::field(
@@ -61,7 +73,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
 
     positive("run.duration", scene.run.duration)?;
     let integrator = model::integrator(scene);
-    let polyhedron_contact = match scene.contact.polyhedron_model {
+    let polyhedron_contact = match scene.contact().polyhedron_model {
         Some(PolyhedronModelName::Depth) => PolyhedronContact::Depth,
         _ => PolyhedronContact::Volume,
     };
@@ -80,7 +92,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         wall_step_limit.as_ref().map(|w| w.dt),
         polyhedron_contact,
     );
-    let dt = run::step(scene, &timescales, wall_step_limit.as_ref())?;
+    let dt = run::step(scene, &timescales, wall_step_limit.as_ref(), sph.as_ref().map(|(p, _)| p))?;
     let schedule = run::schedule(scene, dt)?;
     crate::sources::schedule_sources(scene, &mut sources, dt, schedule.steps, gravity, &shapes);
     let resort_interval = tuning::resort_interval(scene)?;
@@ -142,16 +154,32 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         bytes_per_particle: tuning::bytes_per_particle(&model, history_slots),
         capacity_chunk,
     };
+    let (sph, fluid) = sph.unzip();
+    let sph_warnings = sph.iter().flat_map(|p| p.warnings.iter().cloned());
     let report = PlanReport {
         features: report::features(scene, &model, &mechanics, &tuning, &run),
-        warnings: mesh_warnings.into_iter().chain(report::warnings(&model, &timescales, &kinds)).collect(),
+        warnings: mesh_warnings.into_iter().chain(report::warnings(&model, &timescales, &kinds)).chain(sph_warnings).collect(),
         timescales,
         wall_step_limit,
         targets: Targets { taylor_green, stickiness },
     };
-    let plan = Plan { model, run, tuning, report };
+    let plan = Plan { model, run, tuning, report, sph };
     check_memory(&plan, particles.len() + plan.inserted_at_most() as usize)?;
-    Ok(CompiledScene { plan, particles })
+    Ok(CompiledScene { plan, particles, fluid })
+}
+
+/// A scene of fluid alone, its particle sections filled in where it left them out: nothing
+/// touches a particle, so the walls share one material that no contact ever reads.
+fn without_particles(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    if s.materials.is_empty() {
+        s.materials.push(MaterialSection { name: "walls".into(), density: 1000.0, youngs_modulus: None, poisson_ratio: None });
+    }
+    let first = s.materials[0].name.clone();
+    for w in &mut s.walls {
+        w.material.get_or_insert_with(|| first.clone());
+    }
+    s
 }
 
 /// The run's memory (the plan's estimate) must fit the memory this machine has free.

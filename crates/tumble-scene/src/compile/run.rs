@@ -4,7 +4,7 @@
 use super::positive;
 use crate::SceneError;
 use crate::particles::InitialParticles;
-use crate::plan::{WALL_ADVANCE_FRACTION, Wall, WallGroup, WallStepLimit};
+use crate::plan::{SphPlan, WALL_ADVANCE_FRACTION, Wall, WallGroup, WallStepLimit};
 use crate::schema::*;
 use crate::timescales::Timescales;
 
@@ -22,10 +22,21 @@ pub(super) fn wall_step_limit(walls: &[Wall], wall_groups: &[WallGroup], particl
 }
 
 /// Δt: the scene's, or the plan's default; refused above a limit unless the scene allows it.
-pub(super) fn step(scene: &Scene, timescales: &Timescales, wall_step_limit: Option<&WallStepLimit>) -> Result<f64, SceneError> {
+pub(super) fn step(
+    scene: &Scene,
+    timescales: &Timescales,
+    wall_step_limit: Option<&WallStepLimit>,
+    sph: Option<&SphPlan>,
+) -> Result<f64, SceneError> {
     let run = &scene.run;
+    // Particles and fluid share one clock: the shorter of their steps.
+    let default_dt = match (scene.has_particles(), sph) {
+        (true, Some(s)) => timescales.default_dt.min(s.limits.dt()),
+        (false, Some(s)) => s.limits.dt(),
+        (_, None) => timescales.default_dt,
+    };
     let dt = match run.dt {
-        None => timescales.default_dt.min(run.duration),
+        None => default_dt.min(run.duration),
         Some(DtSpec::Seconds(dt)) => positive("run.dt", dt)?,
         Some(DtSpec::Fraction(f)) => {
             positive("run.dt.collision_fraction", f.collision_fraction)?;
@@ -44,6 +55,20 @@ pub(super) fn step(scene: &Scene, timescales: &Timescales, wall_step_limit: Opti
             format!(
                 "dt = {dt:.4e} s is above the stability limit {limit:.4e} s of this scene; use dt <= {limit:.4e} (the plan's default is {:.4e}) or set run.allow_unstable_dt = true",
                 timescales.default_dt
+            ),
+        ));
+    }
+    if let Some(s) = sph
+        && dt > s.limits.dt()
+        && !run.allow_unstable_dt
+    {
+        return Err(SceneError::field(
+            "run.dt",
+            format!(
+                "dt = {dt:.4e} s is above the SPH fluid's limit {:.4e} s, set by {}; use dt <= {:.4e} s or set run.allow_unstable_dt = true",
+                s.limits.dt(),
+                s.limits.binding(),
+                s.limits.dt()
             ),
         ));
     }

@@ -23,7 +23,7 @@ const MAX_HISTORY_SLOTS: u32 = 1024;
 
 /// Contacts with history each particle can hold.
 pub(super) fn history_slots(scene: &Scene) -> Result<usize, SceneError> {
-    match scene.contact.history_slots {
+    match scene.contact().history_slots {
         Some(0) => Err(SceneError::field("contact.history_slots", "must be at least 1 (contacts with history per particle)")),
         Some(k) if k > MAX_HISTORY_SLOTS => Err(SceneError::field(
             "contact.history_slots",
@@ -39,7 +39,8 @@ pub(super) fn search(scene: &Scene, particles: &InitialParticles, cohesion: bool
     let max_reach = (0..particles.len())
         .map(|i| if cohesion { particles.effect_radius[i].max(particles.radius[i]) } else { particles.radius[i] })
         .fold(0.0, f64::max);
-    let cell_size = 2.0 * max_reach;
+    // A scene of fluid alone has no particle to reach: a few cells span the domain, empty.
+    let cell_size = if max_reach > 0.0 { 2.0 * max_reach } else { domain.extent().min_element() / 4.0 };
     let skin_fraction = scene.run.skin.unwrap_or(DEFAULT_SKIN);
     if !(skin_fraction > 0.0 && skin_fraction <= 1.0) {
         return Err(SceneError::field("run.skin", format!("must lie in (0, 1] (a fraction of the interaction diameter), got {skin_fraction}")));

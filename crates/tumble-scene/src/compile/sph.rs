@@ -1,0 +1,391 @@
+//! The [sph] section: the fluid's settings, its particles (regions of fluid, and the scene's
+//! walls as dummy particles), its probes, its time-step limits and what the plan warns.
+
+use super::{finite3, non_negative, positive};
+use crate::SceneError;
+use crate::plan::{SphPlan, SphProbe, SphProbeKind};
+use crate::schema::*;
+use glam::DVec3;
+use tumble_geom::PeriodicBox;
+use tumble_sph::{
+    Aabb, DensityDiffusion, Dimension, FluidParticles, FluidPhase, FluidSettings, TimeStepLimits, Viscosity, add_fluid_block, add_wall_box,
+    add_wall_slab, wall_layers,
+};
+
+/// h / Δp unless the scene says otherwise: the lattice's kernel gradient sums to within 0.3 %
+/// of the continuum's there (docs/sph.md, "Smoothing length").
+pub const SMOOTHING_RATIO: f64 = 1.5;
+/// c₀ / v_max unless the scene says otherwise: density within about 1 %.
+pub const SOUND_SPEED_FACTOR: f64 = 10.0;
+
+/// The fluid's plan and starting particles, or none without an [sph] table.
+pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result<Option<(SphPlan, FluidParticles)>, SceneError> {
+    let Some(s) = &scene.sph else { return Ok(None) };
+    let dimension = match s.dimension {
+        2 => Dimension::Two,
+        3 => Dimension::Three,
+        d => return Err(SceneError::field("sph.dimension", format!("must be 2 (a plane flow in x–z) or 3, got {d}"))),
+    };
+    let spacing = positive("sph.spacing", s.spacing)?;
+    let ratio = s.smoothing_ratio.unwrap_or(SMOOTHING_RATIO);
+    if !(1.0..=3.0).contains(&ratio) {
+        return Err(SceneError::field("sph.smoothing_ratio", format!("h / spacing must be from 1 to 3 (default {SMOOTHING_RATIO}), got {ratio}")));
+    }
+    let rho0 = positive("sph.density", s.density)?;
+    let mu = non_negative("sph.viscosity", s.viscosity)?;
+    let body_force = finite3("sph.body_force", s.body_force)?;
+    let (sound_speed, expected_speed) = match (s.sound_speed, s.expected_speed) {
+        (Some(c), None) => {
+            if s.sound_speed_factor.is_some() {
+                return Err(SceneError::field(
+                    "sph.sound_speed_factor",
+                    "goes with expected_speed; with sound_speed given it has nothing to multiply",
+                ));
+            }
+            let c = positive("sph.sound_speed", c)?;
+            (c, c / SOUND_SPEED_FACTOR)
+        }
+        (None, Some(v)) => {
+            let v = positive("sph.expected_speed", v)?;
+            let factor = s.sound_speed_factor.unwrap_or(SOUND_SPEED_FACTOR);
+            if !(factor.is_finite() && factor >= 1.0) {
+                return Err(SceneError::field(
+                    "sph.sound_speed_factor",
+                    format!("c0 / expected_speed must be at least 1 (10 keeps density within about 1 %), got {factor}"),
+                ));
+            }
+            (factor * v, v)
+        }
+        _ => {
+            return Err(SceneError::field(
+                "sph",
+                "give exactly one of sound_speed (c0, m/s) or expected_speed (the largest flow speed, m/s; c0 = sound_speed_factor × it); for a column of height H falling, expected_speed = sqrt(2 g H)",
+            ));
+        }
+    };
+    let viscosity = match s.viscosity_model {
+        SphViscositySection::Laminar {} => {
+            if mu == 0.0 {
+                return Err(SceneError::field("sph.viscosity", "the laminar model needs a positive dynamic viscosity (water: 1.0e-3 Pa s)"));
+            }
+            Viscosity::Laminar
+        }
+        SphViscositySection::Artificial { alpha } => Viscosity::Artificial { alpha: positive("sph.viscosity_model.alpha", alpha)? },
+    };
+    let unit = |field: &str, delta: f64| {
+        if delta > 0.0 && delta <= 1.0 { Ok(delta) } else { Err(SceneError::field(field, format!("must be in (0, 1] (0.1 is usual), got {delta}"))) }
+    };
+    let density_diffusion = match s.density_diffusion {
+        DensityDiffusionSection::None {} => DensityDiffusion::None,
+        DensityDiffusionSection::MolteniColagrossi { delta } => {
+            DensityDiffusion::MolteniColagrossi { delta: unit("sph.density_diffusion.delta", delta)? }
+        }
+        DensityDiffusionSection::Fourtakas { delta } => DensityDiffusion::Fourtakas { delta: unit("sph.density_diffusion.delta", delta)? },
+    };
+    if !(0.0..=1.0).contains(&s.xsph) {
+        return Err(SceneError::field("sph.xsph", format!("ε must be from 0 (off) to 1 (0.5 is usual), got {}", s.xsph)));
+    }
+    if dimension == Dimension::Two && (gravity.y != 0.0 || body_force.y != 0.0) {
+        return Err(SceneError::field("sph.dimension", "a 2D fluid moves in the x–z plane: gravity and sph.body_force must have no y component"));
+    }
+    let mut settings = FluidSettings {
+        dimension,
+        spacing,
+        h: ratio * spacing,
+        rho0,
+        mu,
+        sound_speed,
+        viscosity,
+        density_diffusion,
+        tensile_correction: s.tensile_correction,
+        xsph: s.xsph,
+        gravity,
+        body_force,
+        domain: *domain,
+    };
+    // The grid reaches over the wall particles outside the domain's closed sides; a 2D fluid lies at y = 0.
+    let reach = (wall_layers(&settings) as f64 + 1.0) * spacing;
+    for k in 0..3 {
+        if !domain.periodic[k] {
+            settings.domain.min[k] -= reach;
+            settings.domain.max[k] += reach;
+        }
+    }
+    if dimension == Dimension::Two {
+        (settings.domain.min.y, settings.domain.max.y, settings.domain.periodic[1]) = (0.0, 0.0, false);
+    }
+    // The phase's own checks (a periodic axis must hold two of its cells, …), before any particle is made.
+    FluidPhase::new(settings.clone(), FluidParticles::default()).map_err(|e| SceneError::field("sph", e))?;
+    check_counts(scene, s, &settings, domain)?;
+    let mut particles = FluidParticles::default();
+    fill_regions(s, &settings, domain, &mut particles)?;
+    let fluid_particles = particles.len();
+    add_walls(scene, &settings, domain, &mut particles)?;
+    let probes = probes(s, dimension, domain)?;
+    let limits = TimeStepLimits::new(&settings, expected_speed, settings.external_acceleration().length());
+    let mut warnings = Vec::new();
+    if sound_speed < SOUND_SPEED_FACTOR * expected_speed * (1.0 - 1e-12) {
+        warnings.push(format!(
+            "sph: c0 = {sound_speed:.4} m/s is {:.1} times the expected speed; below 10 the density varies by more than about 1 % and the front runs ahead (docs/sph.md, \"Stability\")",
+            sound_speed / expected_speed
+        ));
+    }
+    if s.tensile_correction && density_diffusion == DensityDiffusion::None {
+        warnings.push(
+            "sph: the tensile correction without density diffusion made the dam break's density noisier, not smoother (2.5–26 % error in docs/sph.md, \"Stability\"); add density_diffusion".into(),
+        );
+    }
+    if density_diffusion == DensityDiffusion::None && viscosity == Viscosity::Laminar {
+        warnings
+            .push("sph: laminar viscosity without density diffusion lets pressure noise grow in violent flows (docs/sph.md, \"Stability\")".into());
+    }
+    let plan = SphPlan { settings, limits, expected_speed, fluid_particles, wall_particles: particles.len() - fluid_particles, probes, warnings };
+    Ok(Some((plan, particles)))
+}
+
+fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<(), SceneError> {
+    if s.regions.is_empty() {
+        return Err(SceneError::field("sph.regions", "the fluid fills nothing; add [[sph.regions]] with box = { min = [...], max = [...] }"));
+    }
+    for (k, r) in s.regions.iter().enumerate() {
+        let f = |x: &str| format!("sph.regions[{k}].{x}");
+        let Some(b) = &r.box_ else {
+            return Err(SceneError::field(format!("sph.regions[{k}]"), "give the region's shape: box = { min = [...], max = [...] }"));
+        };
+        let (mut min, mut max) = (finite3(&f("box.min"), b.min)?, finite3(&f("box.max"), b.max)?);
+        let velocity = finite3(&f("velocity"), r.velocity)?;
+        if settings.dimension == Dimension::Two {
+            (min.y, max.y) = (0.0, 0.0);
+            if velocity.y != 0.0 {
+                return Err(SceneError::field(f("velocity"), "a 2D fluid moves in the x–z plane: the velocity must have no y component"));
+            }
+        }
+        let flat = |k: usize| settings.dimension == Dimension::Two && k == 1;
+        if (0..3).any(|a| !flat(a) && max[a] <= min[a]) {
+            return Err(SceneError::field(f("box"), "max must exceed min on every axis (in 2D, x and z)"));
+        }
+        if (0..3).any(|a| !flat(a) && (min[a] < domain.min[a] || max[a] > domain.max[a])) {
+            return Err(SceneError::field(f("box"), "must lie inside the domain"));
+        }
+        if add_fluid_block(particles, settings, Aabb::new(min, max), velocity) == 0 {
+            return Err(SceneError::field(
+                f("box"),
+                format!("holds no lattice point at spacing {}: make it at least one spacing wide", settings.spacing),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The scene's walls as dummy particles on the fluid's side: a box's closed sides (the fluid
+/// inside), an axis-aligned plane's layers behind it across the domain.
+fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<(), SceneError> {
+    let two_d = settings.dimension == Dimension::Two;
+    let thickness = wall_layers(settings) as f64 * settings.spacing;
+    for (k, w) in scene.walls.iter().enumerate() {
+        let f = |x: &str| format!("walls[{k}].{x}");
+        let not_yet = || {
+            SceneError::field(
+                format!("walls[{k}]"),
+                "the SPH fluid's walls are static boxes and axis-aligned planes so far; quads, cylinders, lifters, meshes and moving walls are not yet made into wall particles",
+            )
+        };
+        if w.motion.is_some() || w.servo.is_some() || w.surface_velocity.is_some() {
+            return Err(not_yet());
+        }
+        if let Some(b) = &w.box_ {
+            if b.floor_hole.is_some() {
+                return Err(SceneError::field(f("box.floor_hole"), "the SPH fluid's walls have no holes yet; leave it out"));
+            }
+            let (mut min, mut max) = (finite3(&f("box.min"), b.min)?, finite3(&f("box.max"), b.max)?);
+            if two_d {
+                (min.y, max.y) = (0.0, 0.0);
+            }
+            let (inner, closed) = box_sides(k, settings, domain, min, max)?;
+            add_wall_box(particles, settings, inner, closed, DVec3::ZERO);
+        } else if let Some(p) = &w.plane {
+            let normal = finite3(&f("plane.normal"), p.normal)?;
+            let point = finite3(&f("plane.point"), p.point)?;
+            let axis = (0..3).find(|&a| normal[a] != 0.0 && (0..3).all(|b| b == a || normal[b] == 0.0));
+            let Some(a) = axis.filter(|&a| !(two_d && a == 1)) else {
+                return Err(SceneError::field(f("plane.normal"), "the SPH fluid takes planes along x, y or z (in 2D, x or z) so far"));
+            };
+            // The fluid is on the side the normal points to; the layers lie behind the plane.
+            let (mut lower, mut upper) = (domain.min, domain.max);
+            if normal[a] > 0.0 {
+                (lower[a], upper[a]) = (point[a] - thickness, point[a]);
+            } else {
+                (lower[a], upper[a]) = (point[a], point[a] + thickness);
+            }
+            if two_d {
+                (lower.y, upper.y) = (0.0, 0.0);
+            }
+            // Layers the fluid's grid cannot reach are left out.
+            let (lower, upper) = (lower.max(settings.domain.min), upper.min(settings.domain.max));
+            if (0..3).all(|a| (two_d && a == 1) || lower[a] < upper[a]) {
+                add_wall_slab(particles, settings, lower, upper, DVec3::ZERO);
+            }
+        } else {
+            return Err(not_yet());
+        }
+    }
+    Ok(())
+}
+
+/// A box wall's fluid side and its closed sides: all but those on a periodic axis (where the
+/// box is cut to the domain) and, in 2D, y. A side beyond the domain is refused: the fluid's
+/// grid ends there.
+fn box_sides(
+    k: usize,
+    settings: &FluidSettings,
+    domain: &PeriodicBox,
+    min: DVec3,
+    max: DVec3,
+) -> Result<(Aabb, tumble_sph::ClosedSides), SceneError> {
+    let two_d = settings.dimension == Dimension::Two;
+    let (mut inner, mut closed) = (Aabb::new(min, max), [[false; 2]; 3]);
+    let slack = 1e-9 * (domain.max - domain.min).max_element();
+    for a in 0..3 {
+        if two_d && a == 1 {
+            continue;
+        }
+        if domain.periodic[a] {
+            (inner.min[a], inner.max[a]) = (domain.min[a], domain.max[a]);
+            continue;
+        }
+        if min[a] < domain.min[a] - slack || max[a] > domain.max[a] + slack || max[a] <= min[a] {
+            return Err(SceneError::field(
+                format!("walls[{k}].box"),
+                "a box around the SPH fluid must lie inside the domain (its walls are particles behind its sides; the fluid's grid ends at the domain)",
+            ));
+        }
+        closed[a] = [true, true];
+    }
+    Ok((inner, closed))
+}
+
+/// Lattice sites in the box `min`–`max` at the fluid's spacing (its active axes).
+fn sites(settings: &FluidSettings, min: DVec3, max: DVec3) -> f64 {
+    (0..3)
+        .filter(|&a| !(settings.dimension == Dimension::Two && a == 1))
+        .map(|a| ((max[a] - min[a]) / settings.spacing + 1.0).max(0.0))
+        .product::<f64>()
+        .min(f64::MAX)
+}
+
+/// Refuses a fluid whose regions and walls would hold more particles than ids allow or memory
+/// holds, before any is made: an upper bound from the regions' and walls' lattices in the domain.
+fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox) -> Result<(), SceneError> {
+    let (lo, hi) = (settings.domain.min, settings.domain.max);
+    let clip = |min: V3, max: V3| (DVec3::from(min).max(lo), DVec3::from(max).min(hi));
+    let mut total = 0.0;
+    for r in &s.regions {
+        if let Some(b) = &r.box_ {
+            let (min, max) = clip(b.min, b.max);
+            total += sites(settings, min, max);
+        }
+    }
+    let thickness = wall_layers(settings) as f64 * settings.spacing;
+    for (k, w) in scene.walls.iter().enumerate() {
+        if let Some(b) = &w.box_ {
+            let flat = |mut x: DVec3| {
+                if settings.dimension == Dimension::Two {
+                    x.y = 0.0;
+                }
+                x
+            };
+            let (inner, _) = box_sides(
+                k,
+                settings,
+                domain,
+                flat(finite3(&format!("walls[{k}].box.min"), b.min)?),
+                flat(finite3(&format!("walls[{k}].box.max"), b.max)?),
+            )?;
+            total += sites(settings, inner.min - thickness, inner.max + thickness) - sites(settings, inner.min, inner.max);
+        } else if w.plane.is_some() {
+            // A slab across the domain, a wall's thickness deep.
+            let full = sites(settings, lo, hi);
+            let deepest = (0..3).map(|a| hi[a] - lo[a]).fold(f64::INFINITY, f64::min).max(settings.spacing);
+            total += full * (thickness / deepest).min(1.0);
+        }
+    }
+    const MOST: f64 = u32::MAX as f64;
+    const BYTES_PER_PARTICLE: f64 = 512.0;
+    if total > MOST {
+        return Err(SceneError::field(
+            "sph.spacing",
+            format!("the fluid and its walls would hold about {total:.3e} particles; a scene holds at most {MOST:.0} (32-bit ids)"),
+        ));
+    }
+    if let Some(available) = crate::particles::available_memory()
+        && total * BYTES_PER_PARTICLE > available
+    {
+        return Err(SceneError::field(
+            "sph.spacing",
+            format!(
+                "the fluid and its walls would hold about {total:.3e} particles, which need about {:.1} GiB; this machine has {:.1} GiB available",
+                total * BYTES_PER_PARTICLE / (1u64 << 30) as f64,
+                available / (1u64 << 30) as f64
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn probes(s: &SphSection, dimension: Dimension, domain: &PeriodicBox) -> Result<Vec<SphProbe>, SceneError> {
+    let mut out: Vec<SphProbe> = Vec::new();
+    for (k, p) in s.probes.iter().enumerate() {
+        let f = |x: &str| format!("sph.probes[{k}].{x}");
+        let bad_name = p.name.is_empty() || p.name.chars().any(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'));
+        if bad_name || out.iter().any(|q| q.name == p.name) {
+            return Err(SceneError::field(
+                f("name"),
+                format!("names the probe's file probe_<name>.csv: unique, letters, digits, '_' or '-'; got \"{}\"", p.name),
+            ));
+        }
+        let inside = |field: &str, x: DVec3| {
+            let out = (0..3).any(|a| !(dimension == Dimension::Two && a == 1) && (x[a] < domain.min[a] || x[a] > domain.max[a]));
+            if out { Err(SceneError::field(f(field), format!("{x} lies outside the domain"))) } else { Ok(()) }
+        };
+        let flatten = |mut x: DVec3| {
+            if dimension == Dimension::Two {
+                x.y = 0.0;
+            }
+            x
+        };
+        let given = [p.pressure.is_some(), p.velocity.is_some(), p.gauge.is_some(), p.front.is_some()];
+        let kind = match (given.iter().filter(|&&g| g).count(), p) {
+            (1, SphProbeSection { pressure: Some(x), .. }) => {
+                let x = flatten(finite3(&f("pressure"), *x)?);
+                inside("pressure", x)?;
+                SphProbeKind::Pressure(x)
+            }
+            (1, SphProbeSection { velocity: Some(x), .. }) => {
+                let x = flatten(finite3(&f("velocity"), *x)?);
+                inside("velocity", x)?;
+                SphProbeKind::Velocity(x)
+            }
+            (1, SphProbeSection { gauge: Some(g), .. }) => {
+                let from = flatten(finite3(&f("gauge.from"), g.from)?);
+                inside("gauge.from", from)?;
+                if !(g.to_z.is_finite() && g.to_z > from.z && g.to_z <= domain.max.z) {
+                    return Err(SceneError::field(
+                        f("gauge.to_z"),
+                        format!("must be above gauge.from's z = {} and at most the domain's top {}, got {}", from.z, domain.max.z, g.to_z),
+                    ));
+                }
+                SphProbeKind::Gauge { from, top: g.to_z }
+            }
+            (1, SphProbeSection { front: Some(d), .. }) => {
+                let d = flatten(finite3(&f("front"), *d)?);
+                if d.length() == 0.0 {
+                    return Err(SceneError::field(f("front"), "the direction must not be zero (in 2D, have an x or z part)"));
+                }
+                SphProbeKind::Front(d.normalize())
+            }
+            _ => return Err(SceneError::field(format!("sph.probes[{k}]"), "give exactly one of pressure, velocity, gauge or front")),
+        };
+        out.push(SphProbe { name: p.name.clone(), kind });
+    }
+    Ok(out)
+}
