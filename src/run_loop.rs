@@ -208,6 +208,13 @@ impl<'o> Run<'o> {
 
     /// The output row (`output`) and snapshot (`snapshot`) of `step`, from one frame; a stop the row finds.
     fn rows(&mut self, step: u64, output: bool, snapshot: bool) -> Result<Option<Stop>, RunError> {
+        if output {
+            for phase in self.sim.phases_mut() {
+                if let Err(e) = phase.check() {
+                    return Ok(Some(Stop::Phase(format!("{}: {e}", phase.name()))));
+                }
+            }
+        }
         let (sim, out_dir) = (&self.sim, self.out_dir.as_path());
         // One frame (one read-back on a device) serves the monitor, the rows and the snapshot.
         let frame = sim.frame((output && self.rows_need_state) || snapshot);

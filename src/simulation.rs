@@ -310,8 +310,8 @@ impl Simulation {
 /// The phases a compiled scene holds besides its particles (their starting particles taken from it).
 fn phases(scene: &mut CompiledScene, threads: usize) -> Vec<Box<dyn Phase>> {
     match (&scene.plan.sph, scene.fluid.take()) {
-        (Some(plan), Some(particles)) => {
-            let fluid = crate::sph_phase::SphPhase::new(plan, particles, threads).expect("compile checked the fluid's settings");
+        (Some(_), Some(particles)) => {
+            let fluid = crate::sph_phase::SphPhase::new(&scene.plan, particles, threads).expect("compile checked the fluid's settings");
             vec![Box::new(fluid)]
         }
         _ => Vec::new(),

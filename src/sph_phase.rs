@@ -2,8 +2,9 @@
 //! its sums and probes as output tables (`fluid.csv`, `probe_<name>.csv`), its particles as the
 //! `fluid` snapshot series.
 
-use tumble_scene::{SphPlan, SphProbe, SphProbeKind};
-use tumble_sph::{FluidParticles, FluidPhase, FluidSnapshot, ParticleKind};
+use serde::{Deserialize, Serialize};
+use tumble_scene::{Plan, SphPlan, SphProbe, SphProbeKind};
+use tumble_sph::{DensityDiffusion, FluidObservables, FluidParticles, FluidPhase, FluidSnapshot, ParticleKind, Viscosity};
 use tumble_state::{Phase, PhasePoints, PhaseTable};
 
 /// A fluid phase and what the scene measures in it.
@@ -12,15 +13,55 @@ pub struct SphPhase {
     probes: Vec<SphProbe>,
     fluid_particles: usize,
     pool: rayon::ThreadPool,
+    /// The largest energy gain allowed, as a share of the energy scale; None: not watched.
+    energy_growth: Option<f64>,
+    energy: EnergyBooks,
+}
+
+/// The fluid's energy monitor: in a closed tank with static walls and no body force, the total
+/// energy (kinetic + potential + elastic) only falls (viscosity, δ-SPH), up to the time-step
+/// error; a gain beyond `energy_growth` times its scale is an instability.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+struct EnergyBooks {
+    /// The lowest total energy seen at an output row, J.
+    lowest: f64,
+    /// The energy scale: the largest kinetic + elastic energy seen, and at least a hundredth of
+    /// the potential energy gravity can release from the start, J.
+    scale: f64,
+}
+
+/// What a fluid's checkpoint section holds: the phase and its monitor's books.
+#[derive(Serialize, Deserialize)]
+struct SphSection {
+    fluid: FluidSnapshot,
+    energy: EnergyBooks,
+}
+
+fn total(o: &FluidObservables) -> f64 {
+    o.kinetic_energy + o.potential_energy + o.elastic_energy
 }
 
 impl SphPhase {
     /// The phase of `plan` over its starting `particles`, stepped on `threads` threads (its
     /// results do not depend on how many).
-    pub fn new(plan: &SphPlan, particles: FluidParticles, threads: usize) -> Result<Self, String> {
+    pub fn new(plan: &Plan, particles: FluidParticles, threads: usize) -> Result<Self, String> {
+        let sph: &SphPlan = plan.sph.as_ref().ok_or("the plan has no fluid")?;
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.max(1)).build().map_err(|e| format!("the fluid's threads: {e}"))?;
         let fluid_particles = particles.fluid_count();
-        Ok(SphPhase { phase: FluidPhase::new(plan.settings.clone(), particles)?, probes: plan.probes.clone(), fluid_particles, pool })
+        // Potential energy gravity can release: each particle down to the domain's lowest point along g.
+        let g = sph.settings.gravity;
+        let domain = &plan.model.domain;
+        let low = glam::DVec3::from_array(std::array::from_fn(|k| if g[k] > 0.0 { domain.max[k] } else { domain.min[k] }));
+        let releasable: f64 = (0..particles.len())
+            .filter(|&i| particles.kind[i] == ParticleKind::Fluid)
+            .map(|i| particles.mass[i] * g.dot(low - particles.position[i]))
+            .sum();
+        let phase = FluidPhase::new(sph.settings.clone(), particles)?;
+        let o = phase.observables();
+        let energy = EnergyBooks { lowest: total(&o), scale: (o.kinetic_energy + o.elastic_energy).max(0.01 * releasable.abs()) };
+        let monitor = &plan.run.monitor;
+        let energy_growth = (monitor.enabled && sph.settings.body_force == glam::DVec3::ZERO).then_some(monitor.energy_growth);
+        Ok(SphPhase { phase, probes: plan.sph.as_ref().map(|s| s.probes.clone()).unwrap_or_default(), fluid_particles, pool, energy_growth, energy })
     }
 
     /// The fluid itself, for tests and tools.
@@ -97,6 +138,33 @@ impl Phase for SphPhase {
         std::iter::once(fluid).chain(self.probes.iter().map(|q| self.probe_table(q))).collect()
     }
 
+    fn check(&mut self) -> Result<(), String> {
+        let o = self.pool.install(|| self.phase.observables());
+        let e = total(&o);
+        let books = &mut self.energy;
+        books.scale = books.scale.max(o.kinetic_energy + o.elastic_energy);
+        let gain = e - books.lowest;
+        books.lowest = books.lowest.min(e);
+        let Some(growth) = self.energy_growth else { return Ok(()) };
+        if !e.is_finite() || gain <= growth * books.scale {
+            return Ok(());
+        }
+        let s = self.phase.settings();
+        let advice = match (s.density_diffusion, s.viscosity) {
+            (DensityDiffusion::None, Viscosity::Laminar) => {
+                "laminar viscosity without density diffusion lets pressure noise feed the flow; add density_diffusion = { model = \"fourtakas\", delta = 0.1 } or use the artificial viscosity"
+            }
+            (DensityDiffusion::None, _) => "add density_diffusion = { model = \"fourtakas\", delta = 0.1 }",
+            _ => "raise the sound speed (sph.sound_speed_factor) or the artificial viscosity's alpha",
+        };
+        Err(format!(
+            "the fluid's energy (kinetic + potential + elastic) grew by {gain:.4e} J by t = {:.6e} s, {:.2} times its scale {:.4e} J, without a source (run.monitor.energy_growth = {growth}): the method is unstable here; {advice}",
+            self.phase.time(),
+            gain / books.scale,
+            books.scale
+        ))
+    }
+
     fn points(&self) -> PhasePoints {
         let p = self.phase.particles();
         let eos = self.phase.equation_of_state();
@@ -124,11 +192,13 @@ impl Phase for SphPhase {
     }
 
     fn snapshot(&self) -> Vec<u8> {
-        postcard::to_stdvec(&self.phase.snapshot()).expect("a fluid snapshot always encodes")
+        postcard::to_stdvec(&SphSection { fluid: self.phase.snapshot(), energy: self.energy }).expect("a fluid snapshot always encodes")
     }
 
     fn restore(&mut self, bytes: &[u8]) -> Result<(), String> {
-        let snapshot: FluidSnapshot = postcard::from_bytes(bytes).map_err(|e| format!("the fluid's section cannot be decoded: {e}"))?;
-        self.phase.restore(&snapshot)
+        let section: SphSection = postcard::from_bytes(bytes).map_err(|e| format!("the fluid's section cannot be decoded: {e}"))?;
+        self.phase.restore(&section.fluid)?;
+        self.energy = section.energy;
+        Ok(())
     }
 }

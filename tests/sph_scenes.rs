@@ -175,6 +175,39 @@ fn fluid_runs_are_thread_independent_and_resume_bit_identically() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The dam break with laminar viscosity and no density diffusion gains energy once the column
+/// has collapsed (docs/sph.md, "Stability"): the fluid's monitor stops it with exit status 3,
+/// naming the energy gain and the remedy, after the rows before the stop were written; the
+/// shipped settings run the same time without a gain.
+#[test]
+fn the_fluid_monitor_stops_a_run_whose_energy_grows() {
+    let dir = tmp("unstable");
+    let text = std::fs::read_to_string(root().join("scenes/dam_break.toml")).unwrap().replace("spacing = 0.0025", "spacing = 0.005");
+    let unstable = text
+        .replace(r#"viscosity_model = { model = "artificial", alpha = 0.02 }"#, r#"viscosity_model = { model = "laminar" }"#)
+        .replace(r#"density_diffusion = { model = "fourtakas", delta = 0.1 }"#, r#"density_diffusion = { model = "none" }"#)
+        .replace("snapshot_interval = 0.02\n", "");
+    assert_ne!(unstable, text, "the scene's method lines changed");
+    let scene = dir.join("unstable.toml");
+    std::fs::write(&scene, unstable).unwrap();
+    let out = dir.join("out");
+    let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    println!("{err}");
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("fluid's energy") && err.contains("density_diffusion") && err.trim().lines().count() == 1, "{err}");
+    let energy = column(&out.join("fluid.csv"), "total_energy");
+    assert!(energy.len() > 10 && energy.len() < 41, "{} rows before the stop", energy.len());
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"status\": \"stopped\""), "{summary}");
+    let stable = dir.join("stable");
+    let o = tumble(&["run", root().join("scenes/dam_break.toml").to_str().unwrap(), "--quiet", "--out", stable.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let energy = column(&stable.join("fluid.csv"), "total_energy");
+    assert!(energy.windows(2).all(|w| w[1] <= w[0] + 1e-6 * energy[0]), "the stable dam break gained energy: {energy:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The GPU backend refuses a fluid on one line and writes nothing; `tumble plan` states the
 /// fluid's time step and why.
 #[test]

@@ -36,6 +36,9 @@ pub trait Phase: Send {
     fn memory_bytes(&self) -> u64;
     /// Its section of the output row now: each table's values.
     fn tables(&self) -> Vec<PhaseTable>;
+    /// The phase's own instability monitor, at each output row: why it must stop, if it must
+    /// (the cause, and what would make it stable).
+    fn check(&mut self) -> Result<(), String>;
     /// Its particles for a snapshot.
     fn points(&self) -> PhasePoints;
     /// Everything needed to continue it bit-identically.
