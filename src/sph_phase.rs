@@ -182,6 +182,8 @@ impl Phase for SphPhase {
                 ("pressure", order.iter().map(|&i| pressure(i)).collect()),
                 ("density", order.iter().map(|&i| p.density[i]).collect()),
                 ("mass", order.iter().map(|&i| p.mass[i]).collect()),
+                // Half the spacing: the particle as `tumble render` draws it.
+                ("radius", vec![0.5 * self.phase.settings().spacing; order.len()]),
             ],
             vectors: vec![("velocity", order.iter().map(|&i| p.velocity[i]).collect())],
             integers: vec![

@@ -76,6 +76,7 @@ fn main() {
         render::nearer_surfaces_hide_farther_ones_by_their_per_pixel_depth,
         render::pictures_are_identical_run_to_run,
         render::a_polyhedral_body_is_drawn_as_its_faces_in_its_particles_colour,
+        render::a_fluid_is_drawn_in_the_colour_of_its_pressure,
     ];
     let cpu_only = vec![tumble_testkit::harness::cpu_trial("render::bad_input_is_refused_in_one_line", render::bad_input_is_refused_in_one_line)];
     tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only, cpu_only].into_iter().flatten().collect());

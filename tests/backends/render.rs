@@ -218,12 +218,67 @@ pub fn pictures_are_identical_run_to_run() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A column of water at rest from a scene of fluid alone (its snapshots are `fluid.pvd` only)
+/// drawn by its pressure: the highest pressure's colour (viridis(1)) shows at the bottom of the
+/// picture and the lowest's (viridis(0)) at the top, each on the lit side of some particle.
+pub fn a_fluid_is_drawn_in_the_colour_of_its_pressure() {
+    let dir = std::env::temp_dir().join(format!("tumble-render-fluid-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let scene = r#"
+name = "column"
+[run]
+duration = 1.0e-4
+snapshot_interval = 1.0e-4
+[domain]
+min = [0.0, -0.01, 0.0]
+max = [0.1, 0.01, 0.15]
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[sph]
+dimension = 2
+spacing = 0.01
+density = 1000.0
+viscosity = 1.0e-3
+expected_speed = 1.4
+[[sph.regions]]
+box = { min = [0.0, 0.0, 0.0], max = [0.1, 0.0, 0.1] }
+"#;
+    let compiled = tumble::compile(&tumble::parse_scene(scene).unwrap()).unwrap();
+    tumble::run_compiled(compiled, &tumble::RunOptions { out_dir: Some(dir.clone()), threads: 1, ..Default::default() }).unwrap();
+    assert!(!dir.join("particles.pvd").exists() && dir.join("fluid.pvd").exists());
+    // The starting snapshot only: hydrostatic by construction.
+    let options = RenderOptions {
+        view: View::Front,
+        up_axis: 2,
+        field: "pressure".into(),
+        legend: false,
+        fps: 0,
+        every: 2,
+        width: 320,
+        height: 240,
+        ..Default::default()
+    };
+    let report = render_run(&dir, &options).unwrap();
+    println!("pressure range {:?} Pa", report.range);
+    assert!(report.range.0 > 0.0 && (report.range.1 - 1000.0 * 9.81 * 0.095).abs() < 5.0, "{:?}", report.range);
+    let (w, _, rgba) = read_png(&report.frames[0]);
+    let rows_of = |colour: [u8; 3]| -> Vec<usize> {
+        rgba.chunks_exact(4).enumerate().filter(|(_, p)| close([p[0], p[1], p[2]], colour, 2)).map(|(k, _)| k / w as usize).collect()
+    };
+    let (high, low) = (rows_of(to_u8(viridis(1.0), 1.0)), rows_of(to_u8(viridis(0.0), 1.0)));
+    let mean = |r: &[usize]| r.iter().sum::<usize>() as f64 / r.len().max(1) as f64;
+    println!("viridis(1) on {} pixels at mean row {:.1}; viridis(0) on {} at mean row {:.1}", high.len(), mean(&high), low.len(), mean(&low));
+    assert!(!high.is_empty() && !low.is_empty(), "both ends of the pressure range are drawn");
+    assert!(mean(&high) > mean(&low) + 50.0, "the highest pressure is drawn below the lowest");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A folder without snapshots, or an unknown field: one line, and nothing written.
 pub fn bad_input_is_refused_in_one_line() {
     let empty = std::env::temp_dir().join(format!("tumble-render-empty-{}", std::process::id()));
     std::fs::create_dir_all(&empty).unwrap();
     let e = render_run(&empty, &RenderOptions::default()).unwrap_err();
-    assert!(e.contains("no particles.pvd") && e.contains("run.snapshot_interval") && !e.contains('\n'), "{e}");
+    assert!(e.contains("no particles.pvd or fluid.pvd") && e.contains("run.snapshot_interval") && !e.contains('\n'), "{e}");
     let dir = run_folder("field", &[(DVec3::ZERO, 0.1, DVec3::X)]);
     let e = render_run(&dir, &RenderOptions { field: "temperature".into(), ..Default::default() }).unwrap_err();
     assert!(e.contains("particles_000000.vtp") && e.contains("--color temperature") && e.contains("valid: speed, radius, velocity, id"), "{e}");
