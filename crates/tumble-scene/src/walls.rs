@@ -301,7 +301,7 @@ fn motion(k: usize, m: &MotionSection) -> Result<(Option<Motion>, Timing), Scene
     Ok((Some(motion), Timing { start: m.start, ramp: m.ramp, stop }))
 }
 
-fn cylinder(k: usize, c: &CylinderSection) -> Result<Cylinder, SceneError> {
+pub(crate) fn cylinder(k: usize, c: &CylinderSection) -> Result<Cylinder, SceneError> {
     let f = |x: &str| format!("walls[{k}].cylinder.{x}");
     positive(&f("radius"), c.radius)?;
     positive(&f("length"), c.length)?;

@@ -1,6 +1,6 @@
 //! The fluid phase's particles as a structure of arrays, and the lattices that create them.
 
-use tumble_geom::DVec3;
+use tumble_geom::{Cylinder, DVec3};
 
 use crate::kernel::Dimension;
 
@@ -47,6 +47,17 @@ impl FluidParticles {
 
     pub fn fluid_count(&self) -> usize {
         self.kind.iter().filter(|&&k| k == ParticleKind::Fluid).count()
+    }
+
+    /// Keeps the particles `keep` accepts, in their order, numbered again from 0.
+    pub fn retain(&mut self, keep: impl Fn(ParticleKind, DVec3) -> bool) {
+        let kept: Vec<usize> = (0..self.len()).filter(|&i| keep(self.kind[i], self.position[i])).collect();
+        self.kind = kept.iter().map(|&i| self.kind[i]).collect();
+        self.position = kept.iter().map(|&i| self.position[i]).collect();
+        self.velocity = kept.iter().map(|&i| self.velocity[i]).collect();
+        self.density = kept.iter().map(|&i| self.density[i]).collect();
+        self.mass = kept.iter().map(|&i| self.mass[i]).collect();
+        self.id = (0..kept.len() as u32).collect();
     }
 }
 
@@ -118,6 +129,54 @@ pub fn wall_shell(inner: Aabb, closed: ClosedSides, layers: usize, dp: f64, dime
     lattice_points(outer, inner.min, dp, dimension).into_iter().filter(|&x| outside(x)).collect()
 }
 
+/// Dummy particles in `layers` rings behind a cylinder's surface (outside it for a drum, inside
+/// for a pipe), the rings Δp apart radially and along the axis, each ring's particles Δp apart
+/// (rounded to a whole number around it). In 2D the axis must be y: the rings are circles in
+/// the x–z plane through y = 0, and the length does not enter.
+pub fn cylinder_shell(c: &Cylinder, layers: usize, dp: f64, dimension: Dimension) -> Vec<DVec3> {
+    let axis = c.axis.normalize();
+    let (e1, e2, centre, stations) = match dimension {
+        Dimension::Two => (DVec3::X, DVec3::Z, DVec3::new(c.point.x, 0.0, c.point.z), vec![0.0]),
+        Dimension::Three => {
+            let (e1, e2) = axis.any_orthonormal_pair();
+            let n = (c.length / dp).round().max(1.0) as usize;
+            (e1, e2, c.point, (0..n).map(|m| (m as f64 + 0.5) * c.length / n as f64).collect())
+        }
+    };
+    let mut out = Vec::new();
+    for k in 0..layers {
+        let offset = (k as f64 + 0.5) * dp;
+        let r = if c.inside { c.radius + offset } else { c.radius - offset };
+        if r <= 0.0 {
+            break;
+        }
+        let n = (std::f64::consts::TAU * r / dp).round().max(3.0) as usize;
+        for &s in &stations {
+            for j in 0..n {
+                let (sin, cos) = (std::f64::consts::TAU * j as f64 / n as f64).sin_cos();
+                out.push(centre + s * axis + r * (cos * e1 + sin * e2));
+            }
+        }
+    }
+    out
+}
+
+/// Whether `x` lies on a cylinder's fluid side, at least `dp / 2` from its surface: inside a
+/// drum, outside a pipe, or beyond its ends (in 2D, where it has none, on its side only).
+pub fn on_fluid_side(c: &Cylinder, x: DVec3, dp: f64, dimension: Dimension) -> bool {
+    let axis = c.axis.normalize();
+    let d = x - c.point;
+    let s = d.dot(axis);
+    let two_d = dimension == Dimension::Two;
+    if !two_d && !(0.0..=c.length).contains(&s) {
+        return true;
+    }
+    let radial = if two_d { DVec3::new(d.x, 0.0, d.z) } else { d - s * axis };
+    let r = radial.length();
+    let slack = 1e-9 * dp;
+    if c.inside { r <= c.radius - 0.5 * dp + slack } else { r >= c.radius + 0.5 * dp - slack }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -136,5 +195,33 @@ mod tests {
         assert!(walls.iter().all(|x| x.x < 0.0 || x.x > 1.0 || x.z < 0.0));
         let lowest = walls.iter().map(|x| x.z).fold(f64::INFINITY, f64::min);
         assert!((lowest + 0.25).abs() < 1e-12);
+    }
+
+    /// A drum's rings lie Δp/2, 3Δp/2, … outside its radius with neighbours about Δp apart
+    /// around each; a pipe's inside it; the fluid's side keeps Δp/2 clear of the surface.
+    #[test]
+    fn cylinder_rings_and_the_fluid_side() {
+        let (dp, r) = (0.01, 0.1);
+        let drum = Cylinder::new(DVec3::new(0.0, 0.0, 0.0), DVec3::Y, r, 0.05, true);
+        let rings = cylinder_shell(&drum, 3, dp, Dimension::Two);
+        let radius = |x: &DVec3| x.x.hypot(x.z);
+        for k in 0..3 {
+            let ring: Vec<&DVec3> = rings.iter().filter(|x| (radius(x) - (r + (k as f64 + 0.5) * dp)).abs() < 1e-12).collect();
+            let n = (std::f64::consts::TAU * (r + (k as f64 + 0.5) * dp) / dp).round() as usize;
+            assert_eq!(ring.len(), n, "ring {k}");
+            assert!(ring.iter().all(|x| x.y == 0.0));
+        }
+        assert_eq!(rings.len(), [0.5, 1.5, 2.5].iter().map(|k| (std::f64::consts::TAU * (r + k * dp) / dp).round() as usize).sum::<usize>());
+        // 3D: five stations along the 0.05 m axis, each with the same rings.
+        assert_eq!(cylinder_shell(&drum, 3, dp, Dimension::Three).len(), 5 * rings.len());
+        let pipe = Cylinder { inside: false, ..drum };
+        assert!(cylinder_shell(&pipe, 3, dp, Dimension::Two).iter().all(|x| radius(x) < r));
+        for (x, inside_drum) in [(0.093, true), (0.0951, false), (0.2, false)] {
+            assert_eq!(on_fluid_side(&drum, DVec3::new(x, 0.0, 0.0), dp, Dimension::Two), inside_drum, "drum at {x}");
+            assert_eq!(on_fluid_side(&pipe, DVec3::new(x + 0.011, 0.0, 0.0), dp, Dimension::Two), x + 0.011 >= 0.105, "pipe at {x}");
+        }
+        // Beyond a 3D cylinder's ends every point is on the fluid's side.
+        assert!(on_fluid_side(&drum, DVec3::new(0.2, 0.06, 0.0), dp, Dimension::Three));
+        assert!(!on_fluid_side(&drum, DVec3::new(0.2, 0.04, 0.0), dp, Dimension::Three));
     }
 }

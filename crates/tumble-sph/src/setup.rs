@@ -1,9 +1,9 @@
 //! Filling a phase: fluid blocks at rest in hydrostatic balance, and the dummy-particle walls of a tank.
 
-use tumble_geom::DVec3;
+use tumble_geom::{Cylinder, DVec3};
 
 use crate::eos::Tait;
-use crate::particles::{Aabb, ClosedSides, FluidParticles, ParticleKind, lattice_points, wall_shell};
+use crate::particles::{Aabb, ClosedSides, FluidParticles, ParticleKind, cylinder_shell, lattice_points, wall_shell};
 use crate::settings::FluidSettings;
 
 /// Layers of wall particles so that a fluid particle touching the wall has a full kernel: ⌈2h/Δp⌉.
@@ -33,6 +33,12 @@ pub fn add_fluid_block(particles: &mut FluidParticles, settings: &FluidSettings,
 /// walls), moving at `velocity`.
 pub fn add_wall_box(particles: &mut FluidParticles, settings: &FluidSettings, inner: Aabb, closed: ClosedSides, velocity: DVec3) -> usize {
     push_walls(particles, settings, wall_shell(inner, closed, wall_layers(settings), settings.spacing, settings.dimension), velocity)
+}
+
+/// Adds the dummy particles of a cylinder (a drum with the fluid inside, or a pipe with it
+/// outside), moving at `velocity`; see [`cylinder_shell`](crate::cylinder_shell).
+pub fn add_wall_cylinder(particles: &mut FluidParticles, settings: &FluidSettings, cylinder: &Cylinder, velocity: DVec3) -> usize {
+    push_walls(particles, settings, cylinder_shell(cylinder, wall_layers(settings), settings.spacing, settings.dimension), velocity)
 }
 
 /// Adds wall particles on the lattice filling the box `lower`–`upper` (anchored at `lower`),

@@ -6,10 +6,10 @@ use crate::SceneError;
 use crate::plan::{SphPlan, SphProbe, SphProbeKind};
 use crate::schema::*;
 use glam::DVec3;
-use tumble_geom::PeriodicBox;
+use tumble_geom::{Cylinder, PeriodicBox};
 use tumble_sph::{
-    Aabb, DensityDiffusion, Dimension, FluidParticles, FluidPhase, FluidSettings, TimeStepLimits, Viscosity, add_fluid_block, add_wall_box,
-    add_wall_slab, wall_layers,
+    Aabb, DensityDiffusion, Dimension, FluidParticles, FluidPhase, FluidSettings, ParticleKind, TimeStepLimits, Viscosity, add_fluid_block,
+    add_wall_box, add_wall_cylinder, add_wall_slab, on_fluid_side, wall_layers,
 };
 
 /// h / Δp unless the scene says otherwise: the lattice's kernel gradient sums to within 0.3 %
@@ -119,8 +119,16 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     check_counts(scene, s, &settings, domain)?;
     let mut particles = FluidParticles::default();
     fill_regions(s, &settings, domain, &mut particles)?;
-    let fluid_particles = particles.len();
-    add_walls(scene, &settings, domain, &mut particles)?;
+    let cylinders = add_walls(scene, &settings, domain, &mut particles)?;
+    // Fluid on the wrong side of a cylinder, or within half a spacing of it, is left out.
+    particles.retain(|kind, x| kind == ParticleKind::Wall || cylinders.iter().all(|c| on_fluid_side(c, x, spacing, dimension)));
+    let fluid_particles = particles.fluid_count();
+    if fluid_particles == 0 {
+        return Err(SceneError::field(
+            "sph.regions",
+            "no fluid is left on the fluid's side of the cylinder walls; put the regions inside the drums (outside the pipes)",
+        ));
+    }
     let probes = probes(s, dimension, domain)?;
     let limits = TimeStepLimits::new(&settings, expected_speed, settings.external_acceleration().length());
     let mut warnings = Vec::new();
@@ -179,15 +187,17 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
 
 /// The scene's walls as dummy particles on the fluid's side: a box's closed sides (the fluid
 /// inside), an axis-aligned plane's layers behind it across the domain.
-fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<(), SceneError> {
+/// Adds the walls' particles; returns the cylinders, whose wrong side the fluid must leave.
+fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<Vec<Cylinder>, SceneError> {
     let two_d = settings.dimension == Dimension::Two;
+    let mut cylinders = Vec::new();
     let thickness = wall_layers(settings) as f64 * settings.spacing;
     for (k, w) in scene.walls.iter().enumerate() {
         let f = |x: &str| format!("walls[{k}].{x}");
         let not_yet = || {
             SceneError::field(
                 format!("walls[{k}]"),
-                "the SPH fluid's walls are static boxes and axis-aligned planes so far; quads, cylinders, lifters, meshes and moving walls are not yet made into wall particles",
+                "the SPH fluid's walls are static boxes, axis-aligned planes and cylinders so far; quads, lifters, meshes and moving walls are not yet made into wall particles",
             )
         };
         if w.motion.is_some() || w.servo.is_some() || w.surface_velocity.is_some() {
@@ -225,11 +235,21 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
             if (0..3).all(|a| (two_d && a == 1) || lower[a] < upper[a]) {
                 add_wall_slab(particles, settings, lower, upper, DVec3::ZERO);
             }
+        } else if let Some(c) = &w.cylinder {
+            let c = crate::walls::cylinder(k, c)?;
+            if two_d && c.axis.cross(DVec3::Y).length() > 1e-9 {
+                return Err(SceneError::field(
+                    f("cylinder.axis"),
+                    "a 2D fluid moves in the x–z plane: a cylinder around it must have its axis along y",
+                ));
+            }
+            add_wall_cylinder(particles, settings, &c, DVec3::ZERO);
+            cylinders.push(c);
         } else {
             return Err(not_yet());
         }
     }
-    Ok(())
+    Ok(cylinders)
 }
 
 /// A box wall's fluid side and its closed sides: all but those on a periodic axis (where the
@@ -302,6 +322,11 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
                 flat(finite3(&format!("walls[{k}].box.max"), b.max)?),
             )?;
             total += sites(settings, inner.min - thickness, inner.max + thickness) - sites(settings, inner.min, inner.max);
+        } else if let Some(c) = &w.cylinder {
+            // Rings of the shell, each around its circumference, along the length (3D).
+            let around = std::f64::consts::TAU * (c.radius.abs() + thickness) / settings.spacing;
+            let along = if settings.dimension == Dimension::Two { 1.0 } else { c.length.abs() / settings.spacing + 1.0 };
+            total += (around * along * wall_layers(settings) as f64).min(f64::MAX);
         } else if w.plane.is_some() {
             // A slab across the domain, a wall's thickness deep.
             let full = sites(settings, lo, hi);
