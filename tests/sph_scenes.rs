@@ -112,8 +112,8 @@ fn a_column_at_rest_from_a_scene_reads_the_hydrostatic_pressure_at_its_probes() 
 /// A drum (a cylinder wall, 2D) filled to its axis with water: the lattice cut to the drum
 /// leaves gaps at the curved wall that the water settles into, a slosh that α = 0.1 damps within
 /// 1 s. Then the surface stands where the water's area puts it (within a spacing of the gauge),
-/// no fluid has crossed the wall, and the pressure at depth reads ρ g (surface − z) 5–6 % of ρ g R
-/// high: the settled particles are no longer a lattice, and their kernel gradients sum short of
+/// no fluid has crossed the wall, and the pressure near the bottom reads ρ g (surface − z) 5–6 %
+/// of ρ g R high (its peak; mid-depth 0.9 %): the settled particles are no longer a lattice, and their kernel gradients sum short of
 /// the continuum's (docs/sph.md, "Running a fluid scene"). 8 % would still catch a wrong factor.
 #[test]
 fn water_at_rest_in_a_drum_reads_the_hydrostatic_pressure() {
