@@ -61,7 +61,7 @@ impl SphPhase {
         let energy = EnergyBooks { lowest: total(&o), scale: (o.kinetic_energy + o.elastic_energy).max(0.01 * releasable.abs()) };
         let monitor = &plan.run.monitor;
         let energy_growth = (monitor.enabled && sph.settings.body_force == glam::DVec3::ZERO).then_some(monitor.energy_growth);
-        Ok(SphPhase { phase, probes: plan.sph.as_ref().map(|s| s.probes.clone()).unwrap_or_default(), fluid_particles, pool, energy_growth, energy })
+        Ok(SphPhase { phase, probes: sph.probes.clone(), fluid_particles, pool, energy_growth, energy })
     }
 
     /// The fluid itself, for tests and tools.

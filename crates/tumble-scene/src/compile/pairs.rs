@@ -55,29 +55,30 @@ pub(super) fn pair_laws(scene: &Scene, table: &MaterialTable) -> Result<Vec<Pair
     let materials = &table.materials;
     let n_mat = materials.len();
     let mut laws = Vec::with_capacity(n_mat * n_mat);
+    let contact = scene.contact();
     for a in 0..n_mat {
         for b in 0..n_mat {
-            let over = scene.contact().pairs.iter().enumerate().find(|(_, p)| {
+            let over = contact.pairs.iter().enumerate().find(|(_, p)| {
                 let (x, y) = (p.materials[0].as_str(), p.materials[1].as_str());
                 (x == materials[a].name && y == materials[b].name) || (y == materials[a].name && x == materials[b].name)
             });
             let field_root = over.map_or("contact".to_string(), |(k, _)| format!("contact.pairs[{k}]"));
             let p = over.map(|(_, p)| p);
-            let normal = p.and_then(|p| p.normal.as_ref()).unwrap_or(&scene.contact().normal);
-            let e = p.and_then(|p| p.restitution).unwrap_or(scene.contact().restitution);
-            let tangential = p.and_then(|p| p.tangential.as_ref()).unwrap_or(&scene.contact().tangential);
-            let cohesion = p.and_then(|p| p.cohesion.as_ref()).or(scene.contact().cohesion.as_ref());
-            let mut law = pair_law(&field_root, normal, e, tangential, cohesion, scene.contact().no_attraction, &materials[a], &materials[b])?;
+            let normal = p.and_then(|p| p.normal.as_ref()).unwrap_or(&contact.normal);
+            let e = p.and_then(|p| p.restitution).unwrap_or(contact.restitution);
+            let tangential = p.and_then(|p| p.tangential.as_ref()).unwrap_or(&contact.tangential);
+            let cohesion = p.and_then(|p| p.cohesion.as_ref()).or(contact.cohesion.as_ref());
+            let mut law = pair_law(&field_root, normal, e, tangential, cohesion, contact.no_attraction, &materials[a], &materials[b])?;
             let rolling_root = if p.and_then(|p| p.rolling_friction).is_some() { field_root.as_str() } else { "contact" };
             law.rolling = non_negative(
                 &format!("{rolling_root}.rolling_friction"),
-                p.and_then(|p| p.rolling_friction).or(scene.contact().rolling_friction).unwrap_or(0.0),
+                p.and_then(|p| p.rolling_friction).or(contact.rolling_friction).unwrap_or(0.0),
             )?;
             law.rolling_model = rolling_model(scene, &law)?;
             laws.push(law);
         }
     }
-    for (k, p) in scene.contact().pairs.iter().enumerate() {
+    for (k, p) in contact.pairs.iter().enumerate() {
         for (s, name) in p.materials.iter().enumerate() {
             table.lookup(scene, format!("contact.pairs[{k}].materials[{s}]"), name)?;
         }

@@ -151,6 +151,14 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     Ok(Some((plan, particles)))
 }
 
+/// `x` in the fluid's space: a 2D fluid lies in the x–z plane at y = 0.
+fn in_plane(dimension: Dimension, mut x: DVec3) -> DVec3 {
+    if dimension == Dimension::Two {
+        x.y = 0.0;
+    }
+    x
+}
+
 fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<(), SceneError> {
     if s.regions.is_empty() {
         return Err(SceneError::field("sph.regions", "the fluid fills nothing; add [[sph.regions]] with box = { min = [...], max = [...] }"));
@@ -160,13 +168,11 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
         let Some(b) = &r.box_ else {
             return Err(SceneError::field(format!("sph.regions[{k}]"), "give the region's shape: box = { min = [...], max = [...] }"));
         };
-        let (mut min, mut max) = (finite3(&f("box.min"), b.min)?, finite3(&f("box.max"), b.max)?);
+        let min = in_plane(settings.dimension, finite3(&f("box.min"), b.min)?);
+        let max = in_plane(settings.dimension, finite3(&f("box.max"), b.max)?);
         let velocity = finite3(&f("velocity"), r.velocity)?;
-        if settings.dimension == Dimension::Two {
-            (min.y, max.y) = (0.0, 0.0);
-            if velocity.y != 0.0 {
-                return Err(SceneError::field(f("velocity"), "a 2D fluid moves in the x–z plane: the velocity must have no y component"));
-            }
+        if settings.dimension == Dimension::Two && velocity.y != 0.0 {
+            return Err(SceneError::field(f("velocity"), "a 2D fluid moves in the x–z plane: the velocity must have no y component"));
         }
         let flat = |k: usize| settings.dimension == Dimension::Two && k == 1;
         if (0..3).any(|a| !flat(a) && max[a] <= min[a]) {
@@ -186,8 +192,8 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
 }
 
 /// The scene's walls as dummy particles on the fluid's side: a box's closed sides (the fluid
-/// inside), an axis-aligned plane's layers behind it across the domain.
-/// Adds the walls' particles; returns the cylinders, whose wrong side the fluid must leave.
+/// inside), an axis-aligned plane's layers behind it across the domain, a cylinder's rings.
+/// Returns the cylinders, whose wrong side the fluid must leave.
 fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<Vec<Cylinder>, SceneError> {
     let two_d = settings.dimension == Dimension::Two;
     let mut cylinders = Vec::new();
@@ -207,10 +213,8 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
             if b.floor_hole.is_some() {
                 return Err(SceneError::field(f("box.floor_hole"), "the SPH fluid's walls have no holes yet; leave it out"));
             }
-            let (mut min, mut max) = (finite3(&f("box.min"), b.min)?, finite3(&f("box.max"), b.max)?);
-            if two_d {
-                (min.y, max.y) = (0.0, 0.0);
-            }
+            let min = in_plane(settings.dimension, finite3(&f("box.min"), b.min)?);
+            let max = in_plane(settings.dimension, finite3(&f("box.max"), b.max)?);
             let (inner, closed) = box_sides(k, settings, domain, min, max)?;
             add_wall_box(particles, settings, inner, closed, DVec3::ZERO);
         } else if let Some(p) = &w.plane {
@@ -227,11 +231,9 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
             } else {
                 (lower[a], upper[a]) = (point[a], point[a] + thickness);
             }
-            if two_d {
-                (lower.y, upper.y) = (0.0, 0.0);
-            }
             // Layers the fluid's grid cannot reach are left out.
-            let (lower, upper) = (lower.max(settings.domain.min), upper.min(settings.domain.max));
+            let (lower, upper) =
+                (in_plane(settings.dimension, lower).max(settings.domain.min), in_plane(settings.dimension, upper).min(settings.domain.max));
             if (0..3).all(|a| (two_d && a == 1) || lower[a] < upper[a]) {
                 add_wall_slab(particles, settings, lower, upper, DVec3::ZERO);
             }
@@ -308,19 +310,8 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
     let thickness = wall_layers(settings) as f64 * settings.spacing;
     for (k, w) in scene.walls.iter().enumerate() {
         if let Some(b) = &w.box_ {
-            let flat = |mut x: DVec3| {
-                if settings.dimension == Dimension::Two {
-                    x.y = 0.0;
-                }
-                x
-            };
-            let (inner, _) = box_sides(
-                k,
-                settings,
-                domain,
-                flat(finite3(&format!("walls[{k}].box.min"), b.min)?),
-                flat(finite3(&format!("walls[{k}].box.max"), b.max)?),
-            )?;
+            let flat = |field: &str, x: V3| Ok::<_, SceneError>(in_plane(settings.dimension, finite3(&format!("walls[{k}].box.{field}"), x)?));
+            let (inner, _) = box_sides(k, settings, domain, flat("min", b.min)?, flat("max", b.max)?)?;
             total += sites(settings, inner.min - thickness, inner.max + thickness) - sites(settings, inner.min, inner.max);
         } else if let Some(c) = &w.cylinder {
             // Rings of the shell, each around its circumference, along the length (3D).
@@ -372,12 +363,7 @@ fn probes(s: &SphSection, dimension: Dimension, domain: &PeriodicBox) -> Result<
             let out = (0..3).any(|a| !(dimension == Dimension::Two && a == 1) && (x[a] < domain.min[a] || x[a] > domain.max[a]));
             if out { Err(SceneError::field(f(field), format!("{x} lies outside the domain"))) } else { Ok(()) }
         };
-        let flatten = |mut x: DVec3| {
-            if dimension == Dimension::Two {
-                x.y = 0.0;
-            }
-            x
-        };
+        let flatten = |x: DVec3| in_plane(dimension, x);
         let given = [p.pressure.is_some(), p.velocity.is_some(), p.gauge.is_some(), p.front.is_some()];
         let kind = match (given.iter().filter(|&&g| g).count(), p) {
             (1, SphProbeSection { pressure: Some(x), .. }) => {
