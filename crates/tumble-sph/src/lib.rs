@@ -16,6 +16,7 @@ mod eos;
 mod kernel;
 mod neighbours;
 mod particles;
+mod pass;
 mod phase;
 mod probes;
 mod rates;

@@ -7,14 +7,18 @@ use rayon::prelude::*;
 use tumble_geom::DVec3;
 
 use crate::eos::Tait;
-use crate::kernel::WendlandC2;
+use crate::kernel::{Dimension, WendlandC2};
 use crate::neighbours::FluidGrid;
 use crate::particles::{FluidParticles, ParticleKind};
+use crate::pass::{Batch, Neighbourhood, ParticleRates, PassConstants, WallSums, particle_rates, wall_sums};
 use crate::settings::{DensityDiffusion, FluidSettings, Viscosity};
 
 /// The constants of one evaluation, derived once from the settings.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Method {
+    pub dimension: Dimension,
+    /// The pair passes use 256-bit lanes (AVX2); the results are the same either way.
+    pub wide_lanes: bool,
     pub kernel: WendlandC2,
     pub eos: Tait,
     /// (2h)².
@@ -50,6 +54,8 @@ impl Method {
         let kernel = WendlandC2::new(s.h, s.dimension);
         let eos = Tait::new(s.rho0, s.sound_speed);
         Method {
+            dimension: s.dimension,
+            wide_lanes: wide_lanes_available(),
             kernel,
             eos,
             support2: 4.0 * s.h * s.h,
@@ -81,6 +87,14 @@ impl Method {
 pub(crate) struct PairInputs {
     pub pressure: Vec<f64>,
     pub viscous_velocity: Vec<DVec3>,
+    /// P/ρ².
+    pub pressure_term: Vec<f64>,
+    /// m/ρ.
+    pub volume: Vec<f64>,
+    /// Monaghan's tensile term R = −0.2 P/ρ² where P < 0, else 0 (zero without the correction).
+    pub tensile: Vec<f64>,
+    /// 1 for a fluid particle, 0 for a wall particle.
+    pub fluid: Vec<f64>,
 }
 
 /// What an evaluation produces per particle (zero for walls).
@@ -110,45 +124,13 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
     let n = p.len();
     inputs.pressure.resize(n, 0.0);
     inputs.viscous_velocity.resize(n, DVec3::ZERO);
-    let (kind, position, velocity) = (&p.kind, &p.position, &p.velocity);
+    let (kind, velocity) = (&p.kind, &p.velocity);
     inputs.pressure.par_iter_mut().zip(p.density.par_iter()).zip(kind.par_iter()).for_each(|((pr, &rho), &k)| {
         if k == ParticleKind::Fluid {
             *pr = method.eos.pressure(rho);
         }
     });
-    let fluid_pressure = &inputs.pressure;
-    let walls: Vec<(f64, f64, DVec3)> = (0..n)
-        .into_par_iter()
-        .map(|w| {
-            if kind[w] != ParticleKind::Wall {
-                return (0.0, 0.0, DVec3::ZERO);
-            }
-            let xw = position[w];
-            let mut sum_w = 0.0;
-            let mut sum_p = 0.0;
-            let mut sum_rho_r = DVec3::ZERO;
-            let mut sum_v = DVec3::ZERO;
-            for &f in grid.neighbours(w) {
-                let f = f as usize;
-                let d = grid.separation(xw, position[f]);
-                let r2 = d.length_squared();
-                if r2 >= method.support2 {
-                    continue;
-                }
-                let wk = method.kernel.value(r2.sqrt());
-                sum_w += wk;
-                sum_p += fluid_pressure[f] * wk;
-                sum_rho_r += p.density[f] * wk * d;
-                sum_v += wk * velocity[f];
-            }
-            if sum_w > 0.0 {
-                let pw = ((sum_p + method.external.dot(sum_rho_r)) / sum_w).max(0.0);
-                (pw, method.eos.density(pw), 2.0 * velocity[w] - sum_v / sum_w)
-            } else {
-                (0.0, method.rho0, velocity[w])
-            }
-        })
-        .collect();
+    let walls = wall_states(method, grid, p, &inputs.pressure);
     inputs
         .pressure
         .par_iter_mut()
@@ -165,6 +147,74 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
                 *vv = velocity[i];
             }
         });
+    // What the pass reads of each neighbour, computed once per particle instead of once per pair.
+    inputs.pressure_term.resize(n, 0.0);
+    inputs.volume.resize(n, 0.0);
+    inputs.tensile.resize(n, 0.0);
+    inputs.fluid.resize(n, 0.0);
+    let tensile = method.tensile;
+    let (pressure, density, mass) = (&inputs.pressure, &p.density, &p.mass);
+    inputs
+        .pressure_term
+        .par_iter_mut()
+        .zip(inputs.volume.par_iter_mut())
+        .zip(inputs.tensile.par_iter_mut())
+        .zip(inputs.fluid.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (((pt, vol), r), f))| {
+            let (pr, rho) = (pressure[i], density[i]);
+            *pt = pr / (rho * rho);
+            *vol = mass[i] / rho;
+            *r = if tensile && pr < 0.0 { -0.2 * pr / (rho * rho) } else { 0.0 };
+            *f = if kind[i] == ParticleKind::Fluid { 1.0 } else { 0.0 };
+        });
+}
+
+/// Each wall particle's extrapolated pressure, density and viscous velocity (zeros for fluid).
+fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: &[f64]) -> Vec<(f64, f64, DVec3)> {
+    let constants = PassConstants::new(method, 0.0, false);
+    let (plane, wide) = (method.dimension == Dimension::Two, method.wide_lanes);
+    let (position, velocity, density) = (&p.position, &p.velocity, &p.density);
+    (0..p.len())
+        .into_par_iter()
+        .map_init(
+            || Box::new(Batch::new()),
+            |batch, w| {
+                if p.kind[w] != ParticleKind::Wall {
+                    return (0.0, 0.0, DVec3::ZERO);
+                }
+                let list = grid.neighbours(w);
+                let separation = |x, y| grid.separation(x, y);
+                let sums = match (plane, wide) {
+                    // SAFETY: `wide_lanes` is set only where the processor has AVX2 (`Method::new`).
+                    (true, true) => unsafe { wall_sums_avx2::<true>(&constants, p, pressure, grid, w, list, batch) },
+                    (false, true) => unsafe { wall_sums_avx2::<false>(&constants, p, pressure, grid, w, list, batch) },
+                    (true, false) => wall_sums::<true>(&constants, position, velocity, density, pressure, separation, w, list, batch),
+                    (false, false) => wall_sums::<false>(&constants, position, velocity, density, pressure, separation, w, list, batch),
+                };
+                if sums.w > 0.0 {
+                    let pw = ((sums.pressure + method.external.dot(sums.density_moment)) / sums.w).max(0.0);
+                    (pw, method.eos.density(pw), 2.0 * velocity[w] - sums.velocity / sums.w)
+                } else {
+                    (0.0, method.rho0, velocity[w])
+                }
+            },
+        )
+        .collect()
+}
+
+/// [`wall_sums`] compiled for AVX2; the processor must have it.
+#[cfg_attr(target_arch = "x86_64", target_feature(enable = "avx2"))]
+unsafe fn wall_sums_avx2<const PLANE: bool>(
+    constants: &PassConstants,
+    p: &FluidParticles,
+    pressure: &[f64],
+    grid: &FluidGrid,
+    w: usize,
+    list: &[u32],
+    batch: &mut Batch,
+) -> WallSums {
+    wall_sums::<PLANE>(constants, &p.position, &p.velocity, &p.density, pressure, |x, y| grid.separation(x, y), w, list, batch)
 }
 
 /// Each fluid particle's rates, gathered over its neighbours:
@@ -174,14 +224,14 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
 /// - the wall repulsion within Δp/2 of a wall particle, k (r₀ − r) along r_ab.
 pub(crate) fn evaluate(method: &Method, grid: &FluidGrid, p: &FluidParticles, inputs: &PairInputs, out: &mut Rates) {
     // One copy of the pass per combination of the method's switches, so none is tested per pair.
+    let plane = method.dimension == Dimension::Two;
     let laminar = matches!(method.viscosity, Viscosity::Laminar);
     let diffuse = method.diffusion_scale != 0.0;
-    let fourtakas = matches!(method.diffusion, DensityDiffusion::Fourtakas { .. });
     let (tensile, xsph) = (method.tensile, method.xsph != 0.0);
     macro_rules! dispatch {
-        ($($l:literal $d:literal $f:literal $t:literal $x:literal),*) => {
-            match (laminar, diffuse, fourtakas, tensile, xsph) {
-                $(($l, $d, $f, $t, $x) => evaluate_with::<$l, $d, $f, $t, $x>(method, grid, p, inputs, out),)*
+        ($($p:literal $l:literal $d:literal $t:literal $x:literal),*) => {
+            match (plane, laminar, diffuse, tensile, xsph) {
+                $(($p, $l, $d, $t, $x) => evaluate_with::<$p, $l, $d, $t, $x>(method, grid, p, inputs, out),)*
             }
         };
     }
@@ -197,105 +247,79 @@ pub(crate) fn evaluate(method: &Method, grid: &FluidGrid, p: &FluidParticles, in
     )
 }
 
-/// The pass of [`evaluate`] for one combination of switches: laminar (else artificial)
-/// viscosity, density diffusion, its hydrostatic correction, the tensile correction, XSPH.
-fn evaluate_with<const LAMINAR: bool, const DIFFUSE: bool, const FOURTAKAS: bool, const TENSILE: bool, const XSPH: bool>(
+/// The pass of [`evaluate`] for one combination of switches: the plane (2D), laminar (else
+/// artificial) viscosity, density diffusion, the tensile correction, XSPH.
+fn evaluate_with<const PLANE: bool, const LAMINAR: bool, const DIFFUSE: bool, const TENSILE: bool, const XSPH: bool>(
     method: &Method,
     grid: &FluidGrid,
     p: &FluidParticles,
     inputs: &PairInputs,
     out: &mut Rates,
 ) {
-    let n = p.len();
-    out.resize(n);
-    let (kind, position, velocity, density, mass) = (&p.kind, &p.position, &p.velocity, &p.density, &p.mass);
-    let pressure = &inputs.pressure;
-    let vhat = &inputs.viscous_velocity;
-    let tensile_factor = |pr: f64, rho: f64| if TENSILE && pr < 0.0 { -0.2 * pr / (rho * rho) } else { 0.0 };
+    out.resize(p.len());
     let alpha = match method.viscosity {
         Viscosity::Artificial { alpha } => alpha,
         Viscosity::Laminar => 0.0,
     };
-    // The method's constants as locals, so they stay in registers across the pair loop.
-    let (support2, eta2, laminar_eta2, two_mu) = (method.support2, method.eta2, method.laminar_eta2, method.two_mu);
-    let (kernel, w_dp, av_scale) = (method.kernel, method.w_dp, alpha * method.eos.c0 * method.kernel.h());
-    let (hydrostatic_scale, external) = (method.density_per_pressure * method.rho0, method.external);
-    let (reach, stiffness) = (method.repulsion_reach, method.repulsion_stiffness);
-    out.acceleration.par_iter_mut().zip(out.density_rate.par_iter_mut()).zip(out.xsph.par_iter_mut()).enumerate().for_each(
-        |(a, ((acc_out, drho_out), xsph_out))| {
+    let fourtakas = matches!(method.diffusion, DensityDiffusion::Fourtakas { .. });
+    let constants = PassConstants::new(method, alpha, fourtakas);
+    let hood = Neighbourhood {
+        position: &p.position,
+        velocity: &p.velocity,
+        viscous_velocity: &inputs.viscous_velocity,
+        density: &p.density,
+        mass: &p.mass,
+        pressure_term: &inputs.pressure_term,
+        volume: &inputs.volume,
+        tensile: &inputs.tensile,
+        fluid: &inputs.fluid,
+    };
+    let kind = &p.kind;
+    let wide = method.wide_lanes;
+    out.acceleration.par_iter_mut().zip(out.density_rate.par_iter_mut()).zip(out.xsph.par_iter_mut()).enumerate().for_each_init(
+        || Box::new(Batch::new()),
+        |batch, (a, ((acc_out, drho_out), xsph_out))| {
             if kind[a] != ParticleKind::Fluid {
                 *acc_out = DVec3::ZERO;
                 *drho_out = 0.0;
                 *xsph_out = DVec3::ZERO;
                 return;
             }
-            let xa = position[a];
-            let va = velocity[a];
-            let rho_a = density[a];
-            let pa = pressure[a];
-            let pa_term = pa / (rho_a * rho_a);
-            let ra = tensile_factor(pa, rho_a);
-            let mut acc = DVec3::ZERO;
-            let mut drho = 0.0;
-            let mut diffusion = 0.0;
-            let mut xsph = DVec3::ZERO;
-            for &b in grid.neighbours(a) {
-                let b = b as usize;
-                let d = grid.separation(xa, position[b]);
-                let r2 = d.length_squared();
-                if r2 >= support2 {
-                    continue;
-                }
-                let r = r2.sqrt();
-                let gw = kernel.gradient_over_r(r);
-                let grad = d * gw;
-                let mb = mass[b];
-                let rho_b = density[b];
-                let pb = pressure[b];
-                let fluid_b = kind[b] == ParticleKind::Fluid;
-                // Continuity and pressure see the wall's own velocity; the viscous terms Adami's.
-                let v_ab = va - velocity[b];
-                drho += mb * v_ab.dot(grad);
-                let mut p_term = pa_term + pb / (rho_b * rho_b);
-                if TENSILE {
-                    let rb = tensile_factor(pb, rho_b);
-                    if ra + rb > 0.0 {
-                        let f = kernel.value(r) / w_dp;
-                        let f2 = f * f;
-                        p_term += (ra + rb) * f2 * f2;
-                    }
-                }
-                let v_visc = va - vhat[b];
-                if LAMINAR {
-                    acc += (mb * two_mu * r2 * gw / (rho_a * rho_b * (r2 + laminar_eta2))) * v_visc;
-                } else {
-                    let vr = v_visc.dot(d);
-                    if vr < 0.0 {
-                        let mean_rho = 0.5 * (rho_a + rho_b);
-                        p_term -= av_scale * vr / (mean_rho * (r2 + eta2));
-                    }
-                }
-                acc -= (mb * p_term) * grad;
-                if fluid_b {
-                    if DIFFUSE {
-                        let mut drho_ab = rho_a - rho_b;
-                        if FOURTAKAS {
-                            // ρ_H(a) − ρ_H(b) = ρ₀ g·r_ab / c₀² to first order in ρ₀ g r / B.
-                            drho_ab -= hydrostatic_scale * external.dot(d);
-                        }
-                        diffusion += 2.0 * drho_ab * r2 * gw / (r2 + eta2) * (mb / rho_b);
-                    }
-                    if XSPH {
-                        xsph -= (mb / (0.5 * (rho_a + rho_b)) * kernel.value(r)) * v_ab;
-                    }
-                } else if r < reach && r > 0.0 {
-                    // A linear penalty: zero at r₀ and continuous, so it only acts in a violent impact.
-                    acc += (stiffness * (reach - r) / r) * d;
-                }
-            }
-            *acc_out = acc + method.external;
-            *drho_out = drho + method.diffusion_scale * diffusion;
-            *xsph_out = method.xsph * xsph;
+            let list = grid.neighbours(a);
+            let r = if wide {
+                // SAFETY: `wide_lanes` is set only where the processor has AVX2 (`Method::new`).
+                unsafe { particle_rates_avx2::<PLANE, LAMINAR, DIFFUSE, TENSILE, XSPH>(&constants, &hood, grid, a, list, batch) }
+            } else {
+                particle_rates::<PLANE, LAMINAR, DIFFUSE, TENSILE, XSPH>(&constants, &hood, |x, y| grid.separation(x, y), a, list, batch)
+            };
+            *acc_out = r.acceleration + method.external;
+            *drho_out = r.continuity + method.diffusion_scale * r.diffusion;
+            *xsph_out = method.xsph * r.xsph;
         },
     );
+}
+
+/// Whether the pass may use 256-bit lanes (the same results as without: see [`crate::pass`]).
+fn wide_lanes_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// [`particle_rates`] compiled for AVX2; the processor must have it.
+#[cfg_attr(target_arch = "x86_64", target_feature(enable = "avx2"))]
+unsafe fn particle_rates_avx2<const PLANE: bool, const LAMINAR: bool, const DIFFUSE: bool, const TENSILE: bool, const XSPH: bool>(
+    constants: &PassConstants,
+    hood: &Neighbourhood,
+    grid: &FluidGrid,
+    a: usize,
+    list: &[u32],
+    batch: &mut Batch,
+) -> ParticleRates {
+    particle_rates::<PLANE, LAMINAR, DIFFUSE, TENSILE, XSPH>(constants, hood, |x, y| grid.separation(x, y), a, list, batch)
 }
