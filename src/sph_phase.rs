@@ -60,7 +60,9 @@ impl SphPhase {
         let o = phase.observables();
         let energy = EnergyBooks { lowest: total(&o), scale: (o.kinetic_energy + o.elastic_energy).max(0.01 * releasable.abs()) };
         let monitor = &plan.run.monitor;
-        let energy_growth = (monitor.enabled && sph.settings.body_force == glam::DVec3::ZERO).then_some(monitor.energy_growth);
+        // A body force or a moving wall does work on the fluid: its energy may grow, so it is not watched.
+        let energy_growth = (monitor.enabled && sph.settings.body_force == glam::DVec3::ZERO && sph.settings.moving_walls.is_empty())
+            .then_some(monitor.energy_growth);
         Ok(SphPhase { phase, probes: sph.probes.clone(), fluid_particles, pool, energy_growth, energy })
     }
 

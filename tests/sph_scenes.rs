@@ -32,18 +32,18 @@ fn column(path: &Path, name: &str) -> Vec<f64> {
 
 const G: f64 = 9.81;
 
-/// A 2D column of water H = 0.1 m deep filling a tank 0.1 m wide, 20 particles over its
-/// height, with pressure probes at three depths, a gauge and a front.
-fn column_at_rest(duration: f64) -> String {
+/// A 2D water scene's head: its run, domain, gravity and the `[sph]` table's fluid (Δp = 5 mm,
+/// water, expected speed 1.4 m/s); a test writes the rest of `[sph]`, its regions, probes and walls.
+fn water_2d(name: &str, duration: f64, output_interval: f64, min: [f64; 3], max: [f64; 3]) -> String {
     format!(
         r#"
-name = "column"
+name = "{name}"
 [run]
 duration = {duration}
-output_interval = 0.05
+output_interval = {output_interval}
 [domain]
-min = [0.0, -0.01, 0.0]
-max = [0.1, 0.01, 0.15]
+min = {min:?}
+max = {max:?}
 [gravity]
 acceleration = [0.0, 0.0, -{G}]
 [sph]
@@ -52,7 +52,16 @@ spacing = 0.005
 density = 1000.0
 viscosity = 1.0e-3
 expected_speed = 1.4
-[[sph.regions]]
+"#
+    )
+}
+
+/// A 2D column of water H = 0.1 m deep filling a tank 0.1 m wide, 20 particles over its
+/// height, with pressure probes at three depths, a gauge and a front.
+fn column_at_rest(duration: f64) -> String {
+    let head = water_2d("column", duration, 0.05, [0.0, -0.01, 0.0], [0.1, 0.01, 0.15]);
+    format!(
+        r#"{head}[[sph.regions]]
 box = {{ min = [0.0, 0.0, 0.0], max = [0.1, 0.0, 0.1] }}
 [[sph.probes]]
 name = "deep"
@@ -109,6 +118,21 @@ fn a_column_at_rest_from_a_scene_reads_the_hydrostatic_pressure_at_its_probes() 
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A drum of radius 0.1 m (2D, axis y) half full of water, α = 0.1, run for 1 s, with `probes`
+/// and the drum's `motion` line (empty: it stands still).
+fn half_full_drum(name: &str, output_interval: f64, probes: &str, motion: &str) -> String {
+    let head = water_2d(name, 1.0, output_interval, [-0.12, -0.01, -0.12], [0.12, 0.01, 0.12]);
+    format!(
+        r#"{head}viscosity_model = {{ model = "artificial", alpha = 0.1 }}
+[[sph.regions]]
+box = {{ min = [-0.1, 0.0, -0.1], max = [0.1, 0.0, 0.0] }}
+{probes}[[walls]]
+name = "drum"
+cylinder = {{ point = [0.0, -0.01, 0.0], axis = [0.0, 1.0, 0.0], radius = 0.1, length = 0.02 }}
+{motion}"#
+    )
+}
+
 /// A drum (a cylinder wall, 2D) filled to its axis with water: the lattice cut to the drum
 /// leaves gaps at the curved wall that the water settles into, a slosh that α = 0.1 damps within
 /// 1 s. Then the surface stands where the water's area puts it (within a spacing of the gauge),
@@ -120,29 +144,7 @@ fn water_at_rest_in_a_drum_reads_the_hydrostatic_pressure() {
     let dir = tmp("drum");
     let (r, rho, dp) = (0.1, 1000.0, 0.005);
     let scene = dir.join("drum.toml");
-    std::fs::write(
-        &scene,
-        format!(
-            r#"
-name = "drum"
-[run]
-duration = 1.0
-output_interval = 0.05
-[domain]
-min = [-0.12, -0.01, -0.12]
-max = [0.12, 0.01, 0.12]
-[gravity]
-acceleration = [0.0, 0.0, -{G}]
-[sph]
-dimension = 2
-spacing = {dp}
-density = {rho}
-viscosity = 1.0e-3
-expected_speed = 1.4
-viscosity_model = {{ model = "artificial", alpha = 0.1 }}
-[[sph.regions]]
-box = {{ min = [-0.1, 0.0, -0.1], max = [0.1, 0.0, 0.0] }}
-[[sph.probes]]
+    let probes = r#"[[sph.probes]]
 name = "deep"
 pressure = [0.0, 0.0, -0.08]
 [[sph.probes]]
@@ -150,17 +152,12 @@ name = "middle"
 pressure = [0.03, 0.0, -0.04]
 [[sph.probes]]
 name = "gauge"
-gauge = {{ from = [0.0, 0.0, -0.1], to_z = 0.1 }}
+gauge = { from = [0.0, 0.0, -0.1], to_z = 0.1 }
 [[sph.probes]]
 name = "reach"
 front = [1.0, 0.0, 0.0]
-[[walls]]
-name = "drum"
-cylinder = {{ point = [0.0, -0.01, 0.0], axis = [0.0, 1.0, 0.0], radius = {r}, length = 0.02 }}
-"#
-        ),
-    )
-    .unwrap();
+"#;
+    std::fs::write(&scene, half_full_drum("drum", 0.05, probes, "")).unwrap();
     let out = dir.join("out");
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -190,6 +187,77 @@ cylinder = {{ point = [0.0, -0.01, 0.0], axis = [0.0, 1.0, 0.0], radius = {r}, l
     }
     let reach = column(&out.join("probe_reach.csv"), "front");
     assert!(reach.iter().all(|&x| x < r), "the fluid crossed the drum: {reach:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A turning drum (2D, half full of water, 10 rpm about +y, so its bottom moves towards −x): its
+/// wall particles drag the water beside them along. A velocity probe two spacings above the
+/// bottom reads the wall's direction at a good part of its speed within 1 s, and the plan names
+/// the turning wall; the same drum standing still leaves the water at rest (the test above).
+#[test]
+fn a_turning_drum_drags_the_water_along_its_wall() {
+    let dir = tmp("turning_drum");
+    let (r, rpm) = (0.1, 10.0);
+    let scene = dir.join("drum.toml");
+    let probes = "[[sph.probes]]\nname = \"bottom\"\nvelocity = [0.0, 0.0, -0.09]\n";
+    let motion = format!("motion = {{ rotate = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 1.0, 0.0], rpm = {rpm} }} }}\n");
+    std::fs::write(&scene, half_full_drum("turning drum", 0.1, probes, &motion)).unwrap();
+    let plan = tumble(&["plan", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&plan.stdout);
+    assert!(plan.status.success() && text.contains("moving wall 1: turns at 10.0000 rpm"), "{text}");
+    let out = dir.join("out");
+    let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let vx = column(&out.join("probe_bottom.csv"), "velocity_x");
+    let wall_speed = rpm * std::f64::consts::TAU / 60.0 * r;
+    println!("bottom probe vx {vx:?}; the wall moves at -{wall_speed:.4} m/s");
+    assert!(vx.iter().all(|&v| v <= 1e-3), "the water moves against the wall: {vx:?}");
+    let last = *vx.last().unwrap();
+    assert!(last < -0.3 * wall_speed && last > -1.05 * wall_speed, "vx {last} beside a wall moving at -{wall_speed}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A gate: a column of water held by a rectangular quad (its normal towards the water, its wall
+/// layers behind it) that stands until 0.1 s, then lifts at 0.68 m/s (He et al.'s gate speed).
+/// The front stays at the gate while it stands, and runs out once it has lifted.
+#[test]
+fn a_lifted_gate_holds_the_water_then_releases_it() {
+    let dir = tmp("gate");
+    let scene = dir.join("gate.toml");
+    let head = water_2d("gate", 0.4, 0.025, [0.0, -0.01, 0.0], [0.4, 0.01, 0.3]);
+    std::fs::write(
+        &scene,
+        format!(
+            r#"{head}[[sph.regions]]
+box = {{ min = [0.0, 0.0, 0.0], max = [0.1, 0.0, 0.1] }}
+[[sph.probes]]
+name = "front"
+front = [1.0, 0.0, 0.0]
+[[walls]]
+name = "tank"
+box = {{ min = [0.0, -0.01, 0.0], max = [0.4, 0.01, 0.3] }}
+[[walls]]
+name = "gate"
+quad = {{ corners = [[0.1, -0.01, 0.0], [0.1, -0.01, 0.2], [0.1, 0.01, 0.2], [0.1, 0.01, 0.0]] }}
+motion = {{ translate = {{ velocity = [0.0, 0.0, 0.68] }}, start = 0.1, stop = 0.35 }}
+"#
+        ),
+    )
+    .unwrap();
+    let plan = tumble(&["plan", scene.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&plan.stdout);
+    assert!(plan.status.success() && text.contains("moving wall 1: translates at [0, 0, 0.68] m/s from 0.1 s"), "{text}");
+    let out = dir.join("out");
+    let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (time, front) = (column(&out.join("probe_front.csv"), "t"), column(&out.join("probe_front.csv"), "front"));
+    println!("front {:?}", time.iter().zip(&front).collect::<Vec<_>>());
+    for (&t, &x) in time.iter().zip(&front) {
+        if t <= 0.1 {
+            assert!(x < 0.1, "the water passed the standing gate: front {x} m at {t} s");
+        }
+    }
+    assert!(*front.last().unwrap() > 0.2, "the water has not run out after the gate lifted: {front:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

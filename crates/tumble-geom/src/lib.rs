@@ -24,6 +24,7 @@ mod enclosing_sphere;
 mod mesh;
 mod mesh_grid;
 mod mesh_wall;
+mod motion;
 mod overlap_volume;
 mod periodic;
 mod polyhedron;
@@ -48,6 +49,7 @@ pub use enclosing_sphere::{Ball, best_ball, enclosing_sphere_of_points, enclosin
 pub use mesh::{DEFAULT_CURVATURE, EdgeKind, MeshError, MeshReport, OPEN, TriangleMesh, box_triangles, box_triangles_subdivided};
 pub use mesh_grid::TriangleGrid;
 pub use mesh_wall::{MeshBody, MeshWall, MeshWallContact};
+pub use motion::{Motion, Timing};
 pub use overlap_volume::{OverlapVolume, overlap_volume, overlap_volume_about};
 pub use periodic::PeriodicBox;
 pub use polyhedron::{Edge, Face, Polyhedron};

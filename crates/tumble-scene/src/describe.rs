@@ -174,6 +174,25 @@ fn describe_sph(s: &mut String, p: &crate::SphPlan) {
         l.viscous,
         l.force
     );
+    for (k, w) in f.moving_walls.iter().enumerate() {
+        let motion = match w.motion {
+            tumble_geom::Motion::Rotate { point, axis, omega } => {
+                format!("turns at {:.4} rpm about the axis through {point} along {axis}", omega * 60.0 / std::f64::consts::TAU)
+            }
+            tumble_geom::Motion::Translate { velocity } => format!("translates at {velocity} m/s"),
+            tumble_geom::Motion::Oscillate { direction, amplitude, omega } => {
+                format!("oscillates along {direction}, amplitude {amplitude} m at {:.4} Hz", omega / std::f64::consts::TAU)
+            }
+        };
+        let stop = if w.timing.stop.is_finite() { format!(", stops at {} s", w.timing.stop) } else { String::new() };
+        let _ = writeln!(
+            s,
+            "fluid wall   moving wall {}: {motion} from {} s (ramp {} s{stop}); its wall particles follow, Adami's condition with their acceleration",
+            k + 1,
+            w.timing.start,
+            w.timing.ramp
+        );
+    }
     for probe in &p.probes {
         let what = match probe.kind {
             crate::SphProbeKind::Pressure(x) => format!("pressure at {x}"),

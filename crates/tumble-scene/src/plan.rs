@@ -8,7 +8,8 @@ use crate::targets::Targets;
 pub use crate::timescales::Timescales;
 use glam::DVec3;
 use tumble_contact::{FlowField, NormalLaw, RollingModel, TangentialLaw};
-use tumble_geom::{DQuat, PeriodicBox, Plane, SurfaceShape};
+pub use tumble_geom::{Motion, Timing};
+use tumble_geom::{PeriodicBox, Plane, SurfaceShape};
 use tumble_integrate::Integrator;
 
 /// Contact parameters of one material pair.
@@ -145,107 +146,6 @@ impl Wall {
         match self.motion {
             Some(Motion::Rotate { axis, omega, .. }) => axis * omega,
             _ => DVec3::ZERO,
-        }
-    }
-}
-
-/// Prescribed rigid motion of a wall.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Motion {
-    /// Rotation about the axis through `point` along unit `axis` at `omega` rad/s (right-handed).
-    Rotate {
-        point: DVec3,
-        axis: DVec3,
-        omega: f64,
-    },
-    Translate {
-        velocity: DVec3,
-    },
-    /// x(t) = amplitude · sin(omega t) along unit `direction`.
-    Oscillate {
-        direction: DVec3,
-        amplitude: f64,
-        omega: f64,
-    },
-}
-
-impl Motion {
-    /// Velocity of the wall material at `x` (an oscillation at its phase 0: use [`Wall::posed`]).
-    #[inline]
-    pub fn velocity_at(&self, x: DVec3) -> DVec3 {
-        match *self {
-            Motion::Rotate { point, axis, omega } => (axis * omega).cross(x - point),
-            Motion::Translate { velocity } => velocity,
-            Motion::Oscillate { direction, amplitude, omega } => direction * (amplitude * omega),
-        }
-    }
-
-    /// (pivot, rotation about the pivot, shift) taking the t = 0 pose to motion time `tau`.
-    pub fn pose(&self, tau: f64) -> (DVec3, DQuat, DVec3) {
-        match *self {
-            Motion::Rotate { point, axis, omega } => (point, DQuat::from_axis_angle(axis, omega * tau), DVec3::ZERO),
-            Motion::Translate { velocity } => (DVec3::ZERO, DQuat::IDENTITY, velocity * tau),
-            Motion::Oscillate { direction, amplitude, omega } => (DVec3::ZERO, DQuat::IDENTITY, direction * (amplitude * (omega * tau).sin())),
-        }
-    }
-
-    /// The motion at motion time `tau` running at `rate` of its full speed, as a constant-velocity
-    /// motion with that instant's velocities.
-    pub fn instant(&self, tau: f64, rate: f64) -> Motion {
-        match *self {
-            Motion::Rotate { point, axis, omega } => Motion::Rotate { point, axis, omega: omega * rate },
-            Motion::Translate { velocity } => Motion::Translate { velocity: velocity * rate },
-            Motion::Oscillate { direction, amplitude, omega } => {
-                Motion::Translate { velocity: direction * (amplitude * omega * (omega * tau).cos() * rate) }
-            }
-        }
-    }
-
-    /// Largest speed of the motion itself (a rotation's is ω times the radius: see the walls' speeds).
-    pub fn peak_speed(&self) -> f64 {
-        match *self {
-            Motion::Rotate { omega, .. } => omega.abs(),
-            Motion::Translate { velocity } => velocity.length(),
-            Motion::Oscillate { amplitude, omega, .. } => amplitude * omega.abs(),
-        }
-    }
-}
-
-/// When a wall's motion runs: it starts at `start`, reaches full speed linearly over `ramp`
-/// and stops at `stop`, where the wall stays.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Timing {
-    pub start: f64,
-    pub ramp: f64,
-    pub stop: f64,
-}
-
-impl Timing {
-    /// A motion that runs from t = 0 at full speed, for ever.
-    pub const ALWAYS: Timing = Timing { start: 0.0, ramp: 0.0, stop: f64::INFINITY };
-
-    /// The share of its full speed the motion runs at at time `t`.
-    #[inline]
-    pub fn rate(&self, t: f64) -> f64 {
-        if t < self.start || t >= self.stop {
-            0.0
-        } else if t < self.start + self.ramp {
-            (t - self.start) / self.ramp
-        } else {
-            1.0
-        }
-    }
-
-    /// Motion time at `t`: the integral of [`Timing::rate`] from 0 (t itself for [`Timing::ALWAYS`]).
-    #[inline]
-    pub fn elapsed(&self, t: f64) -> f64 {
-        let t = t.min(self.stop);
-        if t <= self.start {
-            0.0
-        } else if t < self.start + self.ramp {
-            (t - self.start) * (t - self.start) / (2.0 * self.ramp)
-        } else {
-            t - self.start - 0.5 * self.ramp
         }
     }
 }
@@ -537,30 +437,6 @@ pub struct CompiledScene {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn an_untimed_motion_runs_on_time_itself() {
-        for t in [0.0, 1e-300, 3.7e-5, 0.1, 12.5, 1e9] {
-            assert_eq!(Timing::ALWAYS.elapsed(t).to_bits(), t.to_bits());
-            assert_eq!(Timing::ALWAYS.rate(t), 1.0);
-        }
-    }
-
-    #[test]
-    fn motion_time_is_the_integral_of_the_rate() {
-        let timing = Timing { start: 0.2, ramp: 0.3, stop: 0.9 };
-        let (n, end) = (200_000, 1.2);
-        let h = end / n as f64;
-        let mut integral = 0.0;
-        for k in 0..n {
-            // Midpoint rule, exact for the piecewise-linear rate away from its kinks.
-            integral += timing.rate((k as f64 + 0.5) * h) * h;
-            let t = (k + 1) as f64 * h;
-            assert!((integral - timing.elapsed(t)).abs() < 1e-8, "t = {t}: ∫ rate = {integral}, elapsed {}", timing.elapsed(t));
-        }
-        assert_eq!(timing.elapsed(0.1), 0.0);
-        assert!((timing.elapsed(2.0) - (0.9 - 0.2 - 0.15)).abs() < 1e-15, "stopped where it stood at 0.9 s");
-    }
 
     #[test]
     fn a_posed_wall_moves_at_the_velocity_it_reports() {

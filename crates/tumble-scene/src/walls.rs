@@ -257,7 +257,7 @@ fn wear(k: usize, w: &WallSection) -> Result<f64, SceneError> {
 }
 
 /// A wall's motion and its timing, checked.
-fn motion(k: usize, m: &MotionSection) -> Result<(Option<Motion>, Timing), SceneError> {
+pub(crate) fn motion(k: usize, m: &MotionSection) -> Result<(Option<Motion>, Timing), SceneError> {
     let f = |x: &str| format!("walls[{k}].motion.{x}");
     let given = [m.rotate.is_some(), m.translate.is_some(), m.oscillate.is_some()].iter().filter(|&&b| b).count();
     if given != 1 {

@@ -75,6 +75,7 @@ impl ColumnInTank {
                 max: DVec3::new(self.tank_length + layers, if three_d { self.depth + layers } else { 0.0 }, 1.5 * self.height),
                 periodic: [false; 3],
             },
+            moving_walls: Vec::new(),
         };
         let mut particles = FluidParticles::default();
         let depth = if three_d { self.depth } else { 0.0 };

@@ -26,8 +26,10 @@ mod setup;
 pub use eos::{GAMMA, Tait};
 pub use kernel::{Dimension, WendlandC2};
 pub use neighbours::SKIN;
-pub use particles::{Aabb, ClosedSides, FluidParticles, ParticleKind, cylinder_shell, lattice_points, on_fluid_side, wall_shell};
+pub use particles::{
+    Aabb, ClosedSides, FluidParticles, ParticleKind, Rectangle, cylinder_shell, lattice_points, on_fluid_side, rectangle_layers, wall_shell,
+};
 pub use phase::{FluidFault, FluidObservables, FluidPhase, FluidSnapshot, TimeStepLimits};
 pub use rates::Rates;
-pub use settings::{DensityDiffusion, FluidSettings, Viscosity};
-pub use setup::{add_fluid_block, add_wall_box, add_wall_cylinder, add_wall_slab, wall_layers};
+pub use settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity};
+pub use setup::{add_fluid_block, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, wall_layers};

@@ -125,6 +125,7 @@ impl FluidGrid {
         permute(&mut particles.velocity, order);
         permute(&mut particles.density, order);
         permute(&mut particles.mass, order);
+        permute(&mut particles.wall, order);
         permute(&mut self.built, order);
         self.fluid_before.clear();
         self.fluid_before.push(0);

@@ -25,6 +25,10 @@ pub struct FluidParticles {
     /// A fluid particle's density (evolved); a wall particle's last extrapolated density.
     pub density: Vec<f64>,
     pub mass: Vec<f64>,
+    /// The moving wall a wall particle belongs to: k + 1 for `FluidSettings::moving_walls[k]`,
+    /// 0 for a fluid particle or a wall moving at its constant velocity.
+    #[serde(default)]
+    pub wall: Vec<u16>,
 }
 
 impl FluidParticles {
@@ -43,6 +47,15 @@ impl FluidParticles {
         self.velocity.push(velocity);
         self.density.push(density);
         self.mass.push(mass);
+        self.wall.push(0);
+    }
+
+    /// Makes the particles from index `from` on part of moving wall `wall` (k + 1 for
+    /// `FluidSettings::moving_walls[k]`).
+    pub fn assign_moving_wall(&mut self, from: usize, wall: u16) {
+        for w in &mut self.wall[from..] {
+            *w = wall;
+        }
     }
 
     pub fn fluid_count(&self) -> usize {
@@ -57,6 +70,7 @@ impl FluidParticles {
         self.velocity = kept.iter().map(|&i| self.velocity[i]).collect();
         self.density = kept.iter().map(|&i| self.density[i]).collect();
         self.mass = kept.iter().map(|&i| self.mass[i]).collect();
+        self.wall = kept.iter().map(|&i| self.wall[i]).collect();
         self.id = (0..kept.len() as u32).collect();
     }
 }
@@ -127,6 +141,66 @@ pub fn wall_shell(inner: Aabb, closed: ClosedSides, layers: usize, dp: f64, dime
     // Points of the outer box whose lattice centre lies outside the inner box on some axis.
     let outside = |x: DVec3| (0..3).any(|k| !(dimension == Dimension::Two && k == 1) && (x[k] < inner.min[k] || x[k] >= inner.max[k]));
     lattice_points(outer, inner.min, dp, dimension).into_iter().filter(|&x| outside(x)).collect()
+}
+
+/// A rectangle's frame for wall layers: its first corner, its two edges from it (corners 1 and 3),
+/// and the unit normal e₁ × e₂ / |e₁ × e₂| the fluid lies along.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rectangle {
+    pub origin: DVec3,
+    pub edges: [DVec3; 2],
+    pub normal: DVec3,
+}
+
+impl Rectangle {
+    /// The rectangle with corners `corners` in order; `None` unless they make one (right angles
+    /// to 1e-9, in one plane).
+    pub fn new(corners: [DVec3; 4]) -> Option<Self> {
+        let (e1, e2) = (corners[1] - corners[0], corners[3] - corners[0]);
+        let (l1, l2) = (e1.length(), e2.length());
+        let closes = (corners[0] + e1 + e2 - corners[2]).length() <= 1e-9 * (l1 + l2);
+        if !(l1 > 0.0 && l2 > 0.0 && closes && e1.dot(e2).abs() <= 1e-9 * l1 * l2) {
+            return None;
+        }
+        Some(Rectangle { origin: corners[0], edges: [e1, e2], normal: e1.cross(e2) / (l1 * l2) })
+    }
+
+    /// Whether `x` lies within the rectangle's outline (seen along its normal) and less than
+    /// `depth` in front of it, or anywhere behind it.
+    pub fn covers(&self, x: DVec3, depth: f64) -> bool {
+        let d = x - self.origin;
+        let within = self.edges.iter().all(|e| (0.0..=e.length_squared()).contains(&d.dot(*e)));
+        within && d.dot(self.normal) < depth
+    }
+}
+
+/// Dummy particles in `layers` lattice layers Δp apart behind a rectangle (against its normal),
+/// Δp apart along each edge (rounded to a whole number of particles). In 2D one edge must lie
+/// along y: the layers are lines in the x–z plane at y = 0.
+pub fn rectangle_layers(r: &Rectangle, layers: usize, dp: f64, dimension: Dimension) -> Vec<DVec3> {
+    let count = |e: DVec3| (e.length() / dp).round().max(1.0) as usize;
+    let (origin, along): (DVec3, Vec<(DVec3, usize)>) = match dimension {
+        Dimension::Three => (r.origin, r.edges.iter().map(|&e| (e, count(e))).collect()),
+        Dimension::Two => {
+            // The edge that lies in the plane; the other (along y) does not enter.
+            let e = if r.edges[0].y.abs() < r.edges[1].y.abs() { r.edges[0] } else { r.edges[1] };
+            (DVec3::new(r.origin.x, 0.0, r.origin.z), vec![(DVec3::new(e.x, 0.0, e.z), count(e))])
+        }
+    };
+    let mut out = Vec::new();
+    for k in 0..layers {
+        let back = origin - (k as f64 + 0.5) * dp * r.normal;
+        match along.as_slice() {
+            [(e, n)] => out.extend((0..*n).map(|i| back + (i as f64 + 0.5) / *n as f64 * *e)),
+            [(e1, n1), (e2, n2)] => {
+                for j in 0..*n2 {
+                    out.extend((0..*n1).map(|i| back + (i as f64 + 0.5) / *n1 as f64 * *e1 + (j as f64 + 0.5) / *n2 as f64 * *e2));
+                }
+            }
+            _ => unreachable!(),
+        }
+    }
+    out
 }
 
 /// Dummy particles in `layers` rings behind a cylinder's surface (outside it for a drum, inside

@@ -11,7 +11,7 @@ use crate::kernel::{Dimension, WendlandC2};
 use crate::neighbours::FluidGrid;
 use crate::particles::{FluidParticles, ParticleKind};
 use crate::pass::{Batch, Neighbourhood, ParticleRates, PassConstants, WallSums, particle_rates, wall_sums};
-use crate::settings::{DensityDiffusion, FluidSettings, Viscosity};
+use crate::settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity};
 
 /// The constants of one evaluation, derived once from the settings.
 #[derive(Clone, Copy, Debug)]
@@ -118,9 +118,9 @@ impl Rates {
 /// pressure, density and viscous velocity extrapolated from the fluid (Adami et al. 2012):
 /// P_w = max(0, (Σ P_f W + (g − a_w)·Σ ρ_f r_wf W) / Σ W), ρ_w from the equation of state,
 /// v̂_w = 2 v_w − Σ v_f W / Σ W. A wall particle with no fluid in reach has P = 0, ρ = ρ₀.
-/// Walls move at constant velocity, so a_w = 0. The clamp keeps a wall from holding a thin
+/// A wall moving by a prescribed motion has its acceleration a_w at `time`; others none. The clamp keeps a wall from holding a thin
 /// film by suction (particles clung to the wall a dam break had left, docs/sph.md).
-pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles, inputs: &mut PairInputs) {
+pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles, inputs: &mut PairInputs, moving: &[MovingWall], time: f64) {
     let n = p.len();
     inputs.pressure.resize(n, 0.0);
     inputs.viscous_velocity.resize(n, DVec3::ZERO);
@@ -130,7 +130,7 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
             *pr = method.eos.pressure(rho);
         }
     });
-    let walls = wall_states(method, grid, p, &inputs.pressure);
+    let walls = wall_states(method, grid, p, &inputs.pressure, moving, time);
     inputs
         .pressure
         .par_iter_mut()
@@ -171,7 +171,7 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
 }
 
 /// Each wall particle's extrapolated pressure, density and viscous velocity (zeros for fluid).
-fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: &[f64]) -> Vec<(f64, f64, DVec3)> {
+fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: &[f64], moving: &[MovingWall], time: f64) -> Vec<(f64, f64, DVec3)> {
     let constants = PassConstants::new(method, 0.0, false);
     let (plane, wide) = (method.dimension == Dimension::Two, method.wide_lanes);
     let (position, velocity, density) = (&p.position, &p.velocity, &p.density);
@@ -193,7 +193,12 @@ fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: 
                     (false, false) => wall_sums::<false>(&constants, position, velocity, density, pressure, separation, w, list, batch),
                 };
                 if sums.w > 0.0 {
-                    let pw = ((sums.pressure + method.external.dot(sums.density_moment)) / sums.w).max(0.0);
+                    // The wall's own acceleration enters as a body force of the opposite sign.
+                    let a_w = match p.wall[w] {
+                        0 => DVec3::ZERO,
+                        k => moving[k as usize - 1].acceleration_at(position[w], time),
+                    };
+                    let pw = ((sums.pressure + (method.external - a_w).dot(sums.density_moment)) / sums.w).max(0.0);
                     (pw, method.eos.density(pw), 2.0 * velocity[w] - sums.velocity / sums.w)
                 } else {
                     (0.0, method.rho0, velocity[w])

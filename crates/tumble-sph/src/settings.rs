@@ -1,6 +1,6 @@
 //! What a fluid phase is told: the method's switches and the fluid's properties, as plain data.
 
-use tumble_geom::{DVec3, PeriodicBox};
+use tumble_geom::{DVec3, Motion, PeriodicBox, Timing};
 
 use crate::kernel::Dimension;
 
@@ -64,6 +64,33 @@ pub struct FluidSettings {
     /// The region the cell grid covers; its periodic axes are the fluid's. Particles leaving a
     /// non-periodic side are still found (binned into the edge cells), only more slowly.
     pub domain: PeriodicBox,
+    /// The walls that move by a prescribed motion (a turning drum); wall particle i follows
+    /// `moving_walls[wall[i] − 1]` (see [`FluidParticles::wall`](crate::FluidParticles)).
+    pub moving_walls: Vec<MovingWall>,
+}
+
+/// A wall whose particles move by a prescribed rigid motion, when its timing says.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MovingWall {
+    pub motion: Motion,
+    pub timing: Timing,
+}
+
+impl MovingWall {
+    /// The velocity at time `t` of the wall material at `x`.
+    pub fn velocity_at(&self, x: DVec3, t: f64) -> DVec3 {
+        self.motion.instant(self.timing.elapsed(t), self.timing.rate(t)).velocity_at(x)
+    }
+
+    /// Where the wall material at `x` at time `t0` is at time `t1`.
+    pub fn advance(&self, x: DVec3, t0: f64, t1: f64) -> DVec3 {
+        self.motion.advance(x, self.timing.elapsed(t0), self.timing.elapsed(t1))
+    }
+
+    /// The acceleration at time `t` of the wall material at `x`.
+    pub fn acceleration_at(&self, x: DVec3, t: f64) -> DVec3 {
+        self.motion.acceleration_at(x, self.timing.elapsed(t), self.timing.rate(t), self.timing.rate_change(t))
+    }
 }
 
 impl FluidSettings {

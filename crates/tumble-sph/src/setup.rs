@@ -3,7 +3,7 @@
 use tumble_geom::{Cylinder, DVec3};
 
 use crate::eos::Tait;
-use crate::particles::{Aabb, ClosedSides, FluidParticles, ParticleKind, cylinder_shell, lattice_points, wall_shell};
+use crate::particles::{Aabb, ClosedSides, FluidParticles, ParticleKind, Rectangle, cylinder_shell, lattice_points, rectangle_layers, wall_shell};
 use crate::settings::FluidSettings;
 
 /// Layers of wall particles so that a fluid particle touching the wall has a full kernel: ⌈2h/Δp⌉.
@@ -39,6 +39,12 @@ pub fn add_wall_box(particles: &mut FluidParticles, settings: &FluidSettings, in
 /// outside), moving at `velocity`; see [`cylinder_shell`](crate::cylinder_shell).
 pub fn add_wall_cylinder(particles: &mut FluidParticles, settings: &FluidSettings, cylinder: &Cylinder, velocity: DVec3) -> usize {
     push_walls(particles, settings, cylinder_shell(cylinder, wall_layers(settings), settings.spacing, settings.dimension), velocity)
+}
+
+/// Adds the dummy particles of a rectangular plate (a gate, a baffle) in layers behind it,
+/// against its normal, moving at `velocity`; see [`rectangle_layers`](crate::rectangle_layers).
+pub fn add_wall_rectangle(particles: &mut FluidParticles, settings: &FluidSettings, rectangle: &Rectangle, velocity: DVec3) -> usize {
+    push_walls(particles, settings, rectangle_layers(rectangle, wall_layers(settings), settings.spacing, settings.dimension), velocity)
 }
 
 /// Adds wall particles on the lattice filling the box `lower`–`upper` (anchored at `lower`),

@@ -38,6 +38,27 @@ fn couette(z: f64, t: f64, v0: f64) -> f64 {
     v0 * z / L + transient
 }
 
+/// Water creeping at V_MAX in 2D at spacing `dp`: laminar viscosity, no density diffusion, no
+/// gravity, c₀ ten times the flow's largest speed; an empty domain and no moving walls.
+fn slow_water(dp: f64) -> FluidSettings {
+    FluidSettings {
+        dimension: Dimension::Two,
+        spacing: dp,
+        h: 1.5 * dp,
+        rho0: RHO,
+        mu: RHO * NU,
+        sound_speed: 10.0 * V_MAX,
+        viscosity: Viscosity::Laminar,
+        density_diffusion: DensityDiffusion::None,
+        tensile_correction: false,
+        xsph: 0.0,
+        gravity: DVec3::ZERO,
+        body_force: DVec3::ZERO,
+        domain: PeriodicBox { min: DVec3::ZERO, max: DVec3::ZERO, periodic: [false; 3] },
+        moving_walls: Vec::new(),
+    }
+}
+
 /// A periodic 2D channel of height L with `per_height` particles across it; the upper plate moves
 /// at `lid` and the fluid is driven by `drive`.
 fn channel(per_height: usize, drive: f64, lid: f64) -> FluidPhase {
@@ -45,20 +66,9 @@ fn channel(per_height: usize, drive: f64, lid: f64) -> FluidPhase {
     let width = 8.0 * dp;
     let layers = 3.0 * dp;
     let settings = FluidSettings {
-        dimension: Dimension::Two,
-        spacing: dp,
-        h: 1.5 * dp,
-        rho0: RHO,
-        mu: RHO * NU,
-        // Ten times the flow's largest speed.
-        sound_speed: 10.0 * V_MAX,
-        viscosity: Viscosity::Laminar,
-        density_diffusion: DensityDiffusion::None,
-        tensile_correction: false,
-        xsph: 0.0,
-        gravity: DVec3::ZERO,
         body_force: DVec3::new(drive, 0.0, 0.0),
         domain: PeriodicBox { min: DVec3::new(0.0, 0.0, -layers), max: DVec3::new(width, 0.0, L + layers), periodic: [true, false, false] },
+        ..slow_water(dp)
     };
     let mut particles = FluidParticles::default();
     add_fluid_block(&mut particles, &settings, Aabb::new(DVec3::ZERO, DVec3::new(width, 0.0, L)), DVec3::ZERO);
@@ -114,4 +124,97 @@ fn couette_start_up_converges_to_the_series_solution() {
     let resolutions = [10, 20, 40];
     let table: Vec<Vec<f64>> = resolutions.iter().map(|&n| errors(channel(n, 0.0, V_MAX), &times, V_MAX, |z, t| couette(z, t, V_MAX))).collect();
     check("Couette", &resolutions, &times, &table, 0.002);
+}
+
+/// Circular Couette flow: 2D water between a fixed inner cylinder of radius `R1` and an outer one
+/// of radius `R2` turning at `OMEGA` (a moving wall), both with their wall particles in rings,
+/// the fluid filled in rings between them; `per_gap` particles across the gap.
+mod annulus {
+    use super::*;
+    use tumble_geom::{Cylinder, Motion, Timing};
+
+    pub const R1: f64 = 1e-3;
+    pub const R2: f64 = 2e-3;
+    /// The outer wall's speed is V_MAX.
+    pub const OMEGA: f64 = V_MAX / R2;
+
+    /// The steady azimuthal speed u(r) = A r + B / r with u(R1) = 0 and u(R2) = Ω R2.
+    pub fn steady(r: f64) -> f64 {
+        let a = OMEGA * R2 * R2 / (R2 * R2 - R1 * R1);
+        a * r - a * R1 * R1 / r
+    }
+
+    pub fn phase(per_gap: usize) -> FluidPhase {
+        let dp = (R2 - R1) / per_gap as f64;
+        let reach = R2 + 4.0 * dp;
+        let settings = FluidSettings {
+            domain: PeriodicBox { min: DVec3::new(-reach, 0.0, -reach), max: DVec3::new(reach, 0.0, reach), periodic: [false; 3] },
+            moving_walls: vec![MovingWall { motion: Motion::Rotate { point: DVec3::ZERO, axis: DVec3::Y, omega: OMEGA }, timing: Timing::ALWAYS }],
+            ..slow_water(dp)
+        };
+        let mut particles = FluidParticles::default();
+        // The fluid in rings Δp apart, each particle carrying its share of the ring's area.
+        for x in cylinder_shell(&Cylinder::new(DVec3::ZERO, DVec3::Y, R1, 1.0, true), per_gap, dp, Dimension::Two) {
+            let r = x.length();
+            let n = (std::f64::consts::TAU * r / dp).round();
+            particles.push(ParticleKind::Fluid, x, DVec3::ZERO, RHO, RHO * dp * std::f64::consts::TAU * r / n);
+        }
+        let layers = wall_layers(&settings);
+        let inner = Cylinder::new(DVec3::ZERO, DVec3::Y, R1, 1.0, false);
+        for x in cylinder_shell(&inner, layers, dp, Dimension::Two) {
+            particles.push(ParticleKind::Wall, x, DVec3::ZERO, RHO, RHO * dp * dp);
+        }
+        let outer_from = particles.len();
+        add_wall_cylinder(&mut particles, &settings, &Cylinder::new(DVec3::ZERO, DVec3::Y, R2, 1.0, true), DVec3::ZERO);
+        particles.assign_moving_wall(outer_from, 1);
+        FluidPhase::new(settings, particles).expect("valid annulus")
+    }
+
+    /// The fluid's azimuthal velocity against the steady profile: rms over the fluid, relative to
+    /// the wall's speed.
+    pub fn error(phase: &FluidPhase) -> f64 {
+        let p = phase.particles();
+        let (mut sum, mut count) = (0.0, 0);
+        for i in 0..p.len() {
+            if p.kind[i] == ParticleKind::Fluid {
+                let x = p.position[i];
+                let r = x.length();
+                // Rotation about +y carries (x, 0, z) towards (z, 0, −x).
+                let u = p.velocity[i].dot(DVec3::new(x.z, 0.0, -x.x) / r);
+                sum += (u - steady(r)).powi(2);
+                count += 1;
+            }
+        }
+        (sum / count as f64).sqrt() / V_MAX
+    }
+}
+
+/// A moving wall: the outer cylinder of an annulus turns, and the water between it and the fixed
+/// inner cylinder settles into circular Couette flow u = A r + B/r; the error falls with the
+/// spacing, and the turning wall's particles stay on their circles at the angle Ω t.
+#[test]
+fn circular_couette_flow_from_a_turning_wall() {
+    let t_end = 1.0; // seven gap diffusion times G²/ν: the start-up has died away
+    let mut errors = Vec::new();
+    for per_gap in [8, 16] {
+        let mut phase = annulus::phase(per_gap);
+        let start: Vec<(u32, DVec3)> = (0..phase.particles().len())
+            .filter(|&i| phase.particles().wall[i] == 1)
+            .map(|i| (phase.particles().id[i], phase.particles().position[i]))
+            .collect();
+        let dt = TimeStepLimits::planned(phase.settings()).dt();
+        common::run_to(&mut phase, t_end, dt);
+        let p = phase.particles();
+        let angle = annulus::OMEGA * t_end;
+        for (id, x0) in start {
+            let i = p.id.iter().position(|&j| j == id).unwrap();
+            let expected = DVec3::new(x0.x * angle.cos() + x0.z * angle.sin(), 0.0, -x0.x * angle.sin() + x0.z * angle.cos());
+            assert!((p.position[i] - expected).length() < 1e-10 * annulus::R2, "wall particle {id} at {} instead of {expected}", p.position[i]);
+        }
+        let e = annulus::error(&phase);
+        println!("circular Couette, {per_gap} particles across the gap: rms error {e:.3e} of the wall speed");
+        errors.push(e);
+    }
+    assert!(errors[1] < errors[0], "the error does not fall with the spacing: {errors:?}");
+    assert!(errors[1] < 0.02, "rms error {:.3e} of the wall speed at 16 across", errors[1]);
 }

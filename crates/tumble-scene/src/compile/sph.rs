@@ -6,10 +6,10 @@ use crate::SceneError;
 use crate::plan::{SphPlan, SphProbe, SphProbeKind};
 use crate::schema::*;
 use glam::DVec3;
-use tumble_geom::{Cylinder, PeriodicBox};
+use tumble_geom::{Cylinder, Motion, PeriodicBox};
 use tumble_sph::{
-    Aabb, DensityDiffusion, Dimension, FluidParticles, FluidPhase, FluidSettings, ParticleKind, TimeStepLimits, Viscosity, add_fluid_block,
-    add_wall_box, add_wall_cylinder, add_wall_slab, on_fluid_side, wall_layers,
+    Aabb, DensityDiffusion, Dimension, FluidParticles, FluidPhase, FluidSettings, MovingWall, ParticleKind, Rectangle, TimeStepLimits, Viscosity,
+    add_fluid_block, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, on_fluid_side, wall_layers,
 };
 
 /// h / Δp unless the scene says otherwise: the lattice's kernel gradient sums to within 0.3 %
@@ -102,6 +102,7 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
         gravity,
         body_force,
         domain: *domain,
+        moving_walls: Vec::new(),
     };
     // The grid reaches over the wall particles outside the domain's closed sides; a 2D fluid lies at y = 0.
     let reach = (wall_layers(&settings) as f64 + 1.0) * spacing;
@@ -119,14 +120,15 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     check_counts(scene, s, &settings, domain)?;
     let mut particles = FluidParticles::default();
     fill_regions(s, &settings, domain, &mut particles)?;
-    let cylinders = add_walls(scene, &settings, domain, &mut particles)?;
-    // Fluid on the wrong side of a cylinder, or within half a spacing of it, is left out.
-    particles.retain(|kind, x| kind == ParticleKind::Wall || cylinders.iter().all(|c| on_fluid_side(c, x, spacing, dimension)));
+    let walls = add_walls(scene, &settings, domain, &mut particles)?;
+    settings.moving_walls = walls.moving.iter().map(|&(_, wall, _)| wall).collect();
+    // Fluid on the wrong side of a cylinder or a rectangle, or within half a spacing of it, is left out.
+    particles.retain(|kind, x| kind == ParticleKind::Wall || walls.leave_fluid_at(x, spacing, dimension));
     let fluid_particles = particles.fluid_count();
     if fluid_particles == 0 {
         return Err(SceneError::field(
             "sph.regions",
-            "no fluid is left on the fluid's side of the cylinder walls; put the regions inside the drums (outside the pipes)",
+            "no fluid is left on the fluid's side of the walls; put the regions inside the drums (outside the pipes), in front of the quads",
         ));
     }
     let probes = probes(s, dimension, domain)?;
@@ -142,6 +144,13 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
         warnings.push(
             "sph: the tensile correction without density diffusion made the dam break's density noisier, not smoother (2.5–26 % error in docs/sph.md, \"Stability\"); add density_diffusion".into(),
         );
+    }
+    for &(k, _, speed) in &walls.moving {
+        if speed > expected_speed * (1.0 + 1e-12) {
+            warnings.push(format!(
+                "sph: walls[{k}] moves its fluid's side at {speed:.4} m/s, above the expected speed {expected_speed:.4} m/s the sound speed and time step were chosen for; raise sph.expected_speed"
+            ));
+        }
     }
     if density_diffusion == DensityDiffusion::None && viscosity == Viscosity::Laminar {
         warnings
@@ -194,21 +203,38 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
 /// The scene's walls as dummy particles on the fluid's side: a box's closed sides (the fluid
 /// inside), an axis-aligned plane's layers behind it across the domain, a cylinder's rings.
 /// Returns the cylinders, whose wrong side the fluid must leave.
-fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<Vec<Cylinder>, SceneError> {
+/// What the walls clear fluid from (the wrong side of a cylinder, the space behind a rectangle
+/// and within Δp/2 in front of it), and the moving walls, each with its `[[walls]]` index and the
+/// largest speed of its wall particles at full rate.
+#[derive(Default)]
+struct FluidWalls {
+    cylinders: Vec<Cylinder>,
+    rectangles: Vec<Rectangle>,
+    moving: Vec<(usize, MovingWall, f64)>,
+}
+
+impl FluidWalls {
+    fn leave_fluid_at(&self, x: DVec3, spacing: f64, dimension: Dimension) -> bool {
+        self.cylinders.iter().all(|c| on_fluid_side(c, x, spacing, dimension)) && !self.rectangles.iter().any(|r| r.covers(x, 0.5 * spacing))
+    }
+}
+
+fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<FluidWalls, SceneError> {
     let two_d = settings.dimension == Dimension::Two;
-    let mut cylinders = Vec::new();
+    let mut walls = FluidWalls::default();
     let thickness = wall_layers(settings) as f64 * settings.spacing;
     for (k, w) in scene.walls.iter().enumerate() {
         let f = |x: &str| format!("walls[{k}].{x}");
         let not_yet = || {
             SceneError::field(
                 format!("walls[{k}]"),
-                "the SPH fluid's walls are static boxes, axis-aligned planes and cylinders so far; quads, lifters, meshes and moving walls are not yet made into wall particles",
+                "the SPH fluid's walls are boxes, axis-aligned planes, rectangular quads and cylinders, static or moving, so far; lifters, meshes, servos and conveyors are not yet made into wall particles",
             )
         };
-        if w.motion.is_some() || w.servo.is_some() || w.surface_velocity.is_some() {
+        if w.servo.is_some() || w.surface_velocity.is_some() {
             return Err(not_yet());
         }
+        let first = particles.len();
         if let Some(b) = &w.box_ {
             if b.floor_hole.is_some() {
                 return Err(SceneError::field(f("box.floor_hole"), "the SPH fluid's walls have no holes yet; leave it out"));
@@ -237,6 +263,20 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
             if (0..3).all(|a| (two_d && a == 1) || lower[a] < upper[a]) {
                 add_wall_slab(particles, settings, lower, upper, DVec3::ZERO);
             }
+        } else if let Some(q) = &w.quad {
+            let mut corners = [DVec3::ZERO; 4];
+            for (i, c) in q.corners.iter().enumerate() {
+                corners[i] = finite3(&f(&format!("quad.corners[{i}]")), *c)?;
+            }
+            let Some(rectangle) = Rectangle::new(corners) else {
+                return Err(SceneError::field(f("quad.corners"), "the SPH fluid's quads are rectangles: corners in order, with right angles"));
+            };
+            if two_d && !rectangle.edges.iter().any(|e| e.cross(DVec3::Y).length() <= 1e-9 * e.length()) {
+                return Err(SceneError::field(f("quad.corners"), "a 2D fluid moves in the x–z plane: a quad across it needs one edge along y"));
+            }
+            // The layers lie behind the rectangle; the fluid is on the side its normal points to.
+            add_wall_rectangle(particles, settings, &rectangle, DVec3::ZERO);
+            walls.rectangles.push(rectangle);
         } else if let Some(c) = &w.cylinder {
             let c = crate::walls::cylinder(k, c)?;
             if two_d && c.axis.cross(DVec3::Y).length() > 1e-9 {
@@ -246,12 +286,30 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
                 ));
             }
             add_wall_cylinder(particles, settings, &c, DVec3::ZERO);
-            cylinders.push(c);
+            walls.cylinders.push(c);
         } else {
             return Err(not_yet());
         }
+        if let Some(m) = &w.motion {
+            let (Some(motion), timing) = crate::walls::motion(k, m)? else { unreachable!("a motion section gives a motion") };
+            if two_d && motion_leaves_plane(&motion) {
+                return Err(SceneError::field(f("motion"), "a 2D fluid moves in the x–z plane: rotate about y, translate and oscillate within x–z"));
+            }
+            let speed = particles.position[first..].iter().map(|&x| motion.velocity_at(x).length()).fold(0.0, f64::max);
+            walls.moving.push((k, MovingWall { motion, timing }, speed));
+            particles.assign_moving_wall(first, walls.moving.len() as u16);
+        }
     }
-    Ok(cylinders)
+    Ok(walls)
+}
+
+/// Whether a motion would carry a 2D fluid's walls out of the x–z plane.
+fn motion_leaves_plane(motion: &Motion) -> bool {
+    match *motion {
+        Motion::Rotate { axis, .. } => axis.cross(DVec3::Y).length() > 1e-9,
+        Motion::Translate { velocity } => velocity.y != 0.0,
+        Motion::Oscillate { direction, .. } => direction.y != 0.0,
+    }
 }
 
 /// A box wall's fluid side and its closed sides: all but those on a periodic axis (where the
