@@ -121,11 +121,16 @@ fn a_column_at_rest_from_a_scene_reads_the_hydrostatic_pressure_at_its_probes() 
 /// A drum of radius 0.1 m (2D, axis y) half full of water, α = 0.1, run for 1 s, with `probes`
 /// and the drum's `motion` line (empty: it stands still).
 fn half_full_drum(name: &str, output_interval: f64, probes: &str, motion: &str) -> String {
+    drum_scene(name, output_interval, "box = { min = [-0.1, 0.0, -0.1], max = [0.1, 0.0, 0.0] }", probes, motion)
+}
+
+/// The same drum with the water filling `region`.
+fn drum_scene(name: &str, output_interval: f64, region: &str, probes: &str, motion: &str) -> String {
     let head = water_2d(name, 1.0, output_interval, [-0.12, -0.01, -0.12], [0.12, 0.01, 0.12]);
     format!(
         r#"{head}viscosity_model = {{ model = "artificial", alpha = 0.1 }}
 [[sph.regions]]
-box = {{ min = [-0.1, 0.0, -0.1], max = [0.1, 0.0, 0.0] }}
+{region}
 {probes}[[walls]]
 name = "drum"
 cylinder = {{ point = [0.0, -0.01, 0.0], axis = [0.0, 1.0, 0.0], radius = 0.1, length = 0.02 }}
@@ -139,9 +144,10 @@ cylinder = {{ point = [0.0, -0.01, 0.0], axis = [0.0, 1.0, 0.0], radius = 0.1, l
 /// no fluid has crossed the wall, and the pressure near the bottom reads ρ g (surface − z) 5–6 %
 /// of ρ g R high (its peak; mid-depth 0.9 %): the settled particles are no longer a lattice, and their kernel gradients sum short of
 /// the continuum's (docs/sph.md, "Running a fluid scene"). 8 % would still catch a wrong factor.
-#[test]
-fn water_at_rest_in_a_drum_reads_the_hydrostatic_pressure() {
-    let dir = tmp("drum");
+/// Runs the half-full drum at rest with its water filling `region` and checks it as the tests
+/// below say; returns the largest pressure error after settling, in units of ρ g R.
+fn drum_at_rest(name: &str, region: &str, bound: f64) -> f64 {
+    let dir = tmp(name);
     let (r, rho, dp) = (0.1, 1000.0, 0.005);
     let scene = dir.join("drum.toml");
     let probes = r#"[[sph.probes]]
@@ -157,7 +163,7 @@ gauge = { from = [0.0, 0.0, -0.1], to_z = 0.1 }
 name = "reach"
 front = [1.0, 0.0, 0.0]
 "#;
-    std::fs::write(&scene, half_full_drum("drum", 0.05, probes, "")).unwrap();
+    std::fs::write(&scene, drum_scene("drum", 0.05, region, probes, "")).unwrap();
     let out = dir.join("out");
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -177,17 +183,38 @@ front = [1.0, 0.0, 0.0]
     assert!(*kinetic.last().unwrap() < 1e-3, "the water has not come to rest");
     let settled = gauge.len() - 4;
     assert!(gauge[settled..].iter().all(|&z| (z - level).abs() <= dp), "gauge {gauge:?} against the level {level}");
+    let mut worst: f64 = 0.0;
     for (probe, z) in [("deep", -0.08), ("middle", -0.04)] {
         let p = column(&out.join(format!("probe_{probe}.csv")), "pressure");
         for (k, &pk) in p.iter().enumerate().skip(settled) {
             let error = (pk - rho * G * (gauge[k] - z)) / (rho * G * r);
             println!("{probe} z = {z}: row {k}: {pk:.2} Pa, {:+.3} % of rho g R", 100.0 * error);
-            assert!(error.abs() < 0.08, "{probe}: {pk} Pa against {} Pa", rho * G * (gauge[k] - z));
+            assert!(error.abs() < bound, "{probe}: {pk} Pa against {} Pa", rho * G * (gauge[k] - z));
+            worst = worst.max(error.abs());
         }
     }
     let reach = column(&out.join("probe_reach.csv"), "front");
     assert!(reach.iter().all(|&x| x < r), "the fluid crossed the drum: {reach:?}");
     let _ = std::fs::remove_dir_all(&dir);
+    worst
+}
+
+#[test]
+fn water_at_rest_in_a_drum_reads_the_hydrostatic_pressure() {
+    drum_at_rest("drum", "box = { min = [-0.1, 0.0, -0.1], max = [0.1, 0.0, 0.0] }", 0.08);
+}
+
+/// The same drum with its water filled in rings that follow the wall (a cylinder region clipped
+/// to the lower half): no gaps to settle into at the wall, and the pressure reads within 1.9 % of
+/// ρ g R (the lattice's 6 % above; docs/sph.md); 3 % still catches a wrong factor.
+#[test]
+fn water_filled_in_rings_rests_in_a_drum_reads_the_hydrostatic_pressure() {
+    let worst = drum_at_rest(
+        "ring_drum",
+        "cylinder = { point = [0.0, 0.0, 0.0], axis = [0.0, 1.0, 0.0], radius = 0.1, length = 0.02 }\nbox = { min = [-0.1, 0.0, -0.1], max = [0.1, 0.0, 0.0] }",
+        0.03,
+    );
+    println!("ring fill: worst pressure error {:.3} % of rho g R", 100.0 * worst);
 }
 
 /// A turning drum (2D, half full of water, 10 rpm about +y, so its bottom moves towards −x): its

@@ -27,9 +27,10 @@ pub use eos::{GAMMA, Tait};
 pub use kernel::{Dimension, WendlandC2};
 pub use neighbours::SKIN;
 pub use particles::{
-    Aabb, ClosedSides, FluidParticles, ParticleKind, Rectangle, cylinder_shell, lattice_points, on_fluid_side, rectangle_layers, wall_shell,
+    Aabb, ClosedSides, FluidParticles, ParticleKind, Rectangle, cylinder_fill, cylinder_shell, lattice_points, on_fluid_side, rectangle_layers,
+    wall_shell,
 };
 pub use phase::{FluidFault, FluidObservables, FluidPhase, FluidSnapshot, TimeStepLimits};
 pub use rates::Rates;
 pub use settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity};
-pub use setup::{add_fluid_block, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, wall_layers};
+pub use setup::{add_fluid_block, add_fluid_cylinder, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, wall_layers};

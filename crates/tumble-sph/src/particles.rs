@@ -235,6 +235,50 @@ pub fn cylinder_shell(c: &Cylinder, layers: usize, dp: f64, dimension: Dimension
     out
 }
 
+/// Points filling the inside of a cylinder in rings Δp apart, the outermost Δp/2 inside its
+/// surface, each ring's points Δp apart (rounded to a whole number around it), and along the axis
+/// at Δp (3D; in 2D the axis must be y and the rings are circles in the x–z plane at y = 0);
+/// each point with the volume (in 2D, area) it stands for: its share of its ring's annulus, the
+/// innermost ring's reaching to the axis. A remainder narrower than Δp/2 at the axis is one point there. The fill follows a drum's wall,
+/// so water filled this way meets the drum's rings without the gaps a lattice cut to the circle leaves.
+pub fn cylinder_fill(c: &Cylinder, dp: f64, dimension: Dimension) -> Vec<(DVec3, f64)> {
+    let axis = c.axis.normalize();
+    let (e1, e2, centre, stations, slice) = match dimension {
+        Dimension::Two => (DVec3::X, DVec3::Z, DVec3::new(c.point.x, 0.0, c.point.z), vec![0.0], 1.0),
+        Dimension::Three => {
+            let (e1, e2) = axis.any_orthonormal_pair();
+            let n = (c.length / dp).round().max(1.0) as usize;
+            (e1, e2, c.point, (0..n).map(|m| (m as f64 + 0.5) * c.length / n as f64).collect(), c.length / n as f64)
+        }
+    };
+    let mut out = Vec::new();
+    let mut r = c.radius - 0.5 * dp;
+    while r > 0.0 {
+        // The innermost ring (or point) also stands for what lies between it and the axis.
+        let disc = std::f64::consts::PI * (r + 0.5 * dp).powi(2);
+        let (around, volume) = if r < 0.5 * dp {
+            (1, disc * slice)
+        } else {
+            let n = (std::f64::consts::TAU * r / dp).round().max(3.0) as usize;
+            let area = if r - dp <= 0.0 { disc } else { std::f64::consts::TAU * r * dp };
+            (n, area / n as f64 * slice)
+        };
+        for &s in &stations {
+            for j in 0..around {
+                let offset = if around == 1 {
+                    DVec3::ZERO
+                } else {
+                    let (sin, cos) = (std::f64::consts::TAU * j as f64 / around as f64).sin_cos();
+                    r * (cos * e1 + sin * e2)
+                };
+                out.push((centre + s * axis + offset, volume));
+            }
+        }
+        r -= dp;
+    }
+    out
+}
+
 /// Whether `x` lies on a cylinder's fluid side, at least `dp / 2` from its surface: inside a
 /// drum, outside a pipe, or beyond its ends (in 2D, where it has none, on its side only).
 pub fn on_fluid_side(c: &Cylinder, x: DVec3, dp: f64, dimension: Dimension) -> bool {
@@ -297,5 +341,29 @@ mod tests {
         // Beyond a 3D cylinder's ends every point is on the fluid's side.
         assert!(on_fluid_side(&drum, DVec3::new(0.2, 0.06, 0.0), dp, Dimension::Three));
         assert!(!on_fluid_side(&drum, DVec3::new(0.2, 0.04, 0.0), dp, Dimension::Three));
+    }
+
+    /// The rings that fill a cylinder stand for its whole area (2D) or volume (3D), whether or
+    /// not its radius is a whole number of spacings, and no two points are closer than 0.8 Δp.
+    #[test]
+    fn a_cylinder_fill_covers_the_cylinder_once() {
+        let dp = 0.005;
+        for radius in [0.1, 0.1013, 0.0987] {
+            let disc = Cylinder::new(DVec3::new(0.3, 0.0, 0.2), DVec3::Y, radius, 1.0, true);
+            let points = cylinder_fill(&disc, dp, Dimension::Two);
+            let area: f64 = points.iter().map(|p| p.1).sum();
+            let exact = std::f64::consts::PI * radius * radius;
+            assert!((area / exact - 1.0).abs() < 1e-12, "R = {radius}: the fill stands for {area}, the disc is {exact}");
+            for (i, a) in points.iter().enumerate() {
+                assert!((a.0 - disc.point).length() < radius, "a point outside the drum");
+                for b in &points[i + 1..] {
+                    assert!((a.0 - b.0).length() > 0.8 * dp, "R = {radius}: points {} and {} are {} apart", a.0, b.0, (a.0 - b.0).length());
+                }
+            }
+        }
+        let can = Cylinder::new(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0), 0.03, 0.04, true);
+        let volume: f64 = cylinder_fill(&can, dp, Dimension::Three).iter().map(|p| p.1).sum();
+        let exact = std::f64::consts::PI * 0.03 * 0.03 * 0.04;
+        assert!((volume / exact - 1.0).abs() < 1e-12, "3D: {volume} against {exact}");
     }
 }

@@ -3,7 +3,9 @@
 use tumble_geom::{Cylinder, DVec3};
 
 use crate::eos::Tait;
-use crate::particles::{Aabb, ClosedSides, FluidParticles, ParticleKind, Rectangle, cylinder_shell, lattice_points, rectangle_layers, wall_shell};
+use crate::particles::{
+    Aabb, ClosedSides, FluidParticles, ParticleKind, Rectangle, cylinder_fill, cylinder_shell, lattice_points, rectangle_layers, wall_shell,
+};
 use crate::settings::FluidSettings;
 
 /// Layers of wall particles so that a fluid particle touching the wall has a full kernel: ⌈2h/Δp⌉.
@@ -15,16 +17,39 @@ pub fn wall_layers(settings: &FluidSettings) -> usize {
 /// gravity, the density starts hydrostatic below the block's own free surface (half a spacing
 /// above its highest particle), so a column at rest starts at rest.
 pub fn add_fluid_block(particles: &mut FluidParticles, settings: &FluidSettings, region: Aabb, velocity: DVec3) -> usize {
-    let points = lattice_points(region, region.min, settings.spacing, settings.dimension);
+    let volume = settings.spacing.powi(settings.dimension.count());
+    let points: Vec<(DVec3, f64)> =
+        lattice_points(region, region.min, settings.spacing, settings.dimension).into_iter().map(|x| (x, volume)).collect();
+    add_fluid_points(particles, settings, &points, velocity)
+}
+
+/// Adds the fluid filling a cylinder in rings ([`cylinder_fill`](crate::cylinder_fill)), only
+/// the points inside `clip` when one is given (a drum filled to a level), moving at `velocity`,
+/// hydrostatic as [`add_fluid_block`]'s.
+pub fn add_fluid_cylinder(
+    particles: &mut FluidParticles,
+    settings: &FluidSettings,
+    cylinder: &Cylinder,
+    clip: Option<Aabb>,
+    velocity: DVec3,
+) -> usize {
+    let two_d = settings.dimension == crate::Dimension::Two;
+    let inside = |x: DVec3| clip.is_none_or(|b| (0..3).all(|k| (two_d && k == 1) || (x[k] >= b.min[k] && x[k] < b.max[k])));
+    let points: Vec<(DVec3, f64)> = cylinder_fill(cylinder, settings.spacing, settings.dimension).into_iter().filter(|&(x, _)| inside(x)).collect();
+    add_fluid_points(particles, settings, &points, velocity)
+}
+
+/// Adds fluid particles at `points`, each of mass ρ₀ times its volume, in hydrostatic balance
+/// below the highest point's free surface (half a spacing above it).
+fn add_fluid_points(particles: &mut FluidParticles, settings: &FluidSettings, points: &[(DVec3, f64)], velocity: DVec3) -> usize {
     let g = settings.gravity.length();
     let up = if g > 0.0 { -settings.gravity / g } else { DVec3::ZERO };
-    let top = points.iter().map(|x| up.dot(*x)).fold(f64::NEG_INFINITY, f64::max) + 0.5 * settings.spacing;
+    let top = points.iter().map(|(x, _)| up.dot(*x)).fold(f64::NEG_INFINITY, f64::max) + 0.5 * settings.spacing;
     let eos = Tait::new(settings.rho0, settings.sound_speed);
-    let mass = settings.particle_mass();
-    for &x in &points {
+    for &(x, volume) in points {
         let depth = top - up.dot(x);
         let rho = if g > 0.0 { eos.density(settings.rho0 * g * depth) } else { settings.rho0 };
-        particles.push(ParticleKind::Fluid, x, velocity, rho, mass);
+        particles.push(ParticleKind::Fluid, x, velocity, rho, settings.rho0 * volume);
     }
     points.len()
 }

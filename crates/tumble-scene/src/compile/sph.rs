@@ -9,7 +9,7 @@ use glam::DVec3;
 use tumble_geom::{Cylinder, Motion, PeriodicBox};
 use tumble_sph::{
     Aabb, DensityDiffusion, Dimension, FluidParticles, FluidPhase, FluidSettings, MovingWall, ParticleKind, Rectangle, TimeStepLimits, Viscosity,
-    add_fluid_block, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, on_fluid_side, wall_layers,
+    add_fluid_block, add_fluid_cylinder, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, on_fluid_side, wall_layers,
 };
 
 /// h / Δp unless the scene says otherwise: the lattice's kernel gradient sums to within 0.3 %
@@ -174,26 +174,48 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
     }
     for (k, r) in s.regions.iter().enumerate() {
         let f = |x: &str| format!("sph.regions[{k}].{x}");
-        let Some(b) = &r.box_ else {
-            return Err(SceneError::field(format!("sph.regions[{k}]"), "give the region's shape: box = { min = [...], max = [...] }"));
-        };
-        let min = in_plane(settings.dimension, finite3(&f("box.min"), b.min)?);
-        let max = in_plane(settings.dimension, finite3(&f("box.max"), b.max)?);
         let velocity = finite3(&f("velocity"), r.velocity)?;
         if settings.dimension == Dimension::Two && velocity.y != 0.0 {
             return Err(SceneError::field(f("velocity"), "a 2D fluid moves in the x–z plane: the velocity must have no y component"));
         }
         let flat = |k: usize| settings.dimension == Dimension::Two && k == 1;
-        if (0..3).any(|a| !flat(a) && max[a] <= min[a]) {
-            return Err(SceneError::field(f("box"), "max must exceed min on every axis (in 2D, x and z)"));
-        }
-        if (0..3).any(|a| !flat(a) && (min[a] < domain.min[a] || max[a] > domain.max[a])) {
-            return Err(SceneError::field(f("box"), "must lie inside the domain"));
-        }
-        if add_fluid_block(particles, settings, Aabb::new(min, max), velocity) == 0 {
+        let inside = |x: DVec3| (0..3).all(|a| flat(a) || (x[a] >= domain.min[a] && x[a] <= domain.max[a]));
+        let clip = match &r.box_ {
+            Some(b) => {
+                let min = in_plane(settings.dimension, finite3(&f("box.min"), b.min)?);
+                let max = in_plane(settings.dimension, finite3(&f("box.max"), b.max)?);
+                if (0..3).any(|a| !flat(a) && max[a] <= min[a]) {
+                    return Err(SceneError::field(f("box"), "max must exceed min on every axis (in 2D, x and z)"));
+                }
+                if !(inside(min) && inside(max)) {
+                    return Err(SceneError::field(f("box"), "must lie inside the domain"));
+                }
+                Some(Aabb::new(min, max))
+            }
+            None => None,
+        };
+        let added = match (&r.cylinder, clip) {
+            (Some(c), clip) => {
+                let cylinder = region_cylinder(&f("cylinder"), c, settings.dimension)?;
+                let first = particles.len();
+                let added = add_fluid_cylinder(particles, settings, &cylinder, clip, velocity);
+                if !particles.position[first..].iter().all(|&x| inside(x)) {
+                    return Err(SceneError::field(f("cylinder"), "must lie inside the domain"));
+                }
+                added
+            }
+            (None, Some(b)) => add_fluid_block(particles, settings, b, velocity),
+            (None, None) => {
+                return Err(SceneError::field(
+                    format!("sph.regions[{k}]"),
+                    "give the region's shape: box = { min = [...], max = [...] }, or cylinder = { point, axis, radius, length } (with a box: the part inside it)",
+                ));
+            }
+        };
+        if added == 0 {
             return Err(SceneError::field(
-                f("box"),
-                format!("holds no lattice point at spacing {}: make it at least one spacing wide", settings.spacing),
+                format!("sph.regions[{k}]"),
+                format!("holds no fluid at spacing {}: make it at least one spacing wide", settings.spacing),
             ));
         }
     }
@@ -203,6 +225,21 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
 /// The scene's walls as dummy particles on the fluid's side: a box's closed sides (the fluid
 /// inside), an axis-aligned plane's layers behind it across the domain, a cylinder's rings.
 /// Returns the cylinders, whose wrong side the fluid must leave.
+/// A region's cylinder, checked: positive radius and length, a unit axis (in 2D along y).
+fn region_cylinder(field: &str, c: &SphCylinderSection, dimension: Dimension) -> Result<Cylinder, SceneError> {
+    positive(&format!("{field}.radius"), c.radius)?;
+    positive(&format!("{field}.length"), c.length)?;
+    let axis = finite3(&format!("{field}.axis"), c.axis)?;
+    if axis.length() == 0.0 {
+        return Err(SceneError::field(format!("{field}.axis"), "must be a non-zero direction"));
+    }
+    let axis = axis.normalize();
+    if dimension == Dimension::Two && axis.cross(DVec3::Y).length() > 1e-9 {
+        return Err(SceneError::field(format!("{field}.axis"), "a 2D fluid moves in the x–z plane: the cylinder's axis must be y"));
+    }
+    Ok(Cylinder::new(finite3(&format!("{field}.point"), c.point)?, axis, c.radius, c.length, true))
+}
+
 /// What the walls clear fluid from (the wrong side of a cylinder, the space behind a rectangle
 /// and within Δp/2 in front of it), and the moving walls, each with its `[[walls]]` index and the
 /// largest speed of its wall particles at full rate.
@@ -359,8 +396,12 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
     let (lo, hi) = (settings.domain.min, settings.domain.max);
     let clip = |min: V3, max: V3| (DVec3::from(min).max(lo), DVec3::from(max).min(hi));
     let mut total = 0.0;
+    let per_volume = |v: f64| v / settings.spacing.powi(settings.dimension.count());
     for r in &s.regions {
-        if let Some(b) = &r.box_ {
+        if let Some(c) = &r.cylinder {
+            let area = std::f64::consts::PI * c.radius * c.radius;
+            total += per_volume(if settings.dimension == Dimension::Two { area } else { area * c.length.abs() }).min(f64::MAX);
+        } else if let Some(b) = &r.box_ {
             let (min, max) = clip(b.min, b.max);
             total += sites(settings, min, max);
         }
@@ -376,6 +417,12 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
             let around = std::f64::consts::TAU * (c.radius.abs() + thickness) / settings.spacing;
             let along = if settings.dimension == Dimension::Two { 1.0 } else { c.length.abs() / settings.spacing + 1.0 };
             total += (around * along * wall_layers(settings) as f64).min(f64::MAX);
+        } else if let Some(q) = &w.quad {
+            // Layers behind the rectangle: its area over Δp² (2D: its longer edge over Δp) each.
+            let c: Vec<DVec3> = q.corners.iter().map(|&c| DVec3::from(c)).collect();
+            let (a, b) = ((c[1] - c[0]).length(), (c[3] - c[0]).length());
+            let each = if settings.dimension == Dimension::Two { a.max(b) / settings.spacing } else { a * b / settings.spacing.powi(2) };
+            total += (each * wall_layers(settings) as f64).min(f64::MAX);
         } else if w.plane.is_some() {
             // A slab across the domain, a wall's thickness deep.
             let full = sites(settings, lo, hi);

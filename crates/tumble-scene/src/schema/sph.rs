@@ -84,8 +84,21 @@ impl Default for DensityDiffusionSection {
 pub struct SphRegionSection {
     #[serde(rename = "box")]
     pub box_: Option<SphBoxSection>,
+    /// The inside of a cylinder, filled in rings that follow its surface (with `box`: only the
+    /// part inside the box, a drum filled to a level).
+    pub cylinder: Option<SphCylinderSection>,
     #[serde(default)]
     pub velocity: V3,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphCylinderSection {
+    /// The centre of one end.
+    pub point: V3,
+    pub axis: V3,
+    pub radius: f64,
+    pub length: f64,
 }
 
 #[derive(Clone, Debug, Deserialize)]
