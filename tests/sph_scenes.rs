@@ -288,6 +288,56 @@ motion = {{ translate = {{ velocity = [0.0, 0.0, 0.68] }}, start = 0.1, stop = 0
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Sloshing: a tank 0.2 m long holding water 0.05 m deep is shaken along x (2 mm at 1.6 Hz, its
+/// first mode's frequency) for two periods, then stands. The water sloshes on at the period of
+/// linear theory, T₁ = 2π/√(g k tanh k h) with k = π/L (0.625 s; Faltinsen & Timokha 2009), within
+/// 3 % (measured −1.8 % at 10 particles over the depth: a wave of 8 mm on 50 mm is not quite
+/// linear, and the gauge reads in steps of Δp/4).
+#[test]
+fn a_shaken_tank_sloshes_at_its_natural_period() {
+    let dir = tmp("slosh");
+    let scene = dir.join("slosh.toml");
+    let head = water_2d("slosh", 3.2, 0.01, [-0.01, -0.01, 0.0], [0.21, 0.01, 0.12]);
+    std::fs::write(
+        &scene,
+        format!(
+            r#"{head}[[sph.regions]]
+box = {{ min = [0.0, 0.0, 0.0], max = [0.2, 0.0, 0.05] }}
+[[sph.probes]]
+name = "left"
+gauge = {{ from = [0.0075, 0.0, 0.0], to_z = 0.1 }}
+[[walls]]
+name = "tank"
+box = {{ min = [0.0, -0.01, 0.0], max = [0.2, 0.01, 0.1] }}
+motion = {{ oscillate = {{ direction = [1.0, 0.0, 0.0], amplitude = 0.002, frequency = 1.6 }}, stop = 1.25 }}
+"#
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (time, height) = (column(&out.join("probe_left.csv"), "t"), column(&out.join("probe_left.csv"), "height"));
+    let free: Vec<(f64, f64)> = time.iter().zip(&height).filter(|(t, _)| **t > 1.3).map(|(&t, &h)| (t, h)).collect();
+    let mean = free.iter().map(|p| p.1).sum::<f64>() / free.len() as f64;
+    let swing = free.iter().map(|p| (p.1 - mean).abs()).fold(0.0, f64::max);
+    // Upward crossings of the mean level, interpolated between rows.
+    let crossings: Vec<f64> = free
+        .windows(2)
+        .filter(|w| w[0].1 < mean && w[1].1 >= mean)
+        .map(|w| w[0].0 + (mean - w[0].1) / (w[1].1 - w[0].1) * (w[1].0 - w[0].0))
+        .collect();
+    let (l, depth, g) = (0.2, 0.05, G);
+    let k = std::f64::consts::PI / l;
+    let linear = std::f64::consts::TAU / (g * k * (k * depth).tanh()).sqrt();
+    println!("sloshing: swing {swing:.4} m, upward crossings {crossings:?}; linear period {linear:.4} s");
+    assert!(swing > 0.003, "the shaken tank left the water nearly still: swing {swing} m");
+    assert!(crossings.len() >= 3, "{crossings:?}");
+    let period = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+    assert!((period / linear - 1.0).abs() < 0.03, "the water sloshes with period {period:.4} s, linear theory {linear:.4} s");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The shipped dam break at half its spacing (20 particles over the column's height): the
 /// surge front against Martin & Moyce's, with the lead of +2 … +6 % this resolution has (docs/sph.md).
 #[test]
