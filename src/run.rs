@@ -239,9 +239,6 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
 /// checkpoint there and `seed` is set; the warnings say what the seed did not carry over.
 pub(crate) fn set_up(backend: BackendName, compiled: CompiledScene, threads: usize, seed: bool) -> Result<(Simulation, Vec<String>), RunError> {
     let on = |e: tumble_gpu::GpuError| RunError::Backend(format!("backend {}: {e}", backend.name()));
-    if backend == BackendName::Gpu && compiled.plan.sph.is_some() {
-        return Err(RunError::Backend("backend gpu: the SPH fluid ([sph]) runs on the CPU backend so far; use --backend cpu".into()));
-    }
     let Some(from) = compiled.plan.run.start_from.clone().filter(|_| seed) else {
         return Ok((Simulation::on(backend, compiled, threads).map_err(on)?, Vec::new()));
     };

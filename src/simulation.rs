@@ -321,7 +321,7 @@ fn phases(scene: &mut CompiledScene, threads: usize) -> Vec<Box<dyn Phase>> {
 /// The SPH fluid runs on the CPU backend so far.
 fn refuse_fluid_on_gpu(scene: &CompiledScene) -> Result<(), GpuError> {
     match scene.plan.sph {
-        Some(_) => Err(GpuError::Unsupported("the SPH fluid ([sph]) runs on the CPU backend so far; use --backend cpu".into())),
+        Some(_) => Err(GpuError::Feature("the SPH fluid ([sph]) runs on the CPU backend so far; use --backend cpu".into())),
         None => Ok(()),
     }
 }
