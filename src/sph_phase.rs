@@ -1,6 +1,6 @@
 //! The SPH fluid as a phase of a run: tumble-sph's [`FluidPhase`] stepped on the run's threads,
-//! its sums and probes as output tables (`fluid.csv`, `probe_<name>.csv`), its particles as the
-//! `fluid` snapshot series.
+//! its sums, probes and floating bodies as output tables (`fluid.csv`, `probe_<name>.csv`,
+//! `floating_<name>.csv`), its particles as the `fluid` snapshot series.
 
 use serde::{Deserialize, Serialize};
 use tumble_scene::{Plan, SphPlan, SphProbe, SphProbeKind};
@@ -11,6 +11,7 @@ use tumble_state::{Phase, PhasePoints, PhaseTable};
 pub struct SphPhase {
     phase: FluidPhase,
     probes: Vec<SphProbe>,
+    floating: Vec<String>,
     fluid_particles: usize,
     pool: rayon::ThreadPool,
     /// The largest energy gain allowed, as a share of the energy scale; None: not watched.
@@ -19,8 +20,9 @@ pub struct SphPhase {
 }
 
 /// The fluid's energy monitor: in a closed tank with static walls and no body force, the total
-/// energy (kinetic + potential + elastic) only falls (viscosity, δ-SPH), up to the time-step
-/// error; a gain beyond `energy_growth` times its scale is an instability.
+/// energy (kinetic + potential + elastic, and the floating bodies' kinetic and potential) only
+/// falls (viscosity, δ-SPH), up to the time-step error; a gain beyond `energy_growth` times its
+/// scale is an instability.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 struct EnergyBooks {
     /// The lowest total energy seen at an output row, J.
@@ -41,6 +43,15 @@ fn total(o: &FluidObservables) -> f64 {
     o.kinetic_energy + o.potential_energy + o.elastic_energy
 }
 
+/// The floating bodies' kinetic and potential energy, J.
+fn bodies_energy(phase: &FluidPhase) -> (f64, f64) {
+    let s = phase.settings();
+    s.floating
+        .iter()
+        .zip(phase.bodies())
+        .fold((0.0, 0.0), |(k, u), (body, state)| (k + state.kinetic_energy(body), u + state.potential_energy(body, s.gravity)))
+}
+
 impl SphPhase {
     /// The phase of `plan` over its starting `particles`, stepped on `threads` threads (its
     /// results do not depend on how many).
@@ -55,15 +66,20 @@ impl SphPhase {
         let releasable: f64 = (0..particles.len())
             .filter(|&i| particles.kind[i] == ParticleKind::Fluid)
             .map(|i| particles.mass[i] * g.dot(low - particles.position[i]))
-            .sum();
+            .sum::<f64>()
+            + sph.settings.floating.iter().map(|b| b.mass * g.dot(low - b.start.centre)).sum::<f64>();
         let phase = FluidPhase::new(sph.settings.clone(), particles)?;
         let o = phase.observables();
-        let energy = EnergyBooks { lowest: total(&o), scale: (o.kinetic_energy + o.elastic_energy).max(0.01 * releasable.abs()) };
+        let (body_kinetic, body_potential) = bodies_energy(&phase);
+        let energy = EnergyBooks {
+            lowest: total(&o) + body_kinetic + body_potential,
+            scale: (o.kinetic_energy + o.elastic_energy + body_kinetic).max(0.01 * releasable.abs()),
+        };
         let monitor = &plan.run.monitor;
         // A body force or a moving wall does work on the fluid: its energy may grow, so it is not watched.
         let energy_growth = (monitor.enabled && sph.settings.body_force == glam::DVec3::ZERO && sph.settings.moving_walls.is_empty())
             .then_some(monitor.energy_growth);
-        Ok(SphPhase { phase, probes: sph.probes.clone(), fluid_particles, pool, energy_growth, energy })
+        Ok(SphPhase { phase, probes: sph.probes.clone(), floating: sph.floating.clone(), fluid_particles, pool, energy_growth, energy })
     }
 
     /// The fluid itself, for tests and tools.
@@ -84,6 +100,39 @@ impl SphPhase {
             SphProbeKind::Front(d) => (&["front"], vec![p.front(d)]),
         };
         PhaseTable { file: format!("probe_{}.csv", probe.name), columns: columns.iter().map(|c| c.to_string()).collect(), values }
+    }
+
+    /// A floating body's row: where it is, how it is turned (the rotation vector from its start,
+    /// rad), how it moves, and the fluid's force and torque on it.
+    fn body_table(&self, k: usize) -> PhaseTable {
+        let b = &self.phase.bodies()[k];
+        let turn = b.orientation.to_scaled_axis();
+        let columns = [
+            "x",
+            "y",
+            "z",
+            "rotation_x",
+            "rotation_y",
+            "rotation_z",
+            "velocity_x",
+            "velocity_y",
+            "velocity_z",
+            "angular_velocity_x",
+            "angular_velocity_y",
+            "angular_velocity_z",
+            "force_x",
+            "force_y",
+            "force_z",
+            "torque_x",
+            "torque_y",
+            "torque_z",
+        ];
+        let vectors = [b.centre, turn, b.velocity, b.angular_velocity, b.fluid_force, b.fluid_torque];
+        PhaseTable {
+            file: format!("floating_{}.csv", self.floating[k]),
+            columns: columns.iter().map(|c| c.to_string()).collect(),
+            values: vectors.iter().flat_map(|v| v.to_array()).collect(),
+        }
     }
 }
 
@@ -137,14 +186,18 @@ impl Phase for SphPhase {
             limit.dt(),
         ];
         let fluid = PhaseTable { file: "fluid.csv".into(), columns: columns.iter().map(|c| c.to_string()).collect(), values };
-        std::iter::once(fluid).chain(self.probes.iter().map(|q| self.probe_table(q))).collect()
+        std::iter::once(fluid)
+            .chain(self.probes.iter().map(|q| self.probe_table(q)))
+            .chain((0..self.floating.len()).map(|k| self.body_table(k)))
+            .collect()
     }
 
     fn check(&mut self) -> Result<(), String> {
         let o = self.pool.install(|| self.phase.observables());
-        let e = total(&o);
+        let (body_kinetic, body_potential) = bodies_energy(&self.phase);
+        let e = total(&o) + body_kinetic + body_potential;
         let books = &mut self.energy;
-        books.scale = books.scale.max(o.kinetic_energy + o.elastic_energy);
+        books.scale = books.scale.max(o.kinetic_energy + o.elastic_energy + body_kinetic);
         let gain = e - books.lowest;
         books.lowest = books.lowest.min(e);
         let Some(growth) = self.energy_growth else { return Ok(()) };
@@ -160,7 +213,7 @@ impl Phase for SphPhase {
             _ => "raise the sound speed (sph.sound_speed_factor) or the artificial viscosity's alpha",
         };
         Err(format!(
-            "the fluid's energy (kinetic + potential + elastic) grew by {gain:.4e} J by t = {:.6e} s, {:.2} times its scale {:.4e} J, without a source (run.monitor.energy_growth = {growth}): the method is unstable here; {advice}",
+            "the fluid's energy (kinetic + potential + elastic, with its floating bodies') grew by {gain:.4e} J by t = {:.6e} s, {:.2} times its scale {:.4e} J, without a source (run.monitor.energy_growth = {growth}): the method is unstable here; {advice}",
             self.phase.time(),
             gain / books.scale,
             books.scale
@@ -171,6 +224,7 @@ impl Phase for SphPhase {
         let p = self.phase.particles();
         let eos = self.phase.equation_of_state();
         let walls = self.phase.pressure();
+        let moving = self.phase.settings().moving_walls.len();
         // Sorted by id, as the particles' snapshots are.
         let mut order: Vec<usize> = (0..p.len()).collect();
         order.sort_by_key(|&i| p.id[i]);
@@ -189,7 +243,8 @@ impl Phase for SphPhase {
             ],
             vectors: vec![("velocity", order.iter().map(|&i| p.velocity[i]).collect())],
             integers: vec![
-                ("kind", order.iter().map(|&i| if p.kind[i] == ParticleKind::Fluid { 0 } else { 1 }).collect()),
+                // 0 fluid, 1 wall, 2 a floating body's particle.
+                ("kind", order.iter().map(|&i| kind_number(p, i, moving)).collect()),
                 ("id", order.iter().map(|&i| p.id[i] as i32).collect()),
             ],
         }
@@ -204,5 +259,14 @@ impl Phase for SphPhase {
         self.phase.restore(&section.fluid)?;
         self.energy = section.energy;
         Ok(())
+    }
+}
+
+/// A particle's `kind` in the fluid's snapshots: 0 fluid, 1 wall, 2 a floating body's particle.
+fn kind_number(p: &FluidParticles, i: usize, moving_walls: usize) -> i32 {
+    match p.kind[i] {
+        ParticleKind::Fluid => 0,
+        ParticleKind::Wall if p.wall[i] as usize > moving_walls => 2,
+        ParticleKind::Wall => 1,
     }
 }

@@ -453,3 +453,61 @@ fn the_plan_states_the_fluid_and_the_gpu_refuses_it() {
     assert!(!out.exists(), "a refused run wrote {}", out.display());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The shipped floating box at twice its spacing: dropped into the tank, it floats at the end
+/// with half its height under water (Archimedes: its density is half the water's), its draft
+/// from the two gauges and floating_box.csv within a quarter of a spacing over the last 1.4 s
+/// (two periods of its heave), upright, the fluid's force on it its weight on average; the
+/// energy monitor (fluid and body) let it run. A wrong density or size in the scene's
+/// translation, or a body table with the wrong columns, fails one of these.
+#[test]
+fn the_shipped_floating_box_floats_at_its_archimedes_draft() {
+    let dir = tmp("floating");
+    let text = std::fs::read_to_string(root().join("scenes/floating_box.toml")).unwrap().replace("spacing = 0.005", "spacing = 0.01");
+    let text = text.replace("snapshot_interval = 0.05\n", "");
+    let scene = dir.join("floating.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("out");
+    let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let body = out.join("floating_box.csv");
+    let (t, z, force, turn) = (column(&body, "t"), column(&body, "z"), column(&body, "force_z"), column(&body, "rotation_y"));
+    let (left, right) = (column(&out.join("probe_left.csv"), "height"), column(&out.join("probe_right.csv"), "height"));
+    let late: Vec<usize> = (0..t.len()).filter(|&k| t[k] >= 1.6 - 1e-9).collect();
+    let mean = |f: &dyn Fn(usize) -> f64| late.iter().map(|&k| f(k)).sum::<f64>() / late.len() as f64;
+    let draft = mean(&|k| 0.5 * (left[k] + right[k]) - (z[k] - 0.04));
+    let weight = 500.0 * 0.16 * 0.08 * G;
+    let lift = mean(&|k| force[k]);
+    println!("draft {draft:.5} m (0.04 expected), mean fluid force {lift:.3} N/m against the weight {weight:.3} N/m");
+    assert!((draft - 0.04).abs() < 0.25 * 0.01, "the box floats with a draft of {draft:.5} m");
+    assert!((lift - weight).abs() < 0.05 * weight, "the fluid holds the box up with {lift:.3} N/m; it weighs {weight:.3} N/m");
+    assert!(late.iter().all(|&k| turn[k].abs() < 0.05), "the box turned over");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run with a floating body writes the same files on 1 and 2 threads, and one checkpointed
+/// halfway and resumed writes the same files as one that went straight through.
+#[test]
+fn floating_body_runs_are_thread_independent_and_resume_bit_identically() {
+    let dir = tmp("floating-resume");
+    let text = std::fs::read_to_string(root().join("scenes/floating_box.toml")).unwrap().replace("spacing = 0.005", "spacing = 0.01");
+    let scene = dir.join("floating.toml");
+    std::fs::write(&scene, text.replace("0.25], max = [0.33, 0.0, 0.33]", "0.16], max = [0.33, 0.0, 0.24]")).unwrap();
+    let scene = scene.to_str().unwrap();
+    let run = |out: &Path, duration: &str, threads: &str| {
+        let args = ["run", scene, "--quiet", "--duration", duration, "--threads", threads, "--checkpoint-interval", "0.05", "--out"];
+        let o = tumble(&[&args[..], &[out.to_str().unwrap()]].concat());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let (one, two, halves) = (dir.join("one"), dir.join("two"), dir.join("halves"));
+    run(&one, "0.2", "1");
+    run(&two, "0.2", "2");
+    assert_same_files(&one, &two);
+    run(&halves, "0.1", "2");
+    let o = tumble(&["resume", halves.to_str().unwrap(), "--quiet", "--duration", "0.2", "--threads", "1"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_same_files(&one, &halves);
+    let z = column(&one.join("floating_box.csv"), "z");
+    assert!(z[z.len() - 1] != z[0], "the box never moved");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -193,6 +193,15 @@ fn describe_sph(s: &mut String, p: &crate::SphPlan) {
             w.timing.ramp
         );
     }
+    for (name, body) in p.floating.iter().zip(&f.floating) {
+        let _ = writeln!(
+            s,
+            "fluid body   \"{name}\": {:.4e} kg{}, centre {} m, moved by the fluid's pressure and viscosity and by gravity (it does not collide with walls or other bodies); floating_{name}.csv",
+            body.mass,
+            if f.dimension == Dimension::Two { " per metre of span" } else { "" },
+            body.start.centre
+        );
+    }
     for probe in &p.probes {
         let what = match probe.kind {
             crate::SphProbeKind::Pressure(x) => format!("pressure at {x}"),

@@ -247,6 +247,8 @@ pub struct SphPlan {
     pub fluid_particles: usize,
     pub wall_particles: usize,
     pub probes: Vec<SphProbe>,
+    /// The names of the floating bodies, in the order of `settings.floating`.
+    pub floating: Vec<String>,
     /// What `tumble plan` warns about the method's settings.
     pub warnings: Vec<String>,
 }

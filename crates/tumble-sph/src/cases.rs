@@ -76,6 +76,7 @@ impl ColumnInTank {
                 periodic: [false; 3],
             },
             moving_walls: Vec::new(),
+            floating: Vec::new(),
         };
         let mut particles = FluidParticles::default();
         let depth = if three_d { self.depth } else { 0.0 };

@@ -13,7 +13,9 @@
 
 pub mod cases;
 mod eos;
+mod floating;
 mod kernel;
+mod limits;
 mod neighbours;
 mod particles;
 mod pass;
@@ -24,13 +26,15 @@ mod settings;
 mod setup;
 
 pub use eos::{GAMMA, Tait};
+pub use floating::{BodyShape, BodyState, FloatingBody};
 pub use kernel::{Dimension, WendlandC2};
+pub use limits::{FluidFault, TimeStepLimits};
 pub use neighbours::SKIN;
 pub use particles::{
     Aabb, ClosedSides, FluidParticles, ParticleKind, Rectangle, cylinder_fill, cylinder_shell, lattice_points, on_fluid_side, rectangle_layers,
     wall_shell,
 };
-pub use phase::{FluidFault, FluidObservables, FluidPhase, FluidSnapshot, TimeStepLimits};
+pub use phase::{FluidObservables, FluidPhase, FluidSnapshot};
 pub use rates::Rates;
 pub use settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity};
 pub use setup::{add_fluid_block, add_fluid_cylinder, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, wall_layers};

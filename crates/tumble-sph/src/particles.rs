@@ -25,8 +25,10 @@ pub struct FluidParticles {
     /// A fluid particle's density (evolved); a wall particle's last extrapolated density.
     pub density: Vec<f64>,
     pub mass: Vec<f64>,
-    /// The moving wall a wall particle belongs to: k + 1 for `FluidSettings::moving_walls[k]`,
-    /// 0 for a fluid particle or a wall moving at its constant velocity.
+    /// The moving wall or floating body a wall particle belongs to: k + 1 for
+    /// `FluidSettings::moving_walls[k]`, then the floating bodies
+    /// ([`FluidSettings::body_wall_number`](crate::FluidSettings::body_wall_number)); 0 for a
+    /// fluid particle or a wall moving at its constant velocity.
     #[serde(default)]
     pub wall: Vec<u16>,
 }

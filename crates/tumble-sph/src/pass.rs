@@ -387,3 +387,54 @@ pub(crate) fn wall_sums<const PLANE: bool>(
         velocity: DVec3::new(sum(&sum_v[0]), sum(&sum_v[1]), sum(&sum_v[2])),
     }
 }
+
+/// The force the fluid particles of `list` exert on wall particle `w` (a floating body's): minus
+/// the sum of what each of them feels from `w` in [`particle_rates`] (pressure with the tensile
+/// term, the viscosity, the repulsion), each term computed as the fluid particle computes it, so
+/// that fluid and body exchange equal and opposite forces and momentum is conserved to round-off.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn wall_reaction<const LAMINAR: bool, const TENSILE: bool>(
+    k: &PassConstants,
+    n: &Neighbourhood,
+    separation: impl Fn(DVec3, DVec3) -> DVec3,
+    w: usize,
+    list: &[u32],
+) -> DVec3 {
+    let (xw, vvw, rho_w, mw) = (n.position[w], n.viscous_velocity[w], n.density[w], n.mass[w]);
+    let mut force = DVec3::ZERO;
+    for &f in list {
+        let f = f as usize;
+        let d = separation(n.position[f], xw);
+        let r2 = d.length_squared();
+        if r2 >= k.support2 {
+            continue;
+        }
+        let r = r2.sqrt();
+        let q = r * k.inv_h;
+        let s = (1.0 - 0.5 * q).max(0.0);
+        let s2 = s * s;
+        let gw = k.gradient_scale * s2 * s;
+        let kernel = k.alpha * s2 * s2 * (2.0 * q + 1.0);
+        let (vf, rho_f) = (n.velocity[f], n.density[f]);
+        let mut p_term = n.pressure_term[f] + n.pressure_term[w];
+        if TENSILE {
+            let x = kernel * k.inv_w_dp;
+            let x2 = x * x;
+            p_term += (n.tensile[f] + n.tensile[w]) * x2 * x2;
+        }
+        let laminar = if LAMINAR {
+            mw * k.two_mu * r2 * gw / (rho_f * rho_w * (r2 + k.laminar_eta2))
+        } else {
+            let vr = (vf - vvw).dot(d);
+            p_term -= k.av_scale * vr.min(0.0) / (0.5 * (rho_f + rho_w) * (r2 + k.eta2));
+            0.0
+        };
+        let repulsion = k.stiffness * (k.reach - r).max(0.0) / r.max(k.tiny);
+        let mut acceleration = (repulsion - mw * p_term * gw) * d;
+        if LAMINAR {
+            acceleration += laminar * (vf - vvw);
+        }
+        force -= n.mass[f] * acceleration;
+    }
+    force
+}

@@ -4,83 +4,12 @@ use rayon::prelude::*;
 use tumble_geom::DVec3;
 
 use crate::eos::Tait;
+use crate::floating::{BodyMove, BodyState};
+use crate::limits::{FluidFault, TimeStepLimits};
 use crate::neighbours::{FluidGrid, rebuild_distance};
 use crate::particles::{FluidParticles, ParticleKind};
-use crate::rates::{Method, PairInputs, Rates, evaluate, prepare};
+use crate::rates::{Method, PairInputs, Rates, WallsAt, body_loads, evaluate, prepare};
 use crate::settings::{FluidSettings, MovingWall, Viscosity};
-
-/// The three conditions on the fluid's time step (Monaghan 1992; Morris et al. 1997).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TimeStepLimits {
-    /// Δt ≤ 0.25 h / (c₀ + v): a sound wave crosses a quarter of h per step.
-    pub cfl: f64,
-    /// Δt ≤ 0.125 h² ρ₀ / μ: momentum diffuses across an eighth of h² per step.
-    pub viscous: f64,
-    /// Δt ≤ 0.25 √(h / |a|).
-    pub force: f64,
-}
-
-impl TimeStepLimits {
-    /// The limits for a flow of speed `speed` whose particles accelerate at most at `acceleration`.
-    pub fn new(settings: &FluidSettings, speed: f64, acceleration: f64) -> Self {
-        let h = settings.h;
-        TimeStepLimits {
-            cfl: 0.25 * h / (settings.sound_speed + speed),
-            viscous: if settings.mu > 0.0 { 0.125 * h * h * settings.rho0 / settings.mu } else { f64::INFINITY },
-            force: if acceleration > 0.0 { 0.25 * (h / acceleration).sqrt() } else { f64::INFINITY },
-        }
-    }
-
-    /// The limits a plan uses before the flow exists: the expected speed c₀/10 and the external
-    /// acceleration.
-    pub fn planned(settings: &FluidSettings) -> Self {
-        Self::new(settings, 0.1 * settings.sound_speed, settings.external_acceleration().length())
-    }
-
-    pub fn dt(&self) -> f64 {
-        self.cfl.min(self.viscous).min(self.force)
-    }
-
-    /// Which condition binds, in words.
-    pub fn binding(&self) -> &'static str {
-        let dt = self.dt();
-        if dt == self.cfl {
-            "the sound speed (CFL)"
-        } else if dt == self.viscous {
-            "the viscosity"
-        } else {
-            "the largest acceleration"
-        }
-    }
-}
-
-/// Why a fluid step could not be trusted.
-#[derive(Clone, Debug, PartialEq)]
-pub enum FluidFault {
-    /// A fluid particle's position, velocity or density is not finite.
-    NotFinite { id: u32, time: f64 },
-    /// A particle moved further in one step than the grid's skin allows: the flow outran the
-    /// sound speed the time step was chosen for.
-    TooFast { id: u32, time: f64, speed: f64, sound_speed: f64, dt_that_works: f64 },
-}
-
-impl std::fmt::Display for FluidFault {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            FluidFault::NotFinite { id, time } => {
-                write!(f, "fluid particle {id} has a non-finite position, velocity or density at t = {time:.6e} s")
-            }
-            FluidFault::TooFast { id, time, speed, sound_speed, dt_that_works } => write!(
-                f,
-                "fluid particle {id} moves at {speed:.4e} m/s at t = {time:.6e} s, {:.2} times the sound speed {sound_speed:.4e} m/s: \
-                 the fluid is unstable; raise the sound speed or use a time step of at most {dt_that_works:.4e} s",
-                speed / sound_speed
-            ),
-        }
-    }
-}
-
-impl std::error::Error for FluidFault {}
 
 /// The fluid's sums at one instant (the observables of an output row).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -98,19 +27,26 @@ pub struct FluidObservables {
     pub largest_speed: f64,
 }
 
-/// Moves every particle by half a step, from `t0` to `t0 + half`: a fluid particle with the
-/// advection velocity `fluid` returns after updating its velocity and density in place, a wall
-/// particle with its velocity, or by its moving wall's motion (which then gives its velocity).
+/// How the moving walls and floating bodies carry their particles over one half step, from `t0`
+/// to `t0 + half`.
+struct WallMoves<'a> {
+    moving: &'a [MovingWall],
+    t0: f64,
+    bodies: &'a [BodyMove],
+}
+
+/// Moves every particle by half a step: a fluid particle with the advection velocity `fluid`
+/// returns after updating its velocity and density in place, a wall particle with its velocity,
+/// or by its moving wall's motion or its floating body's move (which then give its velocity).
 /// Returns the particle that moved furthest (the lowest index among equals) and how far.
 fn drift(
     grid: &FluidGrid,
     p: &mut FluidParticles,
-    moving: &[MovingWall],
-    t0: f64,
+    walls: &WallMoves,
     half: f64,
     fluid: impl Fn(usize, &mut DVec3, &mut f64) -> DVec3 + Sync,
 ) -> (usize, f64) {
-    let wall = &p.wall;
+    let (wall, moving, t0) = (&p.wall, walls.moving, walls.t0);
     p.position
         .par_iter_mut()
         .zip(p.velocity.par_iter_mut())
@@ -121,11 +57,17 @@ fn drift(
             let step = match (k, wall[i]) {
                 (ParticleKind::Fluid, _) => half * fluid(i, v, rho),
                 (ParticleKind::Wall, 0) => half * *v,
-                (ParticleKind::Wall, w) => {
+                (ParticleKind::Wall, w) if w as usize <= moving.len() => {
                     let motion = &moving[w as usize - 1];
                     let to = motion.advance(*x, t0, t0 + half);
                     *v = motion.velocity_at(to, t0 + half);
                     to - *x
+                }
+                (ParticleKind::Wall, w) => {
+                    let body = &walls.bodies[w as usize - 1 - moving.len()];
+                    let (step, velocity) = body.carry(grid.separation(*x, body.from));
+                    *v = velocity;
+                    step
                 }
             };
             *x = grid.wrap(*x + step);
@@ -144,6 +86,9 @@ pub struct FluidSnapshot {
     pub particles: FluidParticles,
     /// The positions the neighbour lists were built from, or none when the next step rebuilds them.
     pub list_positions: Option<Vec<DVec3>>,
+    /// The floating bodies, in the settings' order.
+    #[serde(default)]
+    pub bodies: Vec<BodyState>,
 }
 
 /// A weakly compressible SPH fluid: fluid and wall particles, stepped by the symplectic scheme.
@@ -156,6 +101,9 @@ pub struct FluidPhase {
     rates: Rates,
     start_velocity: Vec<DVec3>,
     start_density: Vec<f64>,
+    bodies: Vec<BodyState>,
+    /// The particles of the floating bodies (sorted indices, ascending), found after each sort.
+    body_particles: Vec<u32>,
     /// The next step re-sorts the arrays and rebuilds the neighbour lists first.
     lists_due: bool,
     time: f64,
@@ -181,15 +129,28 @@ impl FluidPhase {
         if particles.wall.len() != particles.len() {
             return Err("the fluid's particles lack their moving-wall numbers".into());
         }
+        for body in &settings.floating {
+            let inertia = body.inertia;
+            let positive_definite = inertia[0].x > 0.0
+                && inertia[1].y > 0.0
+                && inertia[2].z > 0.0
+                && glam::DMat3::from_cols(inertia[0], inertia[1], inertia[2]).determinant() > 0.0;
+            if !(body.mass > 0.0 && body.mass.is_finite() && positive_definite) {
+                return Err(format!("a floating body needs a positive finite mass and inertia (got {} kg)", body.mass));
+            }
+        }
+        let (moving, bodies) = (settings.moving_walls.len(), settings.floating.len());
         for (i, &w) in particles.wall.iter().enumerate() {
-            if w as usize > settings.moving_walls.len() || (w > 0 && particles.kind[i] != ParticleKind::Wall) {
+            if w as usize > moving + bodies || (w > 0 && particles.kind[i] != ParticleKind::Wall) {
                 return Err(format!(
-                    "particle {i} names moving wall {w}; there are {}, and only wall particles move with one",
-                    settings.moving_walls.len()
+                    "particle {i} names moving wall {w}; there are {moving} moving walls and {bodies} floating bodies, and only wall particles move with one"
                 ));
             }
-            if w > 0 {
+            if w > 0 && (w as usize) <= moving {
                 particles.velocity[i] = settings.moving_walls[w as usize - 1].velocity_at(particles.position[i], 0.0);
+            } else if w > 0 {
+                let body = &settings.floating[w as usize - 1 - moving].start;
+                particles.velocity[i] = body.velocity_at(particles.position[i] - body.centre);
             }
         }
         let mut grid = FluidGrid::new(settings.domain, 2.0 * settings.h)?;
@@ -198,6 +159,8 @@ impl FluidPhase {
         }
         grid.sort(&mut particles);
         let method = Method::new(&settings);
+        let bodies = settings.floating.iter().map(|b| b.start).collect();
+        let body_particles = members(&particles, moving);
         Ok(FluidPhase {
             settings,
             method,
@@ -207,6 +170,8 @@ impl FluidPhase {
             rates: Rates::default(),
             start_velocity: Vec::new(),
             start_density: Vec::new(),
+            bodies,
+            body_particles,
             lists_due: false,
             time: 0.0,
             steps: 0,
@@ -227,6 +192,11 @@ impl FluidPhase {
 
     pub fn steps(&self) -> u64 {
         self.steps
+    }
+
+    /// The floating bodies, in the settings' order.
+    pub fn bodies(&self) -> &[BodyState] {
+        &self.bodies
     }
 
     pub fn equation_of_state(&self) -> Tait {
@@ -255,6 +225,7 @@ impl FluidPhase {
             + n(self.inputs.viscous_velocity.capacity(), 24)
             + n(self.rates.acceleration.capacity() + self.rates.xsph.capacity() + self.start_velocity.capacity(), 24)
             + n(self.rates.density_rate.capacity() + self.start_density.capacity(), 8)
+            + n(self.body_particles.capacity(), 4)
             + self.grid.memory_bytes()
     }
 
@@ -265,6 +236,7 @@ impl FluidPhase {
             steps: self.steps,
             particles: self.particles.clone(),
             list_positions: (!self.lists_due).then(|| self.grid.built_positions().to_vec()),
+            bodies: self.bodies.clone(),
         }
     }
 
@@ -284,6 +256,13 @@ impl FluidPhase {
         {
             return Err("the fluid snapshot's neighbour-list positions do not match its particles".into());
         }
+        if snapshot.bodies.len() != self.settings.floating.len() {
+            return Err(format!(
+                "the fluid snapshot holds {} floating bodies; the scene has {}",
+                snapshot.bodies.len(),
+                self.settings.floating.len()
+            ));
+        }
         self.particles = snapshot.particles.clone();
         match &snapshot.list_positions {
             Some(built) => {
@@ -292,6 +271,8 @@ impl FluidPhase {
             }
             None => self.lists_due = true,
         }
+        self.body_particles = members(&self.particles, self.settings.moving_walls.len());
+        self.bodies.clone_from(&snapshot.bodies);
         self.time = snapshot.time;
         self.steps = snapshot.steps;
         Ok(())
@@ -319,29 +300,43 @@ impl FluidPhase {
     /// One step of Δt: the symplectic position-Verlet scheme of DualSPHysics (Monaghan 2005):
     /// rates at n give the half-step state; rates there give v^{n+1} = v^n + Δt a^{n+½},
     /// x^{n+1} = x^{n+½} + ½Δt v^{n+1}, ρ^{n+1} = ρ^n (2 − ε)/(2 + ε) with ε = −Δt (dρ/dt)^{n+½}/ρ^{n+½}.
+    /// Floating bodies take the same scheme: their loads at n and n+½ give their velocities, and
+    /// their particles drift with them.
     pub fn step(&mut self, dt: f64) -> Result<(), FluidFault> {
         if self.lists_due {
             self.grid.sort(&mut self.particles);
+            self.body_particles = members(&self.particles, self.settings.moving_walls.len());
             self.lists_due = false;
         }
         let half = 0.5 * dt;
-        let moving = &self.settings.moving_walls;
-        prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs, moving, self.time);
+        let walls = WallsAt { moving: &self.settings.moving_walls, bodies: &self.bodies, time: self.time };
+        prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs, walls);
         evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
+        self.load_bodies();
         self.start_velocity.clone_from(&self.particles.velocity);
         self.start_density.clone_from(&self.particles.density);
-        let rates = &self.rates;
-        let (_, first_move) = drift(&self.grid, &mut self.particles, moving, self.time, half, |i, v, rho| {
+        let start_bodies = self.bodies.clone();
+        let moves: Vec<BodyMove> = self.bodies.iter().map(|b| BodyMove::first_half(b, half)).collect();
+        self.bodies = moves.iter().map(|m| m.state).collect();
+        let (rates, moving) = (&self.rates, &self.settings.moving_walls);
+        let walls = WallMoves { moving, t0: self.time, bodies: &moves };
+        let (_, first_move) = drift(&self.grid, &mut self.particles, &walls, half, |i, v, rho| {
             let advect = *v + rates.xsph[i];
             *v += half * rates.acceleration[i];
             *rho += half * rates.density_rate[i];
             advect
         });
-        prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs, moving, self.time + half);
+        let walls = WallsAt { moving: &self.settings.moving_walls, bodies: &self.bodies, time: self.time + half };
+        prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs, walls);
         evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
+        self.load_bodies();
+        let moves: Vec<BodyMove> = start_bodies.iter().zip(&self.bodies).map(|(s, m)| BodyMove::second_half(s, m, dt)).collect();
+        self.bodies = moves.iter().map(|m| m.state).collect();
+        let moving = &self.settings.moving_walls;
         let rates = &self.rates;
         let (v0, rho0) = (&self.start_velocity, &self.start_density);
-        let (fastest, second_move) = drift(&self.grid, &mut self.particles, moving, self.time + half, half, |i, v, rho| {
+        let walls = WallMoves { moving, t0: self.time + half, bodies: &moves };
+        let (fastest, second_move) = drift(&self.grid, &mut self.particles, &walls, half, |i, v, rho| {
             *v = v0[i] + dt * rates.acceleration[i];
             let eps = -dt * rates.density_rate[i] / *rho;
             *rho = rho0[i] * (2.0 - eps) / (2.0 + eps);
@@ -352,6 +347,20 @@ impl FluidPhase {
         self.check(fastest, first_move + second_move, dt)?;
         self.lists_due = self.grid.largest_displacement(&self.particles.position) > rebuild_distance(self.settings.h);
         Ok(())
+    }
+
+    /// The fluid's loads on the floating bodies at the last evaluation, and the accelerations
+    /// they give.
+    fn load_bodies(&mut self) {
+        if self.bodies.is_empty() {
+            return;
+        }
+        let first = self.settings.body_wall_number(0);
+        let loads = body_loads(&self.method, &self.grid, &self.particles, &self.inputs, &self.bodies, first, &self.body_particles);
+        let s = &self.settings;
+        for ((state, body), (force, torque)) in self.bodies.iter_mut().zip(&s.floating).zip(loads) {
+            state.load(body, force, torque, s.gravity, s.dimension);
+        }
     }
 
     fn check(&self, fastest: usize, moved: f64, dt: f64) -> Result<(), FluidFault> {
@@ -400,6 +409,11 @@ impl FluidPhase {
         }
         o
     }
+}
+
+/// The particles of floating bodies (wall numbers beyond the `moving` walls), ascending.
+fn members(p: &FluidParticles, moving: usize) -> Vec<u32> {
+    (0..p.len() as u32).filter(|&i| p.wall[i as usize] as usize > moving).collect()
 }
 
 #[cfg(test)]
@@ -498,6 +512,7 @@ mod tests {
             body_force: DVec3::ZERO,
             domain: tumble_geom::PeriodicBox { min: DVec3::new(-reach, 0.0, -reach), max: DVec3::new(reach, 0.0, reach), periodic: [false; 3] },
             moving_walls: vec![MovingWall { motion: Motion::Rotate { point: DVec3::ZERO, axis: DVec3::Y, omega }, timing: Timing::ALWAYS }],
+            floating: Vec::new(),
         };
         let eos = Tait::new(rho0, settings.sound_speed);
         let exact = |r: f64| 0.5 * rho0 * omega * omega * r * r;
@@ -512,7 +527,8 @@ mod tests {
         particles.assign_moving_wall(first_wall, 1);
         let mut phase = FluidPhase::new(settings, particles).unwrap();
         let moving = phase.settings.moving_walls.clone();
-        crate::rates::prepare(&phase.method, &phase.grid, &mut phase.particles, &mut phase.inputs, &moving, 0.0);
+        let walls = WallsAt { moving: &moving, bodies: &[], time: 0.0 };
+        crate::rates::prepare(&phase.method, &phase.grid, &mut phase.particles, &mut phase.inputs, walls);
         let p = &phase.particles;
         let mut worst: f64 = 0.0;
         let mut checked = 0;

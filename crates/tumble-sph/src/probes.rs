@@ -58,13 +58,25 @@ impl FluidPhase {
     }
 
     /// A wave gauge on the vertical line through `base` (x and y) from `base.z` up to `top`: the
-    /// highest sample, spaced at most Δp/4, where the fluid fraction is at least one half; `base.z`
-    /// when there is none.
+    /// highest sample, spaced at most Δp/4, where the fluid fraction is at least one half, then
+    /// where the fraction crosses one half between it and the sample above, found by bisection
+    /// to 10⁻⁶ Δp (the samples alone would read up to Δp/4 low, Δp/8 on average); `base.z` when
+    /// no sample has fluid.
     pub fn water_height(&self, base: DVec3, top: f64) -> f64 {
         let step = 0.25 * self.settings().spacing;
         let samples = ((top - base.z) / step).ceil().max(1.0) as usize;
         let dz = (top - base.z) / samples as f64;
-        (0..=samples).rev().map(|k| base.z + k as f64 * dz).find(|&z| self.fluid_fraction(DVec3::new(base.x, base.y, z)) >= 0.5).unwrap_or(base.z)
+        let wet = |z: f64| self.fluid_fraction(DVec3::new(base.x, base.y, z)) >= 0.5;
+        let Some(k) = (0..=samples).rev().find(|&k| wet(base.z + k as f64 * dz)) else { return base.z };
+        let (mut low, mut high) = (base.z + k as f64 * dz, base.z + (k + 1) as f64 * dz);
+        if k == samples {
+            return low;
+        }
+        while high - low > 1e-6 * self.settings().spacing {
+            let mid = 0.5 * (low + high);
+            if wet(mid) { low = mid } else { high = mid }
+        }
+        low
     }
 
     /// The surge front: the largest coordinate of the fluid along the unit vector `direction`.

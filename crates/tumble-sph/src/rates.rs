@@ -7,10 +7,11 @@ use rayon::prelude::*;
 use tumble_geom::DVec3;
 
 use crate::eos::Tait;
+use crate::floating::BodyState;
 use crate::kernel::{Dimension, WendlandC2};
 use crate::neighbours::FluidGrid;
 use crate::particles::{FluidParticles, ParticleKind};
-use crate::pass::{Batch, Neighbourhood, ParticleRates, PassConstants, WallSums, particle_rates, wall_sums};
+use crate::pass::{Batch, Neighbourhood, ParticleRates, PassConstants, WallSums, particle_rates, wall_reaction, wall_sums};
 use crate::settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity};
 
 /// The constants of one evaluation, derived once from the settings.
@@ -50,6 +51,14 @@ pub(crate) struct Method {
 }
 
 impl Method {
+    /// The artificial viscosity's α, 0 with the laminar term.
+    pub fn artificial_alpha(&self) -> f64 {
+        match self.viscosity {
+            Viscosity::Artificial { alpha } => alpha,
+            Viscosity::Laminar => 0.0,
+        }
+    }
+
     pub fn new(s: &FluidSettings) -> Self {
         let kernel = WendlandC2::new(s.h, s.dimension);
         let eos = Tait::new(s.rho0, s.sound_speed);
@@ -114,13 +123,38 @@ impl Rates {
     }
 }
 
+/// How the walls move at one instant: each moving wall by its motion at `time`, each floating
+/// body by its state.
+#[derive(Clone, Copy)]
+pub(crate) struct WallsAt<'a> {
+    pub moving: &'a [MovingWall],
+    pub bodies: &'a [BodyState],
+    pub time: f64,
+}
+
+impl WallsAt<'_> {
+    /// The acceleration of the material of wall `wall` (a particle's wall number) at `x`.
+    fn acceleration(&self, grid: &FluidGrid, wall: u16, x: DVec3) -> DVec3 {
+        let k = wall as usize;
+        if k == 0 {
+            DVec3::ZERO
+        } else if k <= self.moving.len() {
+            self.moving[k - 1].acceleration_at(x, self.time)
+        } else {
+            let body = &self.bodies[k - 1 - self.moving.len()];
+            body.acceleration_at(grid.separation(x, body.centre))
+        }
+    }
+}
+
 /// Pressure of the fluid particles from the equation of state, then each wall particle's
 /// pressure, density and viscous velocity extrapolated from the fluid (Adami et al. 2012):
 /// P_w = max(0, (Σ P_f W + (g − a_w)·Σ ρ_f r_wf W) / Σ W), ρ_w from the equation of state,
 /// v̂_w = 2 v_w − Σ v_f W / Σ W. A wall particle with no fluid in reach has P = 0, ρ = ρ₀.
-/// A wall moving by a prescribed motion has its acceleration a_w at `time`; others none. The clamp keeps a wall from holding a thin
-/// film by suction (particles clung to the wall a dam break had left, docs/sph.md).
-pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles, inputs: &mut PairInputs, moving: &[MovingWall], time: f64) {
+/// A wall moving by a prescribed motion or a floating body has its acceleration a_w from `walls`;
+/// others none. The clamp keeps a wall from holding a thin film by suction (particles clung to
+/// the wall a dam break had left, docs/sph.md).
+pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles, inputs: &mut PairInputs, walls: WallsAt) {
     let n = p.len();
     inputs.pressure.resize(n, 0.0);
     inputs.viscous_velocity.resize(n, DVec3::ZERO);
@@ -130,13 +164,13 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
             *pr = method.eos.pressure(rho);
         }
     });
-    let walls = wall_states(method, grid, p, &inputs.pressure, moving, time);
+    let states = wall_states(method, grid, p, &inputs.pressure, walls);
     inputs
         .pressure
         .par_iter_mut()
         .zip(inputs.viscous_velocity.par_iter_mut())
         .zip(p.density.par_iter_mut())
-        .zip(walls.par_iter())
+        .zip(states.par_iter())
         .enumerate()
         .for_each(|(i, (((pr, vv), rho), &(pw, rho_w, v)))| {
             if kind[i] == ParticleKind::Wall {
@@ -171,7 +205,7 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
 }
 
 /// Each wall particle's extrapolated pressure, density and viscous velocity (zeros for fluid).
-fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: &[f64], moving: &[MovingWall], time: f64) -> Vec<(f64, f64, DVec3)> {
+fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: &[f64], walls: WallsAt) -> Vec<(f64, f64, DVec3)> {
     let constants = PassConstants::new(method, 0.0, false);
     let (plane, wide) = (method.dimension == Dimension::Two, method.wide_lanes);
     let (position, velocity, density) = (&p.position, &p.velocity, &p.density);
@@ -194,10 +228,7 @@ fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: 
                 };
                 if sums.w > 0.0 {
                     // The wall's own acceleration enters as a body force of the opposite sign.
-                    let a_w = match p.wall[w] {
-                        0 => DVec3::ZERO,
-                        k => moving[k as usize - 1].acceleration_at(position[w], time),
-                    };
+                    let a_w = walls.acceleration(grid, p.wall[w], position[w]);
                     let pw = ((sums.pressure + (method.external - a_w).dot(sums.density_moment)) / sums.w).max(0.0);
                     (pw, method.eos.density(pw), 2.0 * velocity[w] - sums.velocity / sums.w)
                 } else {
@@ -262,23 +293,10 @@ fn evaluate_with<const PLANE: bool, const LAMINAR: bool, const DIFFUSE: bool, co
     out: &mut Rates,
 ) {
     out.resize(p.len());
-    let alpha = match method.viscosity {
-        Viscosity::Artificial { alpha } => alpha,
-        Viscosity::Laminar => 0.0,
-    };
+    let alpha = method.artificial_alpha();
     let fourtakas = matches!(method.diffusion, DensityDiffusion::Fourtakas { .. });
     let constants = PassConstants::new(method, alpha, fourtakas);
-    let hood = Neighbourhood {
-        position: &p.position,
-        velocity: &p.velocity,
-        viscous_velocity: &inputs.viscous_velocity,
-        density: &p.density,
-        mass: &p.mass,
-        pressure_term: &inputs.pressure_term,
-        volume: &inputs.volume,
-        tensile: &inputs.tensile,
-        fluid: &inputs.fluid,
-    };
+    let hood = neighbourhood(p, inputs);
     let kind = &p.kind;
     let wide = method.wide_lanes;
     out.acceleration.par_iter_mut().zip(out.density_rate.par_iter_mut()).zip(out.xsph.par_iter_mut()).enumerate().for_each_init(
@@ -302,6 +320,63 @@ fn evaluate_with<const PLANE: bool, const LAMINAR: bool, const DIFFUSE: bool, co
             *xsph_out = method.xsph * r.xsph;
         },
     );
+}
+
+/// The fluid's force and torque (about each body's centre) on each floating body, over the body
+/// particles `members` (indices in the sorted arrays, ascending): each particle's force gathered
+/// in parallel ([`wall_reaction`]), then added body by body in the order of `members`, so the
+/// sums do not depend on the number of threads. `first_body` is the first body's wall number.
+pub(crate) fn body_loads(
+    method: &Method,
+    grid: &FluidGrid,
+    p: &FluidParticles,
+    inputs: &PairInputs,
+    bodies: &[BodyState],
+    first_body: u16,
+    members: &[u32],
+) -> Vec<(DVec3, DVec3)> {
+    let mut loads = vec![(DVec3::ZERO, DVec3::ZERO); bodies.len()];
+    if members.is_empty() {
+        return loads;
+    }
+    let alpha = method.artificial_alpha();
+    let constants = PassConstants::new(method, alpha, false);
+    let hood = neighbourhood(p, inputs);
+    let separation = |x, y| grid.separation(x, y);
+    let forces: Vec<DVec3> = members
+        .par_iter()
+        .map(|&w| {
+            let (w, list) = (w as usize, grid.neighbours(w as usize));
+            match (matches!(method.viscosity, Viscosity::Laminar), method.tensile) {
+                (false, false) => wall_reaction::<false, false>(&constants, &hood, separation, w, list),
+                (false, true) => wall_reaction::<false, true>(&constants, &hood, separation, w, list),
+                (true, false) => wall_reaction::<true, false>(&constants, &hood, separation, w, list),
+                (true, true) => wall_reaction::<true, true>(&constants, &hood, separation, w, list),
+            }
+        })
+        .collect();
+    for (&w, f) in members.iter().zip(forces) {
+        let k = (p.wall[w as usize] - first_body) as usize;
+        let arm = grid.separation(p.position[w as usize], bodies[k].centre);
+        loads[k].0 += f;
+        loads[k].1 += arm.cross(f);
+    }
+    loads
+}
+
+/// What the passes read of every particle.
+fn neighbourhood<'a>(p: &'a FluidParticles, inputs: &'a PairInputs) -> Neighbourhood<'a> {
+    Neighbourhood {
+        position: &p.position,
+        velocity: &p.velocity,
+        viscous_velocity: &inputs.viscous_velocity,
+        density: &p.density,
+        mass: &p.mass,
+        pressure_term: &inputs.pressure_term,
+        volume: &inputs.volume,
+        tensile: &inputs.tensile,
+        fluid: &inputs.fluid,
+    }
 }
 
 /// Whether the pass may use 256-bit lanes (the same results as without: see [`crate::pass`]).

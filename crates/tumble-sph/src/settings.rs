@@ -2,6 +2,7 @@
 
 use tumble_geom::{DVec3, Motion, PeriodicBox, Timing};
 
+use crate::floating::FloatingBody;
 use crate::kernel::Dimension;
 
 /// How momentum diffuses.
@@ -67,6 +68,9 @@ pub struct FluidSettings {
     /// The walls that move by a prescribed motion (a turning drum); wall particle i follows
     /// `moving_walls[wall[i] − 1]` (see [`FluidParticles::wall`](crate::FluidParticles)).
     pub moving_walls: Vec<MovingWall>,
+    /// The rigid bodies the fluid moves; their wall particles are numbered after the moving
+    /// walls: particle i belongs to `floating[wall[i] − 1 − moving_walls.len()]`.
+    pub floating: Vec<FloatingBody>,
 }
 
 /// A wall whose particles move by a prescribed rigid motion, when its timing says.
@@ -97,6 +101,12 @@ impl FluidSettings {
     /// The acceleration every fluid particle feels besides the other particles.
     pub fn external_acceleration(&self) -> DVec3 {
         self.gravity + self.body_force
+    }
+
+    /// The number [`FluidParticles::wall`](crate::FluidParticles) gives the particles of
+    /// floating body `k`.
+    pub fn body_wall_number(&self, k: usize) -> u16 {
+        (self.moving_walls.len() + 1 + k) as u16
     }
 
     /// The mass of one particle on the lattice of spacing Δp: ρ₀ Δp² in 2D (per metre of span), ρ₀ Δp³ in 3D.

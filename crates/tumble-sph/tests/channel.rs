@@ -56,6 +56,7 @@ fn slow_water(dp: f64) -> FluidSettings {
         body_force: DVec3::ZERO,
         domain: PeriodicBox { min: DVec3::ZERO, max: DVec3::ZERO, periodic: [false; 3] },
         moving_walls: Vec::new(),
+        floating: Vec::new(),
     }
 }
 
@@ -150,6 +151,7 @@ mod annulus {
         let settings = FluidSettings {
             domain: PeriodicBox { min: DVec3::new(-reach, 0.0, -reach), max: DVec3::new(reach, 0.0, reach), periodic: [false; 3] },
             moving_walls: vec![MovingWall { motion: Motion::Rotate { point: DVec3::ZERO, axis: DVec3::Y, omega: OMEGA }, timing: Timing::ALWAYS }],
+            floating: Vec::new(),
             ..slow_water(dp)
         };
         let mut particles = FluidParticles::default();

@@ -9,6 +9,7 @@ mod pairs;
 mod report;
 mod run;
 mod sph;
+mod sph_floating;
 mod tuning;
 
 use crate::SceneError;

@@ -103,6 +103,7 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
         body_force,
         domain: *domain,
         moving_walls: Vec::new(),
+        floating: Vec::new(),
     };
     // The grid reaches over the wall particles outside the domain's closed sides; a 2D fluid lies at y = 0.
     let reach = (wall_layers(&settings) as f64 + 1.0) * spacing;
@@ -124,6 +125,7 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     settings.moving_walls = walls.moving.iter().map(|&(_, wall, _)| wall).collect();
     // Fluid on the wrong side of a cylinder or a rectangle, or within half a spacing of it, is left out.
     particles.retain(|kind, x| kind == ParticleKind::Wall || walls.leave_fluid_at(x, spacing, dimension));
+    let floating = super::sph_floating::add_floating(s, &mut settings, domain, &mut particles)?;
     let fluid_particles = particles.fluid_count();
     if fluid_particles == 0 {
         return Err(SceneError::field(
@@ -156,12 +158,21 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
         warnings
             .push("sph: laminar viscosity without density diffusion lets pressure noise grow in violent flows (docs/sph.md, \"Stability\")".into());
     }
-    let plan = SphPlan { settings, limits, expected_speed, fluid_particles, wall_particles: particles.len() - fluid_particles, probes, warnings };
+    for (name, body) in floating.iter().zip(&settings.floating) {
+        let speed = body.start.velocity.length();
+        if speed > expected_speed * (1.0 + 1e-12) {
+            warnings.push(format!(
+                "sph: floating body \"{name}\" starts at {speed:.4} m/s, above the expected speed {expected_speed:.4} m/s the sound speed and time step were chosen for; raise sph.expected_speed"
+            ));
+        }
+    }
+    let plan =
+        SphPlan { settings, limits, expected_speed, fluid_particles, wall_particles: particles.len() - fluid_particles, probes, floating, warnings };
     Ok(Some((plan, particles)))
 }
 
 /// `x` in the fluid's space: a 2D fluid lies in the x–z plane at y = 0.
-fn in_plane(dimension: Dimension, mut x: DVec3) -> DVec3 {
+pub(super) fn in_plane(dimension: Dimension, mut x: DVec3) -> DVec3 {
     if dimension == Dimension::Two {
         x.y = 0.0;
     }
@@ -226,7 +237,7 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
 /// inside), an axis-aligned plane's layers behind it across the domain, a cylinder's rings.
 /// Returns the cylinders, whose wrong side the fluid must leave.
 /// A region's cylinder, checked: positive radius and length, a unit axis (in 2D along y).
-fn region_cylinder(field: &str, c: &SphCylinderSection, dimension: Dimension) -> Result<Cylinder, SceneError> {
+pub(super) fn region_cylinder(field: &str, c: &SphCylinderSection, dimension: Dimension) -> Result<Cylinder, SceneError> {
     positive(&format!("{field}.radius"), c.radius)?;
     positive(&format!("{field}.length"), c.length)?;
     let axis = finite3(&format!("{field}.axis"), c.axis)?;
@@ -397,14 +408,21 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
     let clip = |min: V3, max: V3| (DVec3::from(min).max(lo), DVec3::from(max).min(hi));
     let mut total = 0.0;
     let per_volume = |v: f64| v / settings.spacing.powi(settings.dimension.count());
-    for r in &s.regions {
-        if let Some(c) = &r.cylinder {
+    // A region or a floating body: a cylinder's volume, or a box's lattice sites in the grid.
+    let mut solid = |cylinder: Option<&SphCylinderSection>, bx: Option<&SphBoxSection>| {
+        if let Some(c) = cylinder {
             let area = std::f64::consts::PI * c.radius * c.radius;
             total += per_volume(if settings.dimension == Dimension::Two { area } else { area * c.length.abs() }).min(f64::MAX);
-        } else if let Some(b) = &r.box_ {
+        } else if let Some(b) = bx {
             let (min, max) = clip(b.min, b.max);
             total += sites(settings, min, max);
         }
+    };
+    for r in &s.regions {
+        solid(r.cylinder.as_ref(), r.box_.as_ref());
+    }
+    for b in &s.floating {
+        solid(b.cylinder.as_ref(), b.box_.as_ref());
     }
     let thickness = wall_layers(settings) as f64 * settings.spacing;
     for (k, w) in scene.walls.iter().enumerate() {

@@ -42,6 +42,28 @@ pub struct SphSection {
     /// Measurements written to their own CSV at every output row.
     #[serde(default)]
     pub probes: Vec<SphProbeSection>,
+    /// Rigid bodies the fluid moves (floating_<name>.csv at every output row).
+    #[serde(default)]
+    pub floating: Vec<SphFloatingSection>,
+}
+
+/// A floating rigid body: a solid box or cylinder of uniform density, moved by the fluid's
+/// pressure and viscosity and by gravity.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphFloatingSection {
+    pub name: String,
+    #[serde(rename = "box")]
+    pub box_: Option<SphBoxSection>,
+    pub cylinder: Option<SphCylinderSection>,
+    /// kg/m³.
+    pub density: f64,
+    /// Of the centre of mass at the start, m/s.
+    #[serde(default)]
+    pub velocity: V3,
+    /// At the start, rad/s.
+    #[serde(default)]
+    pub angular_velocity: V3,
 }
 
 fn three() -> u8 {

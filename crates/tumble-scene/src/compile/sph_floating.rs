@@ -1,0 +1,88 @@
+//! The [sph] section's floating bodies: their shapes, masses and starting motion, their wall
+//! particles, and the fluid cleared from them.
+
+use super::sph::{in_plane, region_cylinder};
+use super::{finite3, positive};
+use crate::SceneError;
+use crate::schema::*;
+use glam::DVec3;
+use tumble_geom::PeriodicBox;
+use tumble_sph::{Aabb, BodyShape, Dimension, FloatingBody, FluidParticles, FluidSettings, ParticleKind, wall_layers};
+
+/// The floating bodies: each one's mass and inertia in `settings`, its wall particles (numbered
+/// after the moving walls), and the fluid within half a spacing of it cleared. Returns their names.
+pub(super) fn add_floating(
+    s: &SphSection,
+    settings: &mut FluidSettings,
+    domain: &PeriodicBox,
+    particles: &mut FluidParticles,
+) -> Result<Vec<String>, SceneError> {
+    let dimension = settings.dimension;
+    let two_d = dimension == Dimension::Two;
+    let mut names: Vec<String> = Vec::new();
+    for (k, b) in s.floating.iter().enumerate() {
+        let f = |x: &str| format!("sph.floating[{k}].{x}");
+        let bad_name = b.name.is_empty() || b.name.chars().any(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'));
+        if bad_name || names.contains(&b.name) {
+            return Err(SceneError::field(
+                f("name"),
+                format!("names the body's file floating_<name>.csv: unique, letters, digits, '_' or '-'; got \"{}\"", b.name),
+            ));
+        }
+        let density = positive(&f("density"), b.density)?;
+        let velocity = finite3(&f("velocity"), b.velocity)?;
+        let spin = finite3(&f("angular_velocity"), b.angular_velocity)?;
+        if two_d && (velocity.y != 0.0 || spin.x != 0.0 || spin.z != 0.0) {
+            return Err(SceneError::field(
+                f("velocity"),
+                "a 2D body moves in the x–z plane and turns about y: velocity without y, angular_velocity along y only",
+            ));
+        }
+        let shape = match (&b.box_, &b.cylinder) {
+            (Some(bx), None) => {
+                let min = in_plane(dimension, finite3(&f("box.min"), bx.min)?);
+                let max = in_plane(dimension, finite3(&f("box.max"), bx.max)?);
+                if (0..3).any(|a| !(two_d && a == 1) && max[a] <= min[a]) {
+                    return Err(SceneError::field(f("box"), "max must exceed min on every axis (in 2D, x and z)"));
+                }
+                BodyShape::Box(Aabb::new(min, max))
+            }
+            (None, Some(c)) => {
+                let mut c = region_cylinder(&f("cylinder"), c, dimension)?;
+                c.point = in_plane(dimension, c.point);
+                BodyShape::Cylinder(c)
+            }
+            _ => {
+                return Err(SceneError::field(
+                    format!("sph.floating[{k}]"),
+                    "give exactly one shape: box = { min, max } or cylinder = { point, axis, radius, length }",
+                ));
+            }
+        };
+        let points = shape.particles(wall_layers(settings), settings.spacing, dimension);
+        if points.is_empty() {
+            return Err(SceneError::field(
+                format!("sph.floating[{k}]"),
+                format!("holds no particle at spacing {}: make it at least one spacing across", settings.spacing),
+            ));
+        }
+        let outside = |x: DVec3| (0..3).any(|a| !(two_d && a == 1) && !domain.periodic[a] && (x[a] < domain.min[a] || x[a] > domain.max[a]));
+        if points.iter().any(|&x| outside(x)) {
+            return Err(SceneError::field(format!("sph.floating[{k}]"), "must lie inside the domain"));
+        }
+        let mut body = FloatingBody::uniform(&shape, density, dimension);
+        body.start.velocity = velocity;
+        body.start.angular_velocity = spin;
+        settings.floating.push(body);
+        // The fluid keeps half a spacing from the body's surface, as the body's particles do.
+        let margin = 0.5 * settings.spacing * (1.0 - 1e-9);
+        particles.retain(|kind, x| kind == ParticleKind::Wall || !shape.covers(x, margin, dimension));
+        let first = particles.len();
+        for x in points {
+            particles.push(ParticleKind::Wall, x, DVec3::ZERO, settings.rho0, settings.particle_mass());
+        }
+        particles.assign_moving_wall(first, settings.body_wall_number(k));
+        names.push(b.name.clone());
+    }
+    Ok(names)
+}
