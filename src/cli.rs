@@ -198,6 +198,11 @@ pub fn main_with(cli: Cli) -> i32 {
                     return 2;
                 }
             };
+            // The plan's warnings before the first step: a likely mistake is told before the run
+            // spends its time, not only by `tumble plan`.
+            for w in &compiled.plan.report.warnings {
+                eprintln!("warning: {w}");
+            }
             let mut options = RunOptions { out_dir: out, duration, dt, backend, overwrite, checkpoint_interval, ..interactive_options(quiet) };
             if let Some(t) = threads {
                 options.threads = t;

@@ -214,3 +214,52 @@ fn tumble_run_refuses_thousands_of_threads_and_writes_nothing() {
     assert!(stderr.contains("--threads 5000") && stderr.contains("use at most") && stderr.lines().count() == 1, "{stderr}");
     assert!(!out.exists());
 }
+
+/// The drum of scenes/test/drum_one_ball.toml as `edit` changes it, written to a file of its own.
+fn drum_scene(name: &str, edit: impl Fn(String) -> String) -> std::path::PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, edit(scene_file("scenes/test/drum_one_ball.toml"))).unwrap();
+    path
+}
+
+/// `tumble plan` prints the plan's warnings and `tumble run` tells them before its first step;
+/// `after_run` are told only when the run has ended.
+fn plan_and_run_warn(scene: &Path, expected: &[&str], after_run: &[&str]) {
+    let plan = Command::new(env!("CARGO_BIN_EXE_tumble")).arg("plan").arg(scene).output().unwrap();
+    let stdout = String::from_utf8_lossy(&plan.stdout);
+    assert!(plan.status.success(), "{}", String::from_utf8_lossy(&plan.stderr));
+    let out = scene.parent().unwrap().join("out");
+    let run =
+        Command::new(env!("CARGO_BIN_EXE_tumble")).arg("run").arg(scene).args(["--duration", "0.01", "--quiet", "--out"]).arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    for e in expected {
+        assert!(stdout.lines().any(|l| l.starts_with("warning: ") && l.contains(e)), "plan lacks {e:?}: {stdout}");
+        assert!(stderr.lines().any(|l| l.starts_with("warning: ") && l.contains(e)), "run lacks {e:?}: {stderr}");
+    }
+    for e in after_run {
+        assert!(stderr.lines().any(|l| l.starts_with("warning: ") && l.contains(e)), "run lacks {e:?}: {stderr}");
+    }
+    let _ = std::fs::remove_dir_all(scene.parent().unwrap());
+}
+
+#[test]
+fn a_motion_or_a_source_starting_after_the_end_is_warned() {
+    let scene = drum_scene("late", |text| {
+        text.replace("rpm = 10.0 } }", "rpm = 10.0 }, start = 1000.0 }")
+            + "[[sources]]\nname = \"feed\"\nmaterial = \"steel\"\nshape = { sphere = { diameter = 0.02 } }\n\
+               region = { box = { min = [-0.1, -0.1, 0.0], max = [0.1, 0.1, 0.1] } }\nrate = { particles_per_second = 10.0 }\nstart = 5.0\n"
+    });
+    plan_and_run_warn(
+        &scene,
+        &[
+            "walls[0].motion.start = 1000 s is not before the end of the run",
+            "wall \"shell\" never moves",
+            "sources[0].start = 5 s is not before the end of the run",
+            "source \"feed\" inserts nothing",
+        ],
+        &[],
+    );
+}

@@ -4,6 +4,7 @@
 
 mod fluid;
 mod materials;
+mod mistakes;
 mod model;
 mod pairs;
 mod report;
@@ -158,7 +159,12 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let sph_warnings = sph.iter().flat_map(|p| p.warnings.iter().cloned());
     let report = PlanReport {
         features: report::features(scene, &model, &mechanics, &tuning, &run),
-        warnings: mesh_warnings.into_iter().chain(report::warnings(&model, &timescales, &kinds)).chain(sph_warnings).collect(),
+        warnings: mesh_warnings
+            .into_iter()
+            .chain(report::warnings(&model, &timescales, &kinds))
+            .chain(mistakes::warnings(scene, &model))
+            .chain(sph_warnings)
+            .collect(),
         timescales,
         wall_step_limit,
         targets: Targets { taylor_green, stickiness },
