@@ -260,6 +260,22 @@ fn a_motion_or_a_source_starting_after_the_end_is_warned() {
             "sources[0].start = 5 s is not before the end of the run",
             "source \"feed\" inserts nothing",
         ],
-        &[],
+        &["source \"feed\" inserted no particle: its first insertion, at t = ", "was not reached before the run ended"],
+    );
+}
+
+#[test]
+fn a_source_behind_an_end_plate_is_warned_before_and_after_the_run() {
+    let scene = drum_scene("behind-plate", |text| {
+        text + "[[walls]]\nname = \"plate\"\nmaterial = \"steel\"\nplane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }\n\
+                [[sources]]\nname = \"feed\"\nmaterial = \"steel\"\nshape = { sphere = { diameter = 0.02 } }\n\
+                region = { box = { min = [-0.1, -0.1, -0.09], max = [0.1, 0.1, -0.01] } }\nrate = { particles_per_second = 100.0 }\n"
+    });
+    plan_and_run_warn(
+        &scene,
+        &[
+            "source \"feed\" has no room: none of 200 places drawn in its region is clear of the walls and inside the domain (200 overlap wall \"plate\")",
+        ],
+        &["source \"feed\" inserted no particle: at each of its"],
     );
 }

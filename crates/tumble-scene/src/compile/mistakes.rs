@@ -1,14 +1,59 @@
-//! Scenes that would run to the end and mean nothing: the plan warns about each likely
-//! mistake with its cause (`tumble plan`, and `tumble run` before its first step).
+//! Scenes that would run to the end and mean nothing: refused where no scene can mean it
+//! (an outlet that deletes every particle in the first step), otherwise warned with the likely
+//! cause (`tumble plan`, and `tumble run` before its first step).
 
+use crate::SceneError;
+use crate::particles::InitialParticles;
 use crate::plan::PhysicsModel;
+use crate::rng::Rng;
 use crate::schema::Scene;
+use crate::sources::{Outlet, OutletRegion, Source};
+use glam::DVec3;
 
-/// Warnings about schedules the run never reaches.
+/// Places drawn in a source's region to find one clear of the walls (as the feeder draws them).
+const PLACES_TRIED: usize = 200;
+
+/// Warnings about schedules the run never reaches and sources without room.
 pub(super) fn warnings(scene: &Scene, model: &PhysicsModel) -> Vec<String> {
     let mut warnings = Vec::new();
     schedules_after_the_end(scene, model, &mut warnings);
+    sources_without_room(model, &mut warnings);
     warnings
+}
+
+/// An outlet that holds every particle at t = 0, or the whole region of a source, deletes
+/// them as soon as the run starts: its normal points the wrong way, or its box is misplaced.
+pub(super) fn check_outlets(outlets: &[Outlet], particles: &InitialParticles, sources: &[Source]) -> Result<(), SceneError> {
+    for (k, o) in outlets.iter().enumerate() {
+        let (field, side) = match o.region {
+            OutletRegion::Beyond { normal, .. } => (
+                format!("outlets[{k}].plane.normal"),
+                format!("on the side its normal {normal} points to, which the outlet deletes; point the normal away from them ({})", -normal),
+            ),
+            OutletRegion::Box { .. } => {
+                (format!("outlets[{k}].box"), "inside its box, which the outlet deletes; place the box where particles leave".into())
+            }
+        };
+        let n = particles.len();
+        if n > 0 && particles.position.iter().all(|&x| o.region.contains(x)) {
+            return Err(SceneError::field(
+                field,
+                format!("outlet \"{}\" would delete all {n} particles in the first step: they start {side}", o.name),
+            ));
+        }
+        // The region lies in a half-space or a box when all the corners of its bounds do.
+        for s in sources {
+            let (lo, hi) = s.region.bounds();
+            let corners = (0..8).map(|c| DVec3::new([lo.x, hi.x][c & 1], [lo.y, hi.y][(c >> 1) & 1], [lo.z, hi.z][c >> 2]));
+            if corners.into_iter().all(|x| o.region.contains(x)) {
+                return Err(SceneError::field(
+                    field,
+                    format!("outlet \"{}\" would delete every particle source \"{}\" inserts: its region lies {side}", o.name, s.name),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A motion or a source that starts at or after the end of the run never acts: the drum
@@ -32,5 +77,43 @@ fn schedules_after_the_end(scene: &Scene, model: &PhysicsModel, warnings: &mut V
                 s.start, model.sources[k].name
             ));
         }
+    }
+}
+
+/// A source none of whose places is clear of the walls and inside the domain (a region
+/// behind an end plate, outside a drum's shell) inserts nothing.
+fn sources_without_room(model: &PhysicsModel, warnings: &mut Vec<String>) {
+    for s in &model.sources {
+        let walls: Vec<_> = model.walls.iter().map(|w| w.shape_at(s.first_step as f64 * model.dt)).collect();
+        let mut rng = Rng::new(s.seed);
+        let (mut outside, mut blocked) = (0, vec![0usize; walls.len()]);
+        let room = (0..PLACES_TRIED).any(|_| {
+            let r = s.draw_body(&mut rng, &model.shapes).radius;
+            let x = s.region.sample(&mut rng, r);
+            if !model.domain.contains(x) {
+                outside += 1;
+                return false;
+            }
+            match walls.iter().position(|w| w.sphere_contact(x, r).is_some()) {
+                Some(w) => {
+                    blocked[w] += 1;
+                    false
+                }
+                None => true,
+            }
+        });
+        if room {
+            continue;
+        }
+        let mut why: Vec<String> =
+            blocked.iter().enumerate().filter(|(_, n)| **n > 0).map(|(w, n)| format!("{n} overlap wall \"{}\"", model.walls[w].name)).collect();
+        if outside > 0 {
+            why.push(format!("{outside} lie outside the domain"));
+        }
+        warnings.push(format!(
+            "source \"{}\" has no room: none of {PLACES_TRIED} places drawn in its region is clear of the walls and inside the domain ({}), so it will insert nothing; move its region inside the walls",
+            s.name,
+            why.join(", ")
+        ));
     }
 }

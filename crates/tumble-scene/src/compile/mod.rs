@@ -45,6 +45,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let (mut sources, prototypes) =
         crate::sources::compile_sources(scene, &table.index, &densities, &mut shapes, &domain, gravity, scene.particles.len() as u16)?;
     let outlets = crate::sources::compile_outlets(scene)?;
+    mistakes::check_outlets(&outlets, &particles, &sources)?;
     // Every kind of particle the run will hold: Δt, the cell size and the features are planned for these.
     let mut kinds = particles.clone();
     kinds.append(&prototypes);
