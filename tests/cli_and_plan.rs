@@ -279,3 +279,18 @@ fn a_source_behind_an_end_plate_is_warned_before_and_after_the_run() {
         &["source \"feed\" inserted no particle: at each of its"],
     );
 }
+
+#[test]
+fn a_flow_plane_beyond_the_outlet_is_warned() {
+    let scene = drum_scene("flow-beyond-outlet", |text| {
+        text + "[[outlets]]\nname = \"bin\"\nplane = { point = [0.0, -0.32, 0.0], normal = [0.0, -1.0, 0.0] }\n\
+                [output]\nflow_planes = [{ name = \"below\", point = [0.0, -0.34, 0.0], normal = [0.0, -1.0, 0.0] }]\n"
+    });
+    plan_and_run_warn(
+        &scene,
+        &[
+            "output.flow_planes[0] (\"below\") lies 2.0000e-2 m beyond outlet \"bin\", on the side the outlet deletes: particles are deleted before they reach it",
+        ],
+        &[],
+    );
+}

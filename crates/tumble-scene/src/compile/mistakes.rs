@@ -13,11 +13,13 @@ use glam::DVec3;
 /// Places drawn in a source's region to find one clear of the walls (as the feeder draws them).
 const PLACES_TRIED: usize = 200;
 
-/// Warnings about schedules the run never reaches and sources without room.
+/// Warnings about schedules the run never reaches, sources without room and flow planes
+/// nothing crosses.
 pub(super) fn warnings(scene: &Scene, model: &PhysicsModel) -> Vec<String> {
     let mut warnings = Vec::new();
     schedules_after_the_end(scene, model, &mut warnings);
     sources_without_room(model, &mut warnings);
+    flow_planes_nothing_crosses(model, &mut warnings);
     warnings
 }
 
@@ -115,5 +117,46 @@ fn sources_without_room(model: &PhysicsModel, warnings: &mut Vec<String>) {
             s.name,
             why.join(", ")
         ));
+    }
+}
+
+/// A flow plane no particle reaches reads 0 kg/s for the whole run: one that misses the
+/// domain, or lies wholly beyond a (parallel) outlet plane, or behind a static plane wall.
+fn flow_planes_nothing_crosses(model: &PhysicsModel, warnings: &mut Vec<String>) {
+    let (lo, hi) = (model.domain.min, model.domain.max);
+    let corners: Vec<DVec3> = (0..8).map(|c| DVec3::new([lo.x, hi.x][c & 1], [lo.y, hi.y][(c >> 1) & 1], [lo.z, hi.z][c >> 2])).collect();
+    let parallel = |a: DVec3, b: DVec3| a.cross(b).length() < 1e-9;
+    for (k, fp) in model.flow_planes.iter().enumerate() {
+        let (p, n) = (fp.plane.point, fp.plane.normal);
+        let label = format!("output.flow_planes[{k}] (\"{}\")", fp.name);
+        let side: Vec<f64> = corners.iter().map(|&c| n.dot(c - p)).collect();
+        if side.iter().all(|&d| d > 0.0) || side.iter().all(|&d| d < 0.0) {
+            warnings.push(format!("{label} misses the domain: no particle crosses it, so it reads 0 kg/s; place it inside the domain"));
+            continue;
+        }
+        for o in &model.outlets {
+            if let OutletRegion::Beyond { point, normal } = o.region
+                && parallel(n, normal)
+                && (p - point).dot(normal) > 0.0
+            {
+                warnings.push(format!(
+                    "{label} lies {:.4e} m beyond outlet \"{}\", on the side the outlet deletes: particles are deleted before they reach it, so it reads 0 kg/s; place it before the outlet",
+                    (p - point).dot(normal),
+                    o.name
+                ));
+            }
+        }
+        for w in model.walls.iter().filter(|w| w.motion.is_none()) {
+            if let tumble_geom::SurfaceShape::Plane(wall) = &w.shape
+                && parallel(n, wall.normal)
+                && (p - wall.point).dot(wall.normal) < 0.0
+            {
+                warnings.push(format!(
+                    "{label} lies {:.4e} m behind wall \"{}\", where no particle goes, so it reads 0 kg/s; place it on the particles' side of the wall",
+                    -(p - wall.point).dot(wall.normal),
+                    w.name
+                ));
+            }
+        }
     }
 }
