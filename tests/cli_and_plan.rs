@@ -294,3 +294,25 @@ fn a_flow_plane_beyond_the_outlet_is_warned() {
         &[],
     );
 }
+
+#[test]
+fn densities_in_grams_per_cubic_centimetre_and_a_long_output_interval_are_warned() {
+    let scene =
+        drum_scene("units", |text| text.replace("density = 7800.0", "density = 7.8").replace("integrator = \"verlet\"", "output_interval = 5.0"));
+    plan_and_run_warn(
+        &scene,
+        &[
+            "materials[0].density = 7.8 kg/m³ is lighter than any solid particle: densities are in kg/m³, and this looks like g/cm³ (7.8 g/cm³ is 7800 kg/m³)",
+            "run.output_interval = 5 s is longer than the run",
+        ],
+        &[],
+    );
+}
+
+#[test]
+fn gravity_in_millimetres_per_square_second_is_warned() {
+    let scene = parse_scene(&scene_file("scenes/test/drum_one_ball.toml").replace("-9.81", "-9810.0")).unwrap();
+    let warnings = compile(&scene).unwrap().plan.report.warnings;
+    let expected = "gravity.acceleration has magnitude 9810 m/s² (1000 times Earth's): accelerations are in m/s², and this looks like mm/s²";
+    assert!(warnings.iter().any(|w| w.contains(expected)), "{warnings:?}");
+}

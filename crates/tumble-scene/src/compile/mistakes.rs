@@ -13,13 +13,14 @@ use glam::DVec3;
 /// Places drawn in a source's region to find one clear of the walls (as the feeder draws them).
 const PLACES_TRIED: usize = 200;
 
-/// Warnings about schedules the run never reaches, sources without room and flow planes
-/// nothing crosses.
+/// Warnings about schedules the run never reaches, sources without room, flow planes nothing
+/// crosses, and units that look mistaken.
 pub(super) fn warnings(scene: &Scene, model: &PhysicsModel) -> Vec<String> {
     let mut warnings = Vec::new();
     schedules_after_the_end(scene, model, &mut warnings);
     sources_without_room(model, &mut warnings);
     flow_planes_nothing_crosses(model, &mut warnings);
+    implausible_units(scene, model, &mut warnings);
     warnings
 }
 
@@ -158,5 +159,52 @@ fn flow_planes_nothing_crosses(model: &PhysicsModel, warnings: &mut Vec<String>)
                 ));
             }
         }
+    }
+}
+
+/// Lightest particle density taken for kg/m³, kg/m³: below it a density reads as g/cm³
+/// (glass 2.5, steel 7.8). The verification scenes' 10 kg/m³ is meant.
+const LIGHTEST_DENSITY: f64 = 10.0;
+/// Heaviest particle density taken as meant, kg/m³ (osmium, the densest element, is 22 590).
+const HEAVIEST_DENSITY: f64 = 1.0e5;
+/// Strongest gravity taken as meant, m/s² (about 10 g): beyond it, mm/s² or a centrifuge.
+const STRONGEST_GRAVITY: f64 = 100.0;
+
+/// Densities, gravity and output intervals in the wrong units or out of proportion to the run.
+fn implausible_units(scene: &Scene, model: &PhysicsModel, warnings: &mut Vec<String>) {
+    // Only the materials particles are made of: a wall's density is never read.
+    let particle_materials: Vec<&str> =
+        scene.particles.iter().map(|p| p.material.as_str()).chain(scene.sources.iter().map(|s| s.material.as_str())).collect();
+    for (k, m) in model.materials.iter().enumerate().filter(|(_, m)| particle_materials.contains(&m.name.as_str())) {
+        if m.density < LIGHTEST_DENSITY {
+            warnings.push(format!(
+                "materials[{k}].density = {} kg/m³ is lighter than any solid particle: densities are in kg/m³, and this looks like g/cm³ ({} g/cm³ is {} kg/m³)",
+                m.density,
+                m.density,
+                m.density * 1000.0
+            ));
+        } else if m.density > HEAVIEST_DENSITY {
+            warnings.push(format!(
+                "materials[{k}].density = {} kg/m³ is heavier than any solid (osmium is 22590 kg/m³): densities are in kg/m³",
+                m.density
+            ));
+        }
+    }
+    let g = model.gravity.length();
+    if g > STRONGEST_GRAVITY {
+        warnings.push(format!(
+            "gravity.acceleration has magnitude {g} m/s² ({:.0} times Earth's): accelerations are in m/s², and this looks like mm/s² ({:?} mm/s² is {:?} m/s²)",
+            g / 9.80665,
+            model.gravity.to_array(),
+            (model.gravity / 1000.0).to_array()
+        ));
+    }
+    let end = scene.run.duration;
+    if let Some(t) = scene.run.output_interval
+        && t > end
+    {
+        warnings.push(format!(
+            "run.output_interval = {t} s is longer than the run (run.duration = {end} s): observables.csv gets only its rows at the start and the end"
+        ));
     }
 }
