@@ -316,3 +316,27 @@ fn gravity_in_millimetres_per_square_second_is_warned() {
     let expected = "gravity.acceleration has magnitude 9810 m/s² (1000 times Earth's): accelerations are in m/s², and this looks like mm/s²";
     assert!(warnings.iter().any(|w| w.contains(expected)), "{warnings:?}");
 }
+
+#[test]
+fn negative_numbers_reach_our_own_checks() {
+    // clap once took `-1` for an option and refused it as an unexpected argument.
+    let out = tmp("negative");
+    for (args, expected) in [
+        (["--duration", "-1"], "--duration -1: must be a positive number of seconds"),
+        (["--dt", "-1e-5"], "run.dt: must be a positive number, got -0.00001"),
+        (["--checkpoint-interval", "-2"], "--checkpoint-interval -2: must be a positive number of seconds"),
+    ] {
+        let result = Command::new(env!("CARGO_BIN_EXE_tumble"))
+            .args(["run", "scenes/box_settle.toml"])
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains(expected) && stderr.lines().count() == 1, "{args:?}: {stderr}");
+    }
+    assert!(!out.exists());
+}

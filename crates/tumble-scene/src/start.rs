@@ -34,8 +34,11 @@ pub(crate) fn check_starting_state(
 }
 
 /// Name of group `g` for messages: `particles[g]` with its name when it has one.
+/// A name over 24 characters is cut to its first 20, so that a refusal naming two groups
+/// still has room for its remedy.
 fn group_label(scene: &Scene, g: u16) -> String {
     match &scene.particles[g as usize].name {
+        Some(n) if n.chars().count() > 24 => format!("particles[{g}] (\"{}…\")", n.chars().take(20).collect::<String>()),
         Some(n) => format!("particles[{g}] (\"{n}\")"),
         None => format!("particles[{g}]"),
     }
@@ -191,7 +194,7 @@ fn shown(x: DVec3) -> String {
 /// The advice every overlap error ends with.
 fn overlap_advice(start: &StartSection) -> String {
     format!(
-        "particles start in contact only within run.start.max_overlap = {} of the smaller diameter; space them further apart, or raise run.start.max_overlap (or set run.start.allow_overlap = true) for a deliberate overlap",
+        "the start allows run.start.max_overlap = {} of the smaller diameter: space them further apart, raise it, or set run.start.allow_overlap = true",
         start.max_overlap
     )
 }
