@@ -31,10 +31,10 @@ pub enum Command {
         #[arg(long)]
         threads: Option<usize>,
         /// Override run.duration (seconds).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         duration: Option<f64>,
         /// Override run.dt (seconds).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         dt: Option<f64>,
         /// No progress lines.
         #[arg(long)]
@@ -43,7 +43,7 @@ pub enum Command {
         #[arg(long)]
         overwrite: bool,
         /// Write a checkpoint every S seconds of simulated time (overrides run.checkpoint_interval).
-        #[arg(long, value_name = "S")]
+        #[arg(long, value_name = "S", allow_hyphen_values = true)]
         checkpoint_interval: Option<f64>,
     },
     /// Continue a run from the newest checkpoint in its output folder, appending to its files.
@@ -51,13 +51,13 @@ pub enum Command {
         /// The run's output folder (with checkpoints/).
         dir: PathBuf,
         /// Continue to this simulated time instead of the run's duration (seconds).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         duration: Option<f64>,
         /// Worker threads [default: all cores]; the CPU's results do not depend on it.
         #[arg(long)]
         threads: Option<usize>,
         /// Write a checkpoint every S seconds of simulated time from now on.
-        #[arg(long, value_name = "S")]
+        #[arg(long, value_name = "S", allow_hyphen_values = true)]
         checkpoint_interval: Option<f64>,
         /// No progress lines.
         #[arg(long)]
@@ -187,7 +187,7 @@ pub fn main_with(cli: Cli) -> i32 {
                     return 2;
                 }
             };
-            if let Err(e) = check_threads(threads).and(check_interval(checkpoint_interval)) {
+            if let Err(e) = check_threads(threads).and(check_interval(checkpoint_interval)).and(check_duration(duration)) {
                 eprintln!("error: {e}");
                 return 2;
             }
@@ -198,6 +198,11 @@ pub fn main_with(cli: Cli) -> i32 {
                     return 2;
                 }
             };
+            // The plan's warnings before the first step: a likely mistake is told before the run
+            // spends its time, not only by `tumble plan`.
+            for w in &compiled.plan.report.warnings {
+                eprintln!("warning: {w}");
+            }
             let mut options = RunOptions { out_dir: out, duration, dt, backend, overwrite, checkpoint_interval, ..interactive_options(quiet) };
             if let Some(t) = threads {
                 options.threads = t;

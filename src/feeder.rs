@@ -275,20 +275,32 @@ impl Space {
     }
 }
 
-/// A warning per source that ended behind its schedule: a drawn particle still found no free place.
+/// A warning per source that inserted nothing, or ended behind its schedule: a drawn particle
+/// still found no free place.
 pub fn shortfall_warnings(sim: &crate::Simulation) -> Vec<String> {
     let Some(books) = sim.feeder_books() else { return Vec::new() };
     let plan = sim.plan();
-    plan.model
-        .sources
-        .iter()
-        .zip(&books.sources)
-        .filter(|(_, b)| b.pending.is_some())
-        .map(|(s, b)| {
-            format!(
+    let mut warnings = Vec::new();
+    for (s, b) in plan.model.sources.iter().zip(&books.sources) {
+        if b.inserted == 0 && b.deferred > 0 {
+            // Not one place of the region was free: a region behind a wall or outside the domain,
+            // not a rate too high for its size.
+            warnings.push(format!(
+                "source \"{}\" inserted no particle: at each of its {} insertions none of {POSITION_TRIES} places drawn in its region was clear of the walls, the other particles and the domain's sides; check that its region lies inside the walls and the domain",
+                s.name, b.deferred
+            ));
+        } else if b.inserted == 0 {
+            warnings.push(format!(
+                "source \"{}\" inserted no particle: its first insertion, at t = {:.6e} s, was not reached before the run ended",
+                s.name,
+                s.first_step as f64 * plan.model.dt
+            ));
+        } else if b.pending.is_some() {
+            warnings.push(format!(
                 "source \"{}\" fell behind its rate: {} times a drawn particle found no free place in the region and waited for the next insertion ({} particles, {:.6e} kg inserted); a larger region or a lower rate inserts on time",
                 s.name, b.deferred, b.inserted, b.mass
-            )
-        })
-        .collect()
+            ));
+        }
+    }
+    warnings
 }

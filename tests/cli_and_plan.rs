@@ -214,3 +214,129 @@ fn tumble_run_refuses_thousands_of_threads_and_writes_nothing() {
     assert!(stderr.contains("--threads 5000") && stderr.contains("use at most") && stderr.lines().count() == 1, "{stderr}");
     assert!(!out.exists());
 }
+
+/// The drum of scenes/test/drum_one_ball.toml as `edit` changes it, written to a file of its own.
+fn drum_scene(name: &str, edit: impl Fn(String) -> String) -> std::path::PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, edit(scene_file("scenes/test/drum_one_ball.toml"))).unwrap();
+    path
+}
+
+/// `tumble plan` prints the plan's warnings and `tumble run` tells them before its first step;
+/// `after_run` are told only when the run has ended.
+fn plan_and_run_warn(scene: &Path, expected: &[&str], after_run: &[&str]) {
+    let plan = Command::new(env!("CARGO_BIN_EXE_tumble")).arg("plan").arg(scene).output().unwrap();
+    let stdout = String::from_utf8_lossy(&plan.stdout);
+    assert!(plan.status.success(), "{}", String::from_utf8_lossy(&plan.stderr));
+    let out = scene.parent().unwrap().join("out");
+    let run =
+        Command::new(env!("CARGO_BIN_EXE_tumble")).arg("run").arg(scene).args(["--duration", "0.01", "--quiet", "--out"]).arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    for e in expected {
+        assert!(stdout.lines().any(|l| l.starts_with("warning: ") && l.contains(e)), "plan lacks {e:?}: {stdout}");
+        assert!(stderr.lines().any(|l| l.starts_with("warning: ") && l.contains(e)), "run lacks {e:?}: {stderr}");
+    }
+    for e in after_run {
+        assert!(stderr.lines().any(|l| l.starts_with("warning: ") && l.contains(e)), "run lacks {e:?}: {stderr}");
+    }
+    let _ = std::fs::remove_dir_all(scene.parent().unwrap());
+}
+
+#[test]
+fn a_motion_or_a_source_starting_after_the_end_is_warned() {
+    let scene = drum_scene("late", |text| {
+        text.replace("rpm = 10.0 } }", "rpm = 10.0 }, start = 1000.0 }")
+            + "[[sources]]\nname = \"feed\"\nmaterial = \"steel\"\nshape = { sphere = { diameter = 0.02 } }\n\
+               region = { box = { min = [-0.1, -0.1, 0.0], max = [0.1, 0.1, 0.1] } }\nrate = { particles_per_second = 10.0 }\nstart = 5.0\n"
+    });
+    plan_and_run_warn(
+        &scene,
+        &[
+            "walls[0].motion.start = 1000 s is not before the end of the run",
+            "wall \"shell\" never moves",
+            "sources[0].start = 5 s is not before the end of the run",
+            "source \"feed\" inserts nothing",
+        ],
+        &["source \"feed\" inserted no particle: its first insertion, at t = ", "was not reached before the run ended"],
+    );
+}
+
+#[test]
+fn a_source_behind_an_end_plate_is_warned_before_and_after_the_run() {
+    let scene = drum_scene("behind-plate", |text| {
+        text + "[[walls]]\nname = \"plate\"\nmaterial = \"steel\"\nplane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }\n\
+                [[sources]]\nname = \"feed\"\nmaterial = \"steel\"\nshape = { sphere = { diameter = 0.02 } }\n\
+                region = { box = { min = [-0.1, -0.1, -0.09], max = [0.1, 0.1, -0.01] } }\nrate = { particles_per_second = 100.0 }\n"
+    });
+    plan_and_run_warn(
+        &scene,
+        &[
+            "source \"feed\" has no room: none of 200 places drawn in its region is clear of the walls and inside the domain (200 overlap wall \"plate\")",
+        ],
+        &["source \"feed\" inserted no particle: at each of its"],
+    );
+}
+
+#[test]
+fn a_flow_plane_beyond_the_outlet_is_warned() {
+    let scene = drum_scene("flow-beyond-outlet", |text| {
+        text + "[[outlets]]\nname = \"bin\"\nplane = { point = [0.0, -0.32, 0.0], normal = [0.0, -1.0, 0.0] }\n\
+                [output]\nflow_planes = [{ name = \"below\", point = [0.0, -0.34, 0.0], normal = [0.0, -1.0, 0.0] }]\n"
+    });
+    plan_and_run_warn(
+        &scene,
+        &[
+            "output.flow_planes[0] (\"below\") lies 2.0000e-2 m beyond outlet \"bin\", on the side the outlet deletes: particles are deleted before they reach it",
+        ],
+        &[],
+    );
+}
+
+#[test]
+fn densities_in_grams_per_cubic_centimetre_and_a_long_output_interval_are_warned() {
+    let scene =
+        drum_scene("units", |text| text.replace("density = 7800.0", "density = 7.8").replace("integrator = \"verlet\"", "output_interval = 5.0"));
+    plan_and_run_warn(
+        &scene,
+        &[
+            "materials[0].density = 7.8 kg/m³ is lighter than any solid particle: densities are in kg/m³, and this looks like g/cm³ (7.8 g/cm³ is 7800 kg/m³)",
+            "run.output_interval = 5 s is longer than the run",
+        ],
+        &[],
+    );
+}
+
+#[test]
+fn gravity_in_millimetres_per_square_second_is_warned() {
+    let scene = parse_scene(&scene_file("scenes/test/drum_one_ball.toml").replace("-9.81", "-9810.0")).unwrap();
+    let warnings = compile(&scene).unwrap().plan.report.warnings;
+    let expected = "gravity.acceleration has magnitude 9810 m/s² (1000 times Earth's): accelerations are in m/s², and this looks like mm/s²";
+    assert!(warnings.iter().any(|w| w.contains(expected)), "{warnings:?}");
+}
+
+#[test]
+fn negative_numbers_reach_our_own_checks() {
+    // clap once took `-1` for an option and refused it as an unexpected argument.
+    let out = tmp("negative");
+    for (args, expected) in [
+        (["--duration", "-1"], "--duration -1: must be a positive number of seconds"),
+        (["--dt", "-1e-5"], "run.dt: must be a positive number, got -0.00001"),
+        (["--checkpoint-interval", "-2"], "--checkpoint-interval -2: must be a positive number of seconds"),
+    ] {
+        let result = Command::new(env!("CARGO_BIN_EXE_tumble"))
+            .args(["run", "scenes/box_settle.toml"])
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains(expected) && stderr.lines().count() == 1, "{args:?}: {stderr}");
+    }
+    assert!(!out.exists());
+}

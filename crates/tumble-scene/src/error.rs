@@ -43,9 +43,12 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// The longest field path and message a refusal prints, in characters: a terminal line or two.
+/// The longest field path and message a refusal prints, in characters: a few terminal lines.
+/// The message's bound leaves room for the longest refusal with its remedy in full (an
+/// overlap between two named groups, about 400), while a list a scene makes long (the names
+/// of a thousand materials) is still cut.
 const MAX_FIELD_CHARS: usize = 100;
-const MAX_MESSAGE_CHARS: usize = 320;
+const MAX_MESSAGE_CHARS: usize = 420;
 
 /// `text` as one bounded terminal line, whatever a scene put into it: control characters
 /// escaped, quoted text over 60 characters cut to 40, numbers of 20 or more digits (`{}` of

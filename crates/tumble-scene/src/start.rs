@@ -24,7 +24,7 @@ pub(crate) fn check_starting_state(
     domain: &PeriodicBox,
 ) -> Result<(), SceneError> {
     check_scales(scene, p, domain)?;
-    check_walls_near_domain(walls, groups, domain)?;
+    check_walls_near_domain(walls, groups, domain, scene.run.duration)?;
     let start = &scene.run.start;
     if start.allow_overlap {
         return Ok(());
@@ -34,8 +34,11 @@ pub(crate) fn check_starting_state(
 }
 
 /// Name of group `g` for messages: `particles[g]` with its name when it has one.
+/// A name over 24 characters is cut to its first 20, so that a refusal naming two groups
+/// still has room for its remedy.
 fn group_label(scene: &Scene, g: u16) -> String {
     match &scene.particles[g as usize].name {
+        Some(n) if n.chars().count() > 24 => format!("particles[{g}] (\"{}…\")", n.chars().take(20).collect::<String>()),
         Some(n) => format!("particles[{g}] (\"{n}\")"),
         None => format!("particles[{g}]"),
     }
@@ -90,41 +93,20 @@ fn check_scales(scene: &Scene, p: &InitialParticles, domain: &PeriodicBox) -> Re
     Ok(())
 }
 
-/// A static wall further from the domain than the domain is large touches nothing: a unit or sign mistake.
-fn check_walls_near_domain(walls: &[Wall], groups: &[WallGroup], domain: &PeriodicBox) -> Result<(), SceneError> {
-    use tumble_geom::SurfaceShape;
+/// Poses at which a moving wall is measured against the domain, evenly over the run.
+const WALL_POSES: usize = 16;
+
+/// A wall further from the domain than the domain is large touches nothing: a unit or sign
+/// mistake. A moving wall counts by its nearest pose over the run (a piston may start away).
+fn check_walls_near_domain(walls: &[Wall], groups: &[WallGroup], domain: &PeriodicBox, duration: f64) -> Result<(), SceneError> {
     let (lo, hi) = (domain.min, domain.max);
     let size = (hi - lo).length();
-    // Distance from the domain box to a point (0 inside).
-    let to_box = |x: DVec3| (x.clamp(lo, hi) - x).length();
-    for w in walls.iter().filter(|w| w.motion.is_none()) {
-        let distance = match &w.shape {
-            SurfaceShape::Plane(pl) => {
-                // The plane misses the box when every corner lies on one side; the gap is the nearest corner's.
-                let d: Vec<f64> = (0..8)
-                    .map(|c| DVec3::new([lo.x, hi.x][c & 1], [lo.y, hi.y][(c >> 1) & 1], [lo.z, hi.z][c >> 2]))
-                    .map(|x| pl.normal.dot(x - pl.point))
-                    .collect();
-                let (min, max) = d.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-                if min > 0.0 {
-                    min
-                } else if max < 0.0 {
-                    -max
-                } else {
-                    0.0
-                }
-            }
-            SurfaceShape::Quad(q) => q.corners.iter().map(|&c| to_box(c)).fold(f64::INFINITY, f64::min),
-            SurfaceShape::Prism(pr) => (to_box(pr.centre) - pr.bound).max(0.0),
-            SurfaceShape::Mesh(m) => (crate::mesh_walls::nearest_distance(m, 0.5 * (lo + hi)) - 0.5 * size).max(0.0),
-            SurfaceShape::Cylinder(c) => {
-                // The axis's closest approach to the box centre, less the radius.
-                let centre = 0.5 * (lo + hi);
-                let r = centre - c.point;
-                let off_axis = (r - c.axis * c.axis.dot(r)).length();
-                (off_axis - c.radius - 0.5 * size).max(0.0)
-            }
-        };
+    for w in walls {
+        let poses = if w.motion.is_some() { WALL_POSES } else { 0 };
+        let distance = (0..=poses)
+            .map(|i| if poses == 0 { w.shape.clone() } else { w.shape_at(duration * i as f64 / poses as f64) })
+            .map(|shape| distance_to_box(&shape, lo, hi))
+            .fold(f64::INFINITY, f64::min);
         if distance > size {
             let g = w.group as usize;
             return Err(SceneError::field(
@@ -139,6 +121,43 @@ fn check_walls_near_domain(walls: &[Wall], groups: &[WallGroup], domain: &Period
         }
     }
     Ok(())
+}
+
+/// How far a wall's surface stays from the box [lo, hi] (0 where it passes through), at
+/// least: the nearest corner, vertex or bounding sphere.
+fn distance_to_box(shape: &tumble_geom::SurfaceShape, lo: DVec3, hi: DVec3) -> f64 {
+    use tumble_geom::SurfaceShape;
+    let size = (hi - lo).length();
+    // Distance from the domain box to a point (0 inside).
+    let to_box = |x: DVec3| (x.clamp(lo, hi) - x).length();
+    match shape {
+        SurfaceShape::Plane(pl) => {
+            // The plane misses the box when every corner lies on one side; the gap is the nearest corner's.
+            let d: Vec<f64> = (0..8)
+                .map(|c| DVec3::new([lo.x, hi.x][c & 1], [lo.y, hi.y][(c >> 1) & 1], [lo.z, hi.z][c >> 2]))
+                .map(|x| pl.normal.dot(x - pl.point))
+                .collect();
+            let (min, max) = d.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+            if min > 0.0 {
+                min
+            } else if max < 0.0 {
+                -max
+            } else {
+                0.0
+            }
+        }
+        SurfaceShape::Quad(q) => q.corners.iter().map(|&c| to_box(c)).fold(f64::INFINITY, f64::min),
+        SurfaceShape::Prism(pr) => (to_box(pr.centre) - pr.bound).max(0.0),
+        SurfaceShape::Mesh(m) => (crate::mesh_walls::nearest_distance(m, 0.5 * (lo + hi)) - 0.5 * size).max(0.0),
+        SurfaceShape::Cylinder(c) => {
+            // The axis's closest approach to the box centre: the shell is far when it passes
+            // beyond the box, or encloses it with room to spare (a drum of radius 150 in a 0.3 m domain).
+            let centre = 0.5 * (lo + hi);
+            let r = centre - c.point;
+            let off_axis = (r - c.axis * c.axis.dot(r)).length();
+            (off_axis - c.radius - 0.5 * size).max(c.radius - off_axis - 0.5 * size).max(0.0)
+        }
+    }
 }
 
 /// Overlapping pairs counted before the pair check stops looking.
@@ -175,7 +194,7 @@ fn shown(x: DVec3) -> String {
 /// The advice every overlap error ends with.
 fn overlap_advice(start: &StartSection) -> String {
     format!(
-        "particles start in contact only within run.start.max_overlap = {} of the smaller diameter; space them further apart, or raise run.start.max_overlap (or set run.start.allow_overlap = true) for a deliberate overlap",
+        "the start allows run.start.max_overlap = {} of the smaller diameter: space them further apart, raise it, or set run.start.allow_overlap = true",
         start.max_overlap
     )
 }

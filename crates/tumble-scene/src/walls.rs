@@ -8,6 +8,10 @@ use crate::schema::*;
 use glam::DVec3;
 use tumble_geom::{Cylinder, PeriodicBox, Plane, Prism, Quad, SurfaceShape};
 
+/// Largest distance of a quad's fourth corner from the plane of the other three, as a fraction
+/// of its diagonal: a quad beyond it is two triangles, not one face.
+const QUAD_PLANARITY: f64 = 1e-9;
+
 /// Surfaces, their groups (one per [[walls]] entry), the drums among them and the meshes' warnings.
 pub(crate) type CompiledWalls = (Vec<Wall>, Vec<WallGroup>, Vec<Drum>, Vec<String>);
 
@@ -78,8 +82,18 @@ pub(crate) fn compile_walls(
                 return Err(SceneError::field(f("quad.corners"), "the first three corners are collinear"));
             }
             let quad = Quad::new(c, q.two_sided);
-            if quad.planarity_error() > 1e-9 {
-                return Err(SceneError::field(f("quad.corners"), "the four corners must lie in one plane"));
+            if quad.planarity_error() > QUAD_PLANARITY {
+                let diagonal = (c[2] - c[0]).length();
+                return Err(SceneError::field(
+                    f("quad.corners"),
+                    format!(
+                        "the four corners must lie in one plane: the fourth lies {:.3e} m from the plane through the first three, {:.3e} of the diagonal {:.4e} m; the tolerance is {QUAD_PLANARITY:e} of the diagonal ({:.3e} m)",
+                        quad.planarity_error() * diagonal,
+                        quad.planarity_error(),
+                        diagonal,
+                        QUAD_PLANARITY * diagonal
+                    ),
+                ));
             }
             shapes.push((name.clone(), SurfaceShape::Quad(quad)));
         } else if let Some(b) = &w.box_ {

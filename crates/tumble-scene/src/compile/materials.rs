@@ -12,6 +12,10 @@ pub(super) struct MaterialTable {
     pub index: HashMap<String, u16>,
 }
 
+/// Densest material accepted, kg/m³: beyond it masses and energies overflow long before a
+/// scene means anything (1e308 ran to exit 0).
+const MAX_DENSITY: f64 = 1.0e8;
+
 /// Validates the [[materials]] entries.
 pub(super) fn materials(scene: &Scene) -> Result<MaterialTable, SceneError> {
     if scene.materials.is_empty() {
@@ -25,6 +29,12 @@ pub(super) fn materials(scene: &Scene) -> Result<MaterialTable, SceneError> {
             return Err(SceneError::field(f("name"), format!("material \"{}\" is defined twice", m.name)));
         }
         positive(&f("density"), m.density)?;
+        if m.density > MAX_DENSITY {
+            return Err(SceneError::field(
+                f("density"),
+                format!("must be at most {MAX_DENSITY:e} kg/m³ (densities are in kg/m³; the densest solid, osmium, is 22590), got {}", m.density),
+            ));
+        }
         if let Some(e) = m.youngs_modulus {
             positive(&f("youngs_modulus"), e)?;
         }

@@ -4,6 +4,7 @@
 
 mod fluid;
 mod materials;
+mod mistakes;
 mod model;
 mod pairs;
 mod report;
@@ -45,6 +46,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let (mut sources, prototypes) =
         crate::sources::compile_sources(scene, &table.index, &densities, &mut shapes, &domain, gravity, scene.particles.len() as u16)?;
     let outlets = crate::sources::compile_outlets(scene)?;
+    mistakes::check_outlets(&outlets, &particles, &sources)?;
     // Every kind of particle the run will hold: Δt, the cell size and the features are planned for these.
     let mut kinds = particles.clone();
     kinds.append(&prototypes);
@@ -159,7 +161,12 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let sph_warnings = sph.iter().flat_map(|p| p.warnings.iter().cloned());
     let report = PlanReport {
         features: report::features(scene, &model, &mechanics, &tuning, &run),
-        warnings: mesh_warnings.into_iter().chain(report::warnings(&model, &timescales, &kinds)).chain(sph_warnings).collect(),
+        warnings: mesh_warnings
+            .into_iter()
+            .chain(report::warnings(&model, &timescales, &kinds))
+            .chain(mistakes::warnings(scene, &model))
+            .chain(sph_warnings)
+            .collect(),
         timescales,
         wall_step_limit,
         targets: Targets { taylor_green, stickiness },

@@ -11,11 +11,27 @@ use tumble_contact::TangentialLaw;
 use tumble_geom::{PeriodicBox, Plane};
 use tumble_integrate::Integrator;
 
+/// Largest extent of the domain along an axis, m.
+const MAX_DOMAIN_EXTENT: f64 = 1.0e6;
+
 pub(super) fn domain(scene: &Scene) -> Result<PeriodicBox, SceneError> {
     let domain =
         PeriodicBox { min: finite3("domain.min", scene.domain.min)?, max: finite3("domain.max", scene.domain.max)?, periodic: scene.domain.periodic };
     if (0..3).any(|k| domain.max[k] <= domain.min[k]) {
         return Err(SceneError::field("domain", "max must exceed min on every axis (the domain is empty)"));
+    }
+    // Beyond it lengths lose the digits contacts need, and ±1e308 overflows to ∞ (a periodic
+    // image at ∞, a potential energy of NaN).
+    let extent = domain.extent();
+    if let Some(k) = (0..3).find(|&k| !(extent[k] <= MAX_DOMAIN_EXTENT)) {
+        return Err(SceneError::field(
+            "domain",
+            format!(
+                "max − min along {} is {:e} m; the domain's extent must be a finite length of at most {MAX_DOMAIN_EXTENT:e} m on every axis",
+                ["x", "y", "z"][k],
+                extent[k]
+            ),
+        ));
     }
     Ok(domain)
 }

@@ -43,7 +43,15 @@ pub(super) fn step(
             let t = timescales
                 .collision_time
                 .ok_or_else(|| SceneError::field("run.dt.collision_fraction", "this scene has no contact time to divide; give dt in seconds"))?;
-            t / f.collision_fraction
+            let dt = t / f.collision_fraction;
+            // A fraction near zero (1e-320) overflows: allow_unstable_dt cannot make Δt = ∞ run.
+            if !dt.is_finite() {
+                return Err(SceneError::field(
+                    "run.dt.collision_fraction",
+                    format!("the collision time {t:.4e} s over {} gives Δt = {dt} s; Δt must be a finite number of seconds", f.collision_fraction),
+                ));
+            }
+            dt
         }
     };
     if let Some(limit) = timescales.stability_limit
