@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 use tumble_scene::{Plan, SphPlan, SphProbe, SphProbeKind};
-use tumble_sph::{DensityDiffusion, FluidObservables, FluidParticles, FluidPhase, FluidSnapshot, ParticleKind, Viscosity};
+use tumble_sph::{DensityDiffusion, FluidObservables, FluidParticles, FluidPhase, FluidSettings, FluidSnapshot, ParticleKind, Viscosity, WallRole};
 use tumble_state::{Phase, PhasePoints, PhaseTable};
 
 /// A fluid phase and what the scene measures in it.
@@ -76,9 +76,12 @@ impl SphPhase {
             scale: (o.kinetic_energy + o.elastic_energy + body_kinetic).max(0.01 * releasable.abs()),
         };
         let monitor = &plan.run.monitor;
-        // A body force or a moving wall does work on the fluid: its energy may grow, so it is not watched.
-        let energy_growth = (monitor.enabled && sph.settings.body_force == glam::DVec3::ZERO && sph.settings.moving_walls.is_empty())
-            .then_some(monitor.energy_growth);
+        // A body force or a moving wall does work on the fluid, and buffers bring energy in and
+        // take it out: its energy may grow, so it is not watched.
+        let f = &sph.settings;
+        let energy_growth =
+            (monitor.enabled && f.body_force == glam::DVec3::ZERO && f.moving_walls.is_empty() && f.inflows.is_empty() && f.outflows.is_empty())
+                .then_some(monitor.energy_growth);
         Ok(SphPhase { phase, probes: sph.probes.clone(), floating: sph.floating.clone(), fluid_particles, pool, energy_growth, energy })
     }
 
@@ -185,7 +188,18 @@ impl Phase for SphPhase {
             o.largest_speed,
             limit.dt(),
         ];
-        let fluid = PhaseTable { file: "fluid.csv".into(), columns: columns.iter().map(|c| c.to_string()).collect(), values };
+        let mut fluid = PhaseTable { file: "fluid.csv".into(), columns: columns.iter().map(|c| c.to_string()).collect(), values };
+        let s = self.phase.settings();
+        if !(s.inflows.is_empty() && s.outflows.is_empty()) {
+            // The fluid's mass changes by exactly mass_in − mass_out, its particles by particles_in − particles_out.
+            let b = self.phase.buffer_books();
+            let more = [("mass_in", b.inflow_mass), ("mass_out", b.outflow_mass)];
+            let counts = [("particles_in", b.inflow_particles as f64), ("particles_out", b.outflow_particles as f64)];
+            for (name, value) in more.into_iter().chain(counts) {
+                fluid.columns.push(name.into());
+                fluid.values.push(value);
+            }
+        }
         std::iter::once(fluid)
             .chain(self.probes.iter().map(|q| self.probe_table(q)))
             .chain((0..self.floating.len()).map(|k| self.body_table(k)))
@@ -224,7 +238,7 @@ impl Phase for SphPhase {
         let p = self.phase.particles();
         let eos = self.phase.equation_of_state();
         let walls = self.phase.pressure();
-        let moving = self.phase.settings().moving_walls.len();
+        let settings = self.phase.settings();
         // Sorted by id, as the particles' snapshots are.
         let mut order: Vec<usize> = (0..p.len()).collect();
         order.sort_by_key(|&i| p.id[i]);
@@ -243,8 +257,8 @@ impl Phase for SphPhase {
             ],
             vectors: vec![("velocity", order.iter().map(|&i| p.velocity[i]).collect())],
             integers: vec![
-                // 0 fluid, 1 wall, 2 a floating body's particle.
-                ("kind", order.iter().map(|&i| kind_number(p, i, moving)).collect()),
+                // 0 fluid, 1 wall, 2 a floating body's, 3 an inflow's, 4 an outflow's particle.
+                ("kind", order.iter().map(|&i| kind_number(p, i, settings)).collect()),
                 ("id", order.iter().map(|&i| p.id[i] as i32).collect()),
             ],
         }
@@ -262,11 +276,14 @@ impl Phase for SphPhase {
     }
 }
 
-/// A particle's `kind` in the fluid's snapshots: 0 fluid, 1 wall, 2 a floating body's particle.
-fn kind_number(p: &FluidParticles, i: usize, moving_walls: usize) -> i32 {
-    match p.kind[i] {
-        ParticleKind::Fluid => 0,
-        ParticleKind::Wall if p.wall[i] as usize > moving_walls => 2,
-        ParticleKind::Wall => 1,
+/// A particle's `kind` in the fluid's snapshots: 0 fluid, 1 wall, 2 a floating body's, 3 an
+/// inflow buffer's, 4 an outflow buffer's particle.
+fn kind_number(p: &FluidParticles, i: usize, settings: &FluidSettings) -> i32 {
+    match (p.kind[i], settings.wall_role(p.wall[i])) {
+        (ParticleKind::Fluid, _) => 0,
+        (ParticleKind::Wall, WallRole::Fixed | WallRole::Moving(_)) => 1,
+        (ParticleKind::Wall, WallRole::Body(_)) => 2,
+        (ParticleKind::Wall, WallRole::Inflow(_)) => 3,
+        (ParticleKind::Wall, WallRole::Outflow(_)) => 4,
     }
 }

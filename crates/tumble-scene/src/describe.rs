@@ -202,6 +202,29 @@ fn describe_sph(s: &mut String, p: &crate::SphPlan) {
             body.start.centre
         );
     }
+    for (k, inflow) in f.inflows.iter().enumerate() {
+        let b = &inflow.buffer;
+        let _ = writeln!(
+            s,
+            "fluid inflow {k}: box {} to {} m, fluid enters at {} m/s through its face at {} = {} m; its particles take the fluid's pressure continued across that face",
+            b.region.min,
+            b.region.max,
+            inflow.velocity(),
+            ["x", "y", "z"][b.axis],
+            if b.sign > 0.0 { b.region.max[b.axis] } else { b.region.min[b.axis] }
+        );
+    }
+    for (k, outflow) in f.outflows.iter().enumerate() {
+        let b = &outflow.buffer;
+        let _ = writeln!(
+            s,
+            "fluid outflow {k}: box {} to {} m, fluid leaves along {} at {} Pa; fluid.csv counts mass_in, mass_out",
+            b.region.min,
+            b.region.max,
+            b.direction(),
+            outflow.pressure
+        );
+    }
     for probe in &p.probes {
         let what = match probe.kind {
             crate::SphProbeKind::Pressure(x) => format!("pressure at {x}"),

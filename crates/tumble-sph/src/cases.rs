@@ -77,6 +77,8 @@ impl ColumnInTank {
             },
             moving_walls: Vec::new(),
             floating: Vec::new(),
+            inflows: Vec::new(),
+            outflows: Vec::new(),
         };
         let mut particles = FluidParticles::default();
         let depth = if three_d { self.depth } else { 0.0 };

@@ -11,6 +11,7 @@
 //! Monaghan's (2000) tensile correction; XSPH; dummy wall particles with the condition of
 //! Adami, Hu & Adams (2012) and a short-range repulsion; a true 2D mode (the x–z plane).
 
+mod buffers;
 pub mod cases;
 mod eos;
 mod floating;
@@ -25,6 +26,7 @@ mod rates;
 mod settings;
 mod setup;
 
+pub use buffers::{BufferBooks, BufferBox, Inflow, Outflow};
 pub use eos::{GAMMA, Tait};
 pub use floating::{BodyShape, BodyState, FloatingBody};
 pub use kernel::{Dimension, WendlandC2};
@@ -36,5 +38,5 @@ pub use particles::{
 };
 pub use phase::{FluidObservables, FluidPhase, FluidSnapshot};
 pub use rates::Rates;
-pub use settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity};
-pub use setup::{add_fluid_block, add_fluid_cylinder, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, wall_layers};
+pub use settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity, WallRole};
+pub use setup::{add_fluid_block, add_fluid_cylinder, add_inflow, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, wall_layers};

@@ -52,6 +52,28 @@ impl FluidParticles {
         self.wall.push(0);
     }
 
+    /// Appends a particle with the given id (a buffer's new particle; ids stay unique).
+    pub(crate) fn push_with_id(&mut self, id: u32, kind: ParticleKind, position: DVec3, velocity: DVec3, density: f64, mass: f64) {
+        self.push(kind, position, velocity, density, mass);
+        *self.id.last_mut().expect("just pushed") = id;
+    }
+
+    /// Removes the particles `remove` picks (called once per particle, in order), keeping the
+    /// others' order and ids.
+    pub(crate) fn remove_where(&mut self, mut remove: impl FnMut(usize) -> bool) {
+        let kept: Vec<usize> = (0..self.len()).filter(|&i| !remove(i)).collect();
+        fn pick<T: Copy>(v: &[T], kept: &[usize]) -> Vec<T> {
+            kept.iter().map(|&i| v[i]).collect()
+        }
+        self.id = pick(&self.id, &kept);
+        self.kind = pick(&self.kind, &kept);
+        self.position = pick(&self.position, &kept);
+        self.velocity = pick(&self.velocity, &kept);
+        self.density = pick(&self.density, &kept);
+        self.mass = pick(&self.mass, &kept);
+        self.wall = pick(&self.wall, &kept);
+    }
+
     /// Makes the particles from index `from` on part of moving wall `wall` (k + 1 for
     /// `FluidSettings::moving_walls[k]`).
     pub fn assign_moving_wall(&mut self, from: usize, wall: u16) {

@@ -3,13 +3,14 @@
 use rayon::prelude::*;
 use tumble_geom::DVec3;
 
+use crate::buffers::{BufferBooks, exchange};
 use crate::eos::Tait;
 use crate::floating::{BodyMove, BodyState};
 use crate::limits::{FluidFault, TimeStepLimits};
 use crate::neighbours::{FluidGrid, rebuild_distance};
 use crate::particles::{FluidParticles, ParticleKind};
 use crate::rates::{Method, PairInputs, Rates, WallsAt, body_loads, evaluate, prepare};
-use crate::settings::{FluidSettings, MovingWall, Viscosity};
+use crate::settings::{FluidSettings, Viscosity, WallRole};
 
 /// The fluid's sums at one instant (the observables of an output row).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -30,7 +31,7 @@ pub struct FluidObservables {
 /// How the moving walls and floating bodies carry their particles over one half step, from `t0`
 /// to `t0 + half`.
 struct WallMoves<'a> {
-    moving: &'a [MovingWall],
+    settings: &'a FluidSettings,
     t0: f64,
     bodies: &'a [BodyMove],
 }
@@ -46,7 +47,7 @@ fn drift(
     half: f64,
     fluid: impl Fn(usize, &mut DVec3, &mut f64) -> DVec3 + Sync,
 ) -> (usize, f64) {
-    let (wall, moving, t0) = (&p.wall, walls.moving, walls.t0);
+    let (wall, settings, t0) = (&p.wall, walls.settings, walls.t0);
     p.position
         .par_iter_mut()
         .zip(p.velocity.par_iter_mut())
@@ -54,21 +55,21 @@ fn drift(
         .zip(p.kind.par_iter())
         .enumerate()
         .map(|(i, (((x, v), rho), k))| {
-            let step = match (k, wall[i]) {
+            let step = match (k, settings.wall_role(wall[i])) {
                 (ParticleKind::Fluid, _) => half * fluid(i, v, rho),
-                (ParticleKind::Wall, 0) => half * *v,
-                (ParticleKind::Wall, w) if w as usize <= moving.len() => {
-                    let motion = &moving[w as usize - 1];
+                (ParticleKind::Wall, WallRole::Moving(w)) => {
+                    let motion = &settings.moving_walls[w];
                     let to = motion.advance(*x, t0, t0 + half);
                     *v = motion.velocity_at(to, t0 + half);
                     to - *x
                 }
-                (ParticleKind::Wall, w) => {
-                    let body = &walls.bodies[w as usize - 1 - moving.len()];
+                (ParticleKind::Wall, WallRole::Body(b)) => {
+                    let body = &walls.bodies[b];
                     let (step, velocity) = body.carry(grid.separation(*x, body.from));
                     *v = velocity;
                     step
                 }
+                (ParticleKind::Wall, WallRole::Fixed | WallRole::Inflow(_) | WallRole::Outflow(_)) => half * *v,
             };
             *x = grid.wrap(*x + step);
             (i, step.length())
@@ -89,6 +90,11 @@ pub struct FluidSnapshot {
     /// The floating bodies, in the settings' order.
     #[serde(default)]
     pub bodies: Vec<BodyState>,
+    /// What has passed through the buffers, and the id the next new particle takes.
+    #[serde(default)]
+    pub buffers: BufferBooks,
+    #[serde(default)]
+    pub next_id: u32,
 }
 
 /// A weakly compressible SPH fluid: fluid and wall particles, stepped by the symplectic scheme.
@@ -104,6 +110,9 @@ pub struct FluidPhase {
     bodies: Vec<BodyState>,
     /// The particles of the floating bodies (sorted indices, ascending), found after each sort.
     body_particles: Vec<u32>,
+    buffers: BufferBooks,
+    /// The id the next particle an inflow buffer makes takes.
+    next_id: u32,
     /// The next step re-sorts the arrays and rebuilds the neighbour lists first.
     lists_due: bool,
     time: f64,
@@ -139,20 +148,33 @@ impl FluidPhase {
                 return Err(format!("a floating body needs a positive finite mass and inertia (got {} kg)", body.mass));
             }
         }
-        let (moving, bodies) = (settings.moving_walls.len(), settings.floating.len());
+        let reach = 2.0 * settings.h;
+        let buffers = settings.inflows.iter().map(|b| &b.buffer).chain(settings.outflows.iter().map(|b| &b.buffer));
+        if let Some(b) = buffers.into_iter().find(|b| !(b.depth() >= reach)) {
+            return Err(format!("a buffer must be at least 2h = {reach} deep along its flow (a full kernel), got {}", b.depth()));
+        }
+        if let Some(i) = settings.inflows.iter().find(|i| !(i.speed > 0.0 && i.speed.is_finite())) {
+            return Err(format!("an inflow's speed must be positive and finite (got {})", i.speed));
+        }
+        let numbers = settings.wall_numbers();
         for (i, &w) in particles.wall.iter().enumerate() {
-            if w as usize > moving + bodies || (w > 0 && particles.kind[i] != ParticleKind::Wall) {
+            if w as usize > numbers || (w > 0 && particles.kind[i] != ParticleKind::Wall) {
                 return Err(format!(
-                    "particle {i} names moving wall {w}; there are {moving} moving walls and {bodies} floating bodies, and only wall particles move with one"
+                    "particle {i} names wall {w}; there are {numbers} moving walls, floating bodies and buffers, and only wall particles follow one"
                 ));
             }
-            if w > 0 && (w as usize) <= moving {
-                particles.velocity[i] = settings.moving_walls[w as usize - 1].velocity_at(particles.position[i], 0.0);
-            } else if w > 0 {
-                let body = &settings.floating[w as usize - 1 - moving].start;
-                particles.velocity[i] = body.velocity_at(particles.position[i] - body.centre);
+            let x = particles.position[i];
+            match settings.wall_role(w) {
+                WallRole::Moving(k) => particles.velocity[i] = settings.moving_walls[k].velocity_at(x, 0.0),
+                WallRole::Body(k) => {
+                    let body = &settings.floating[k].start;
+                    particles.velocity[i] = body.velocity_at(x - body.centre);
+                }
+                WallRole::Inflow(k) => particles.velocity[i] = settings.inflows[k].velocity(),
+                WallRole::Fixed | WallRole::Outflow(_) => {}
             }
         }
+        let next_id = particles.id.iter().max().map_or(0, |&m| m + 1);
         let mut grid = FluidGrid::new(settings.domain, 2.0 * settings.h)?;
         for x in particles.position.iter_mut() {
             *x = grid.wrap(*x);
@@ -160,7 +182,7 @@ impl FluidPhase {
         grid.sort(&mut particles);
         let method = Method::new(&settings);
         let bodies = settings.floating.iter().map(|b| b.start).collect();
-        let body_particles = members(&particles, moving);
+        let body_particles = members(&particles, &settings);
         Ok(FluidPhase {
             settings,
             method,
@@ -172,6 +194,8 @@ impl FluidPhase {
             start_density: Vec::new(),
             bodies,
             body_particles,
+            buffers: BufferBooks::default(),
+            next_id,
             lists_due: false,
             time: 0.0,
             steps: 0,
@@ -197,6 +221,11 @@ impl FluidPhase {
     /// The floating bodies, in the settings' order.
     pub fn bodies(&self) -> &[BodyState] {
         &self.bodies
+    }
+
+    /// What has passed through the inflow and outflow buffers since the start.
+    pub fn buffer_books(&self) -> BufferBooks {
+        self.buffers
     }
 
     pub fn equation_of_state(&self) -> Tait {
@@ -237,6 +266,8 @@ impl FluidPhase {
             particles: self.particles.clone(),
             list_positions: (!self.lists_due).then(|| self.grid.built_positions().to_vec()),
             bodies: self.bodies.clone(),
+            buffers: self.buffers,
+            next_id: self.next_id,
         }
     }
 
@@ -271,8 +302,10 @@ impl FluidPhase {
             }
             None => self.lists_due = true,
         }
-        self.body_particles = members(&self.particles, self.settings.moving_walls.len());
+        self.body_particles = members(&self.particles, &self.settings);
         self.bodies.clone_from(&snapshot.bodies);
+        self.buffers = snapshot.buffers;
+        self.next_id = snapshot.next_id.max(self.particles.id.iter().max().map_or(0, |&m| m + 1));
         self.time = snapshot.time;
         self.steps = snapshot.steps;
         Ok(())
@@ -304,12 +337,13 @@ impl FluidPhase {
     /// their particles drift with them.
     pub fn step(&mut self, dt: f64) -> Result<(), FluidFault> {
         if self.lists_due {
+            exchange(&self.settings, &mut self.particles, &mut self.next_id, &mut self.buffers);
             self.grid.sort(&mut self.particles);
-            self.body_particles = members(&self.particles, self.settings.moving_walls.len());
+            self.body_particles = members(&self.particles, &self.settings);
             self.lists_due = false;
         }
         let half = 0.5 * dt;
-        let walls = WallsAt { moving: &self.settings.moving_walls, bodies: &self.bodies, time: self.time };
+        let walls = WallsAt { settings: &self.settings, bodies: &self.bodies, time: self.time };
         prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs, walls);
         evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
         self.load_bodies();
@@ -318,24 +352,23 @@ impl FluidPhase {
         let start_bodies = self.bodies.clone();
         let moves: Vec<BodyMove> = self.bodies.iter().map(|b| BodyMove::first_half(b, half)).collect();
         self.bodies = moves.iter().map(|m| m.state).collect();
-        let (rates, moving) = (&self.rates, &self.settings.moving_walls);
-        let walls = WallMoves { moving, t0: self.time, bodies: &moves };
+        let rates = &self.rates;
+        let walls = WallMoves { settings: &self.settings, t0: self.time, bodies: &moves };
         let (_, first_move) = drift(&self.grid, &mut self.particles, &walls, half, |i, v, rho| {
             let advect = *v + rates.xsph[i];
             *v += half * rates.acceleration[i];
             *rho += half * rates.density_rate[i];
             advect
         });
-        let walls = WallsAt { moving: &self.settings.moving_walls, bodies: &self.bodies, time: self.time + half };
+        let walls = WallsAt { settings: &self.settings, bodies: &self.bodies, time: self.time + half };
         prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs, walls);
         evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
         self.load_bodies();
         let moves: Vec<BodyMove> = start_bodies.iter().zip(&self.bodies).map(|(s, m)| BodyMove::second_half(s, m, dt)).collect();
         self.bodies = moves.iter().map(|m| m.state).collect();
-        let moving = &self.settings.moving_walls;
         let rates = &self.rates;
         let (v0, rho0) = (&self.start_velocity, &self.start_density);
-        let walls = WallMoves { moving, t0: self.time + half, bodies: &moves };
+        let walls = WallMoves { settings: &self.settings, t0: self.time + half, bodies: &moves };
         let (fastest, second_move) = drift(&self.grid, &mut self.particles, &walls, half, |i, v, rho| {
             *v = v0[i] + dt * rates.acceleration[i];
             let eps = -dt * rates.density_rate[i] / *rho;
@@ -411,15 +444,16 @@ impl FluidPhase {
     }
 }
 
-/// The particles of floating bodies (wall numbers beyond the `moving` walls), ascending.
-fn members(p: &FluidParticles, moving: usize) -> Vec<u32> {
-    (0..p.len() as u32).filter(|&i| p.wall[i as usize] as usize > moving).collect()
+/// The particles of floating bodies, ascending.
+fn members(p: &FluidParticles, settings: &FluidSettings) -> Vec<u32> {
+    (0..p.len() as u32).filter(|&i| matches!(settings.wall_role(p.wall[i as usize]), WallRole::Body(_))).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::cases::ColumnInTank;
+    use crate::settings::MovingWall;
 
     /// Every pair within 2h at the end of every step is in the lists the next step reads, for a
     /// collapsing column whose lists are kept over several steps; and they are kept (the run
@@ -513,6 +547,8 @@ mod tests {
             domain: tumble_geom::PeriodicBox { min: DVec3::new(-reach, 0.0, -reach), max: DVec3::new(reach, 0.0, reach), periodic: [false; 3] },
             moving_walls: vec![MovingWall { motion: Motion::Rotate { point: DVec3::ZERO, axis: DVec3::Y, omega }, timing: Timing::ALWAYS }],
             floating: Vec::new(),
+            inflows: Vec::new(),
+            outflows: Vec::new(),
         };
         let eos = Tait::new(rho0, settings.sound_speed);
         let exact = |r: f64| 0.5 * rho0 * omega * omega * r * r;
@@ -526,8 +562,8 @@ mod tests {
         crate::add_wall_cylinder(&mut particles, &settings, &Cylinder::new(DVec3::ZERO, DVec3::Y, radius, 1.0, true), DVec3::ZERO);
         particles.assign_moving_wall(first_wall, 1);
         let mut phase = FluidPhase::new(settings, particles).unwrap();
-        let moving = phase.settings.moving_walls.clone();
-        let walls = WallsAt { moving: &moving, bodies: &[], time: 0.0 };
+        let settings = phase.settings.clone();
+        let walls = WallsAt { settings: &settings, bodies: &[], time: 0.0 };
         crate::rates::prepare(&phase.method, &phase.grid, &mut phase.particles, &mut phase.inputs, walls);
         let p = &phase.particles;
         let mut worst: f64 = 0.0;

@@ -12,7 +12,7 @@ use crate::kernel::{Dimension, WendlandC2};
 use crate::neighbours::FluidGrid;
 use crate::particles::{FluidParticles, ParticleKind};
 use crate::pass::{Batch, Neighbourhood, ParticleRates, PassConstants, WallSums, particle_rates, wall_reaction, wall_sums};
-use crate::settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity};
+use crate::settings::{DensityDiffusion, FluidSettings, Viscosity, WallRole};
 
 /// The constants of one evaluation, derived once from the settings.
 #[derive(Clone, Copy, Debug)]
@@ -104,6 +104,9 @@ pub(crate) struct PairInputs {
     pub tensile: Vec<f64>,
     /// 1 for a fluid particle, 0 for a wall particle.
     pub fluid: Vec<f64>,
+    /// Fluid particles within 2h of a buffer's face, whose density diffusion is left out (empty
+    /// without buffers).
+    pub diffusion_off: Vec<bool>,
 }
 
 /// What an evaluation produces per particle (zero for walls).
@@ -124,25 +127,24 @@ impl Rates {
 }
 
 /// How the walls move at one instant: each moving wall by its motion at `time`, each floating
-/// body by its state.
+/// body by its state; the buffers at their own velocities.
 #[derive(Clone, Copy)]
 pub(crate) struct WallsAt<'a> {
-    pub moving: &'a [MovingWall],
+    pub settings: &'a FluidSettings,
     pub bodies: &'a [BodyState],
     pub time: f64,
 }
 
 impl WallsAt<'_> {
-    /// The acceleration of the material of wall `wall` (a particle's wall number) at `x`.
-    fn acceleration(&self, grid: &FluidGrid, wall: u16, x: DVec3) -> DVec3 {
-        let k = wall as usize;
-        if k == 0 {
-            DVec3::ZERO
-        } else if k <= self.moving.len() {
-            self.moving[k - 1].acceleration_at(x, self.time)
-        } else {
-            let body = &self.bodies[k - 1 - self.moving.len()];
-            body.acceleration_at(grid.separation(x, body.centre))
+    /// The acceleration of the material of a wall in `role` at `x`.
+    fn acceleration(&self, grid: &FluidGrid, role: WallRole, x: DVec3) -> DVec3 {
+        match role {
+            WallRole::Moving(k) => self.settings.moving_walls[k].acceleration_at(x, self.time),
+            WallRole::Body(k) => {
+                let body = &self.bodies[k];
+                body.acceleration_at(grid.separation(x, body.centre))
+            }
+            WallRole::Fixed | WallRole::Inflow(_) | WallRole::Outflow(_) => DVec3::ZERO,
         }
     }
 }
@@ -153,32 +155,40 @@ impl WallsAt<'_> {
 /// v̂_w = 2 v_w − Σ v_f W / Σ W. A wall particle with no fluid in reach has P = 0, ρ = ρ₀.
 /// A wall moving by a prescribed motion or a floating body has its acceleration a_w from `walls`;
 /// others none. The clamp keeps a wall from holding a thin film by suction (particles clung to
-/// the wall a dam break had left, docs/sph.md).
+/// the wall a dam break had left, docs/sph.md). Buffers differ: an inflow's particles take the
+/// extrapolated pressure but keep their own velocity for the viscous terms (they stand for fluid
+/// arriving at the inflow velocity); an outflow's take the outlet's pressure and the velocity
+/// of the fluid beside them ṽ, which they then move with.
 pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles, inputs: &mut PairInputs, walls: WallsAt) {
     let n = p.len();
     inputs.pressure.resize(n, 0.0);
     inputs.viscous_velocity.resize(n, DVec3::ZERO);
-    let (kind, velocity) = (&p.kind, &p.velocity);
+    let kind = &p.kind;
     inputs.pressure.par_iter_mut().zip(p.density.par_iter()).zip(kind.par_iter()).for_each(|((pr, &rho), &k)| {
         if k == ParticleKind::Fluid {
             *pr = method.eos.pressure(rho);
         }
     });
     let states = wall_states(method, grid, p, &inputs.pressure, walls);
+    let (settings, wall) = (walls.settings, &p.wall);
     inputs
         .pressure
         .par_iter_mut()
         .zip(inputs.viscous_velocity.par_iter_mut())
         .zip(p.density.par_iter_mut())
+        .zip(p.velocity.par_iter_mut())
         .zip(states.par_iter())
         .enumerate()
-        .for_each(|(i, (((pr, vv), rho), &(pw, rho_w, v)))| {
+        .for_each(|(i, ((((pr, vv), rho), velocity), &(pw, rho_w, v)))| {
             if kind[i] == ParticleKind::Wall {
                 *pr = pw;
                 *rho = rho_w;
                 *vv = v;
+                if let WallRole::Outflow(_) = settings.wall_role(wall[i]) {
+                    *velocity = v;
+                }
             } else {
-                *vv = velocity[i];
+                *vv = *velocity;
             }
         });
     // What the pass reads of each neighbour, computed once per particle instead of once per pair.
@@ -186,6 +196,20 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
     inputs.volume.resize(n, 0.0);
     inputs.tensile.resize(n, 0.0);
     inputs.fluid.resize(n, 0.0);
+    // The density diffusion's kernel is cut at a buffer's face: the buffer's densities are not
+    // the fluid's continuation, and the sum there acts as a source that held the inflow's
+    // pressure short of driving the flow (a channel carried 5–7 % less than it took in;
+    // docs/sph.md, "Inflow and outflow"). It is left out within 2h of the faces.
+    if settings.inflows.is_empty() && settings.outflows.is_empty() {
+        inputs.diffusion_off.clear();
+    } else {
+        let (reach, plane) = (2.0 * method.kernel.h(), method.dimension == Dimension::Two);
+        inputs.diffusion_off.resize(n, false);
+        inputs.diffusion_off.par_iter_mut().zip(p.position.par_iter()).for_each(|(off, &x)| {
+            *off = settings.inflows.iter().any(|b| b.buffer.past_exit(x).abs() < reach && b.buffer.across(x, plane))
+                || settings.outflows.iter().any(|b| b.buffer.past_entry(x).abs() < reach && b.buffer.across(x, plane));
+        });
+    }
     let tensile = method.tensile;
     let (pressure, density, mass) = (&inputs.pressure, &p.density, &p.mass);
     inputs
@@ -226,9 +250,30 @@ fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: 
                     (true, false) => wall_sums::<true>(&constants, position, velocity, density, pressure, separation, w, list, batch),
                     (false, false) => wall_sums::<false>(&constants, position, velocity, density, pressure, separation, w, list, batch),
                 };
+                let role = walls.settings.wall_role(p.wall[w]);
+                if let WallRole::Outflow(k) = role {
+                    let pw = walls.settings.outflows[k].pressure;
+                    let v = if sums.w > 0.0 { sums.velocity / sums.w } else { velocity[w] };
+                    return (pw, method.eos.density(pw), v);
+                }
+                if let WallRole::Inflow(k) = role {
+                    // The fluid's pressure continued linearly across the open face from the
+                    // particle's mirror image in the fluid: with Adami's average instead, the
+                    // inflow's pressure fell short of the gradient that drives the flow, and the
+                    // density diffusion drained the fluid beside it (a channel carried 5 % less
+                    // than it took in).
+                    let buffer = &walls.settings.inflows[k].buffer;
+                    let x = position[w];
+                    let mirror = x - 2.0 * buffer.past_exit(x) * buffer.direction();
+                    let pw = match crate::buffers::pressure_fit(grid, p, pressure, &method.kernel, mirror, plane) {
+                        Some((at_mirror, gradient)) => at_mirror + gradient.dot(x - mirror),
+                        None => 0.0,
+                    };
+                    return (pw, method.eos.density(pw), velocity[w]);
+                }
                 if sums.w > 0.0 {
                     // The wall's own acceleration enters as a body force of the opposite sign.
-                    let a_w = walls.acceleration(grid, p.wall[w], position[w]);
+                    let a_w = walls.acceleration(grid, role, position[w]);
                     let pw = ((sums.pressure + (method.external - a_w).dot(sums.density_moment)) / sums.w).max(0.0);
                     (pw, method.eos.density(pw), 2.0 * velocity[w] - sums.velocity / sums.w)
                 } else {
@@ -316,7 +361,8 @@ fn evaluate_with<const PLANE: bool, const LAMINAR: bool, const DIFFUSE: bool, co
                 particle_rates::<PLANE, LAMINAR, DIFFUSE, TENSILE, XSPH>(&constants, &hood, |x, y| grid.separation(x, y), a, list, batch)
             };
             *acc_out = r.acceleration + method.external;
-            *drho_out = r.continuity + method.diffusion_scale * r.diffusion;
+            let diffusion = if inputs.diffusion_off.get(a) == Some(&true) { 0.0 } else { method.diffusion_scale * r.diffusion };
+            *drho_out = r.continuity + diffusion;
             *xsph_out = method.xsph * r.xsph;
         },
     );

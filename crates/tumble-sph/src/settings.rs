@@ -2,6 +2,7 @@
 
 use tumble_geom::{DVec3, Motion, PeriodicBox, Timing};
 
+use crate::buffers::{Inflow, Outflow};
 use crate::floating::FloatingBody;
 use crate::kernel::Dimension;
 
@@ -71,6 +72,21 @@ pub struct FluidSettings {
     /// The rigid bodies the fluid moves; their wall particles are numbered after the moving
     /// walls: particle i belongs to `floating[wall[i] − 1 − moving_walls.len()]`.
     pub floating: Vec<FloatingBody>,
+    /// Inflow buffers, their particles numbered after the floating bodies'.
+    pub inflows: Vec<Inflow>,
+    /// Outflow buffers, their particles numbered after the inflows'.
+    pub outflows: Vec<Outflow>,
+}
+
+/// What a wall particle follows, by its number ([`FluidParticles::wall`](crate::FluidParticles)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WallRole {
+    /// A wall at rest or moving at its particles' constant velocity.
+    Fixed,
+    Moving(usize),
+    Body(usize),
+    Inflow(usize),
+    Outflow(usize),
 }
 
 /// A wall whose particles move by a prescribed rigid motion, when its timing says.
@@ -107,6 +123,41 @@ impl FluidSettings {
     /// floating body `k`.
     pub fn body_wall_number(&self, k: usize) -> u16 {
         (self.moving_walls.len() + 1 + k) as u16
+    }
+
+    /// The number of inflow buffer `k`'s particles.
+    pub fn inflow_wall_number(&self, k: usize) -> u16 {
+        (self.moving_walls.len() + self.floating.len() + 1 + k) as u16
+    }
+
+    /// The number of outflow buffer `k`'s particles.
+    pub fn outflow_wall_number(&self, k: usize) -> u16 {
+        (self.moving_walls.len() + self.floating.len() + self.inflows.len() + 1 + k) as u16
+    }
+
+    /// How many wall numbers name something (beyond 0, a fixed wall).
+    pub fn wall_numbers(&self) -> usize {
+        self.moving_walls.len() + self.floating.len() + self.inflows.len() + self.outflows.len()
+    }
+
+    /// What wall number `w` follows.
+    pub fn wall_role(&self, w: u16) -> WallRole {
+        let mut k = w as usize;
+        if k == 0 {
+            return WallRole::Fixed;
+        }
+        k -= 1;
+        for (count, role) in [
+            (self.moving_walls.len(), WallRole::Moving as fn(usize) -> WallRole),
+            (self.floating.len(), WallRole::Body),
+            (self.inflows.len(), WallRole::Inflow),
+        ] {
+            if k < count {
+                return role(k);
+            }
+            k -= count;
+        }
+        WallRole::Outflow(k)
     }
 
     /// The mass of one particle on the lattice of spacing Δp: ρ₀ Δp² in 2D (per metre of span), ρ₀ Δp³ in 3D.

@@ -86,3 +86,14 @@ fn push_walls(particles: &mut FluidParticles, settings: &FluidSettings, points: 
     }
     points.len()
 }
+
+/// Fills inflow buffer `k` of `settings` with its particles, on the lattice anchored at its
+/// box's low corner, moving at the inflow velocity, at rest density.
+pub fn add_inflow(particles: &mut FluidParticles, settings: &FluidSettings, k: usize) -> usize {
+    let inflow = &settings.inflows[k];
+    let first = particles.len();
+    let region = inflow.buffer.region;
+    let added = push_walls(particles, settings, lattice_points(region, region.min, settings.spacing, settings.dimension), inflow.velocity());
+    particles.assign_moving_wall(first, settings.inflow_wall_number(k));
+    added
+}

@@ -57,6 +57,8 @@ fn slow_water(dp: f64) -> FluidSettings {
         domain: PeriodicBox { min: DVec3::ZERO, max: DVec3::ZERO, periodic: [false; 3] },
         moving_walls: Vec::new(),
         floating: Vec::new(),
+        inflows: Vec::new(),
+        outflows: Vec::new(),
     }
 }
 
@@ -152,6 +154,8 @@ mod annulus {
             domain: PeriodicBox { min: DVec3::new(-reach, 0.0, -reach), max: DVec3::new(reach, 0.0, reach), periodic: [false; 3] },
             moving_walls: vec![MovingWall { motion: Motion::Rotate { point: DVec3::ZERO, axis: DVec3::Y, omega: OMEGA }, timing: Timing::ALWAYS }],
             floating: Vec::new(),
+            inflows: Vec::new(),
+            outflows: Vec::new(),
             ..slow_water(dp)
         };
         let mut particles = FluidParticles::default();

@@ -28,6 +28,8 @@ fn stirred_box(tensile: bool, viscosity: Viscosity) -> FluidPhase {
         domain: PeriodicBox { min: DVec3::ZERO, max: DVec3::splat(side), periodic: [true; 3] },
         moving_walls: Vec::new(),
         floating: Vec::new(),
+        inflows: Vec::new(),
+        outflows: Vec::new(),
     };
     let mut particles = FluidParticles::default();
     add_fluid_block(&mut particles, &settings, Aabb::new(DVec3::ZERO, DVec3::splat(side)), DVec3::ZERO);

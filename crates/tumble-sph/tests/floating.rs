@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{G, run_to};
+use common::{G, restored_and_stepped, run_to, stepped_on};
 use tumble_geom::{DVec3, PeriodicBox};
 use tumble_sph::*;
 
@@ -25,6 +25,8 @@ fn water(dp: f64, sound_speed: f64, gravity: DVec3, domain: PeriodicBox) -> Flui
         domain,
         moving_walls: Vec::new(),
         floating: Vec::new(),
+        inflows: Vec::new(),
+        outflows: Vec::new(),
     }
 }
 
@@ -186,24 +188,10 @@ fn a_floating_body_is_deterministic_and_restarts_bit_identically() {
     let shape = BodyShape::Cylinder(tumble_geom::Cylinder::new(DVec3::new(0.1, 0.0, 0.1), DVec3::Y, 0.03, 1.0, false));
     add_body(&mut settings, &mut particles, &shape, 700.0, DVec3::new(0.3, 0.0, 0.1), 4.0);
     let dt = TimeStepLimits::planned(&settings).dt();
-    let run = |threads: usize, steps: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
-            let mut phase = FluidPhase::new(settings.clone(), particles.clone()).unwrap();
-            for _ in 0..steps {
-                phase.step(dt).unwrap();
-            }
-            phase
-        })
-    };
-    let (one, three) = (run(1, 60), run(3, 60));
+    let make = || FluidPhase::new(settings.clone(), particles.clone()).unwrap();
+    let (one, three) = (stepped_on(1, 60, dt, make), stepped_on(3, 60, dt, make));
     assert!(one.particles() == three.particles() && one.bodies() == three.bodies(), "1 and 3 threads differ");
-    let half = run(2, 30);
-    let mut restored = FluidPhase::new(settings.clone(), particles.clone()).unwrap();
-    restored.restore(&half.snapshot()).unwrap();
-    for _ in 0..30 {
-        restored.step(dt).unwrap();
-    }
+    let restored = restored_and_stepped(&stepped_on(2, 30, dt, make), 30, dt, make);
     assert!(restored.particles() == one.particles() && restored.bodies() == one.bodies(), "the restored phase went its own way");
     assert!(one.bodies()[0].velocity != DVec3::new(0.3, 0.0, 0.1), "the body never felt the fluid");
 }

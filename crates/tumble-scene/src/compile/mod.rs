@@ -10,6 +10,7 @@ mod pairs;
 mod report;
 mod run;
 mod sph;
+mod sph_buffers;
 mod sph_floating;
 mod tuning;
 

@@ -104,6 +104,8 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
         domain: *domain,
         moving_walls: Vec::new(),
         floating: Vec::new(),
+        inflows: Vec::new(),
+        outflows: Vec::new(),
     };
     // The grid reaches over the wall particles outside the domain's closed sides; a 2D fluid lies at y = 0.
     let reach = (wall_layers(&settings) as f64 + 1.0) * spacing;
@@ -126,6 +128,7 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     // Fluid on the wrong side of a cylinder or a rectangle, or within half a spacing of it, is left out.
     particles.retain(|kind, x| kind == ParticleKind::Wall || walls.leave_fluid_at(x, spacing, dimension));
     let floating = super::sph_floating::add_floating(s, &mut settings, domain, &mut particles)?;
+    super::sph_buffers::add_buffers(s, &mut settings, domain, &mut particles)?;
     let fluid_particles = particles.fluid_count();
     if fluid_particles == 0 {
         return Err(SceneError::field(
@@ -157,6 +160,14 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     if density_diffusion == DensityDiffusion::None && viscosity == Viscosity::Laminar {
         warnings
             .push("sph: laminar viscosity without density diffusion lets pressure noise grow in violent flows (docs/sph.md, \"Stability\")".into());
+    }
+    for (k, inflow) in settings.inflows.iter().enumerate() {
+        if inflow.speed > expected_speed * (1.0 + 1e-12) {
+            warnings.push(format!(
+                "sph: inflows[{k}] brings fluid in at {:.4} m/s, above the expected speed {expected_speed:.4} m/s the sound speed and time step were chosen for; raise sph.expected_speed",
+                inflow.speed
+            ));
+        }
     }
     for (name, body) in floating.iter().zip(&settings.floating) {
         let speed = body.start.velocity.length();
@@ -423,6 +434,9 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
     }
     for b in &s.floating {
         solid(b.cylinder.as_ref(), b.box_.as_ref());
+    }
+    for b in &s.inflows {
+        solid(None, Some(&b.box_));
     }
     let thickness = wall_layers(settings) as f64 * settings.spacing;
     for (k, w) in scene.walls.iter().enumerate() {

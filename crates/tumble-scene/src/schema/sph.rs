@@ -45,6 +45,37 @@ pub struct SphSection {
     /// Rigid bodies the fluid moves (floating_<name>.csv at every output row).
     #[serde(default)]
     pub floating: Vec<SphFloatingSection>,
+    /// Open boundaries where fluid enters at a set velocity.
+    #[serde(default)]
+    pub inflows: Vec<SphInflowSection>,
+    /// Open boundaries where fluid leaves at a set pressure.
+    #[serde(default)]
+    pub outflows: Vec<SphOutflowSection>,
+}
+
+/// An inflow buffer: an axis-aligned box whose particles move at `velocity` (along one axis)
+/// and become fluid as they pass the box's face that velocity points to.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphInflowSection {
+    #[serde(rename = "box")]
+    pub box_: SphBoxSection,
+    /// m/s, along x, y or z.
+    pub velocity: V3,
+}
+
+/// An outflow buffer: fluid entering the box through the face opposite `direction` leaves the
+/// fluid, held at `pressure`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphOutflowSection {
+    #[serde(rename = "box")]
+    pub box_: SphBoxSection,
+    /// The direction the fluid leaves in, along x, y or z.
+    pub direction: V3,
+    /// Pa (gauge), default 0.
+    #[serde(default)]
+    pub pressure: f64,
 }
 
 /// A floating rigid body: a solid box or cylinder of uniform density, moved by the fluid's

@@ -31,3 +31,25 @@ pub fn run_to(phase: &mut FluidPhase, t_end: f64, dt: f64) {
         phase.step(step).unwrap_or_else(|e| panic!("{e}"));
     }
 }
+
+/// The phase `make` builds, stepped `steps` times at `dt` on `threads` threads.
+pub fn stepped_on(threads: usize, steps: usize, dt: f64, make: impl Fn() -> FluidPhase + Sync) -> FluidPhase {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    pool.install(|| {
+        let mut phase = make();
+        for _ in 0..steps {
+            phase.step(dt).unwrap_or_else(|e| panic!("{e}"));
+        }
+        phase
+    })
+}
+
+/// A phase `make` builds, restored from `snapshot`'s phase and stepped `steps` more times.
+pub fn restored_and_stepped(snapshot: &FluidPhase, steps: usize, dt: f64, make: impl Fn() -> FluidPhase) -> FluidPhase {
+    let mut phase = make();
+    phase.restore(&snapshot.snapshot()).unwrap();
+    for _ in 0..steps {
+        phase.step(dt).unwrap_or_else(|e| panic!("{e}"));
+    }
+    phase
+}
