@@ -15,7 +15,7 @@ fn bed(file: &str) -> tumble::CompiledScene {
     if let Ok(n) = std::env::var("TUMBLE_BENCH_LATTICE") {
         let n: f64 = n.parse().expect("TUMBLE_BENCH_LATTICE is a lattice size");
         let lattice = scene.particles[0].lattice.as_mut().unwrap();
-        lattice.max = [0.01 * n, 0.01 * n, 0.008 * n];
+        lattice.max = [0.01 * n, 0.01 * n, 0.008 * n].into();
     }
     tumble::compile(&scene).unwrap()
 }

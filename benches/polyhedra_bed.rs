@@ -18,7 +18,7 @@ fn bed(cubes: bool) -> tumble::CompiledScene {
     let group = &mut scene.particles[0];
     let lattice = group.lattice.as_mut().unwrap();
     lattice.spacing = spacing;
-    lattice.max = [spacing * n, spacing * n, spacing * 0.8 * n];
+    lattice.max = [spacing * n, spacing * n, spacing * 0.8 * n].into();
     if cubes {
         // Turned cubes at 1.25 cm overlap their neighbours by up to 0.9 mm at the start (their
         // bounding spheres are 1.4 cm across): the bed's historical figures were measured from
@@ -29,8 +29,8 @@ fn bed(cubes: bool) -> tumble::CompiledScene {
         group.orientation = Some(OrientationSpec::Named(NamedOrientation::Random));
     }
     let top = spacing * n;
-    scene.domain.max = [top, top, top];
-    scene.walls[0].box_.as_mut().unwrap().max = [top, top, top];
+    scene.domain.max = [top, top, top].into();
+    scene.walls[0].box_.as_mut().unwrap().max = [top, top, top].into();
     tumble::compile(&scene).unwrap()
 }
 

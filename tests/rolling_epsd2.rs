@@ -23,7 +23,7 @@ fn scene(model: RollingModelName, angle_deg: f64, speed: f64, restitution: f64, 
     let mut scene = floor.parsed();
     scene.contact.as_mut().unwrap().rolling_model = Some(model);
     // Rolling: the contact point at −R ẑ is at rest, v + ω × (−R ẑ) = 0.
-    scene.particles[0].angular_velocity = Some([0.0, speed / R, 0.0]);
+    scene.particles[0].angular_velocity = Some([0.0, speed / R, 0.0].into());
     scene
 }
 

@@ -164,7 +164,7 @@ fn the_memory_estimate_of_one_sphere_in_a_large_box_is_the_grid_the_cpu_can_buil
     let mut scene = parse_scene(&text).unwrap();
     scene.particles.truncate(1);
     scene.particles[0].lattice = None;
-    scene.particles[0].positions = Some(vec![[0.0, 0.0, 0.5]]);
+    scene.particles[0].positions = Some(vec![[0.0, 0.0, 0.5].into()]);
     scene.particles[0].shape = parse_scene(&text.replace("diameter = 0.02", "diameter = 0.0016")).unwrap().particles[0].shape.clone();
     let compiled = compile(&scene).unwrap();
     let bytes = compiled.plan.memory_bytes(1);

@@ -40,7 +40,7 @@ fn meshed(mut scene: Scene, file: &std::path::Path) -> Scene {
     let motion = scene.walls.iter().find(|w| w.name.as_deref() == Some(on.as_str())).and_then(|w| w.motion.clone()).expect("the shell turns");
     let curvature = tumble_geom::DEFAULT_CURVATURE.to_degrees();
     scene.walls[k].mesh =
-        Some(MeshSection { file: file.display().to_string(), scale: 1.0, rotate: None, translate: [0.0; 3], curvature, closed: true });
+        Some(MeshSection { file: file.display().to_string(), scale: 1.0, rotate: None, translate: Default::default(), curvature, closed: true });
     scene.walls[k].motion = Some(motion);
     scene
 }

@@ -217,8 +217,8 @@ fn run_point(base: &tumble::Scene, o: &Options, stk: f64, sy: f64, window: (f64,
         }
     };
     let edge = o.box_edge.unwrap_or(2.0 * std::f64::consts::PI / a);
-    scene.domain.min = [0.0; 3];
-    scene.domain.max = [edge; 3];
+    scene.domain.min = [0.0; 3].into();
+    scene.domain.max = [edge; 3].into();
     scene.domain.periodic = [true; 3];
     if let Some(f) = scene.fluid.as_mut() {
         f.viscosity = Some(ViscositySpec::Target(StokesTarget { stokes_number: stk }));
@@ -228,8 +228,8 @@ fn run_point(base: &tumble::Scene, o: &Options, stk: f64, sy: f64, window: (f64,
     for g in &mut scene.particles {
         if let Some(r) = g.random.as_mut() {
             r.count = o.particles;
-            r.region.min = [0.0; 3];
-            r.region.max = [edge; 3];
+            r.region.min = [0.0; 3].into();
+            r.region.max = [edge; 3].into();
         }
     }
     let compiled = match compile(&scene) {

@@ -28,9 +28,9 @@ fn bed(n: usize) -> tumble_scene::CompiledScene {
     let (w, h) = (spacing * side, spacing * (0.8 * side).round());
     let lattice = scene.particles[0].lattice.as_mut().unwrap();
     lattice.spacing = spacing;
-    lattice.max = [w, w, h];
-    scene.domain.max = [w, w, 1.25 * h];
-    scene.walls[0].box_.as_mut().unwrap().max = [w, w, 1.25 * h];
+    lattice.max = [w, w, h].into();
+    scene.domain.max = [w, w, 1.25 * h].into();
+    scene.walls[0].box_.as_mut().unwrap().max = [w, w, 1.25 * h].into();
     tumble_scene::compile(&scene).unwrap()
 }
 

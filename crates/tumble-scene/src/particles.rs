@@ -124,7 +124,7 @@ pub fn generate(
         let centres = group_positions(group, g, &mut rng, &mut diameter, mean_cube)?;
         // velocity = "flow": the fluid velocity where each particle starts.
         let flow = match (&group.velocity, scene.fluid.as_ref().map(|f| &f.flow)) {
-            (Some(VelocitySpec::Named(NamedVelocity::Flow)), Some(FlowSection::Uniform(u))) => Some(FlowField::Uniform(DVec3::from_array(*u))),
+            (Some(VelocitySpec::Named(NamedVelocity::Flow)), Some(FlowSection::Uniform(u))) => Some(FlowField::Uniform(DVec3::from(*u))),
             (Some(VelocitySpec::Named(NamedVelocity::Flow)), Some(FlowSection::TaylorGreen(tg))) => {
                 Some(FlowField::TaylorGreen { amplitude: tg.amplitude, frequency: tg.frequency })
             }
@@ -152,13 +152,13 @@ pub fn generate(
             };
             let v = match &group.velocity {
                 None => DVec3::ZERO,
-                Some(VelocitySpec::Vector(v)) => DVec3::from_array(*v),
+                Some(VelocitySpec::Vector(v)) => DVec3::from(*v),
                 Some(VelocitySpec::Random(r)) => rng.direction() * (r.random.mean_speed + r.random.std * rng.normal()),
                 Some(VelocitySpec::Named(NamedVelocity::Flow)) => flow.map_or(DVec3::ZERO, |f| f.velocity(x)),
             };
             out.position.push(x);
             out.velocity.push(if group.fixed { DVec3::ZERO } else { v });
-            out.angular_velocity.push(if group.fixed { DVec3::ZERO } else { DVec3::from_array(group.angular_velocity.unwrap_or([0.0; 3])) });
+            out.angular_velocity.push(if group.fixed { DVec3::ZERO } else { DVec3::from(group.angular_velocity.unwrap_or_default()) });
             out.radius.push(0.5 * d);
             out.volume.push(volume);
             out.shape.push(shape_index);
@@ -441,10 +441,10 @@ fn group_positions(
         ));
     }
     if let Some(list) = &group.positions {
-        return Ok(list.iter().map(|p| (DVec3::from_array(*p), diameter(rng))).collect());
+        return Ok(list.iter().map(|p| (DVec3::from(*p), diameter(rng))).collect());
     }
     if let Some(l) = &group.lattice {
-        let min = DVec3::from_array(l.min);
+        let min = DVec3::from(l.min);
         if l.spacing <= 0.0 {
             return Err(SceneError::field(field("lattice.spacing"), format!("must be positive, got {}", l.spacing)));
         }
@@ -468,7 +468,7 @@ fn group_positions(
         return Ok(out);
     }
     let r = group.random.as_ref().unwrap();
-    let (min, max) = (DVec3::from_array(r.region.min), DVec3::from_array(r.region.max));
+    let (min, max) = (DVec3::from(r.region.min), DVec3::from(r.region.max));
     if r.no_overlap {
         check_random_fill(g, r.count, mean_cube, max - min)?;
     }

@@ -73,7 +73,7 @@ pub(crate) fn shape_of(section: &ShapeSection, at: &str) -> Result<Option<Partic
     let (name, body) = match section {
         ShapeSection::Sphere(_) => return Ok(None),
         ShapeSection::Polyhedron(p) => {
-            let points: Vec<DVec3> = p.vertices.iter().map(|v| DVec3::from_array(*v)).collect();
+            let points: Vec<DVec3> = p.vertices.iter().map(|v| DVec3::from(*v)).collect();
             if points.len() > MAX_HULL_POINTS {
                 return Err(SceneError::field(field("polyhedron.vertices"), format!("at most {MAX_HULL_POINTS} points, got {}", points.len())));
             }

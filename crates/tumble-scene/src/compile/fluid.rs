@@ -31,7 +31,7 @@ pub(super) fn fluid(scene: &Scene, means: &MovableMeans) -> Result<(Option<Fluid
     let flow = match &fl.flow {
         FlowSection::Uniform(u) => FlowField::Uniform(finite3("fluid.flow.uniform", *u)?),
         FlowSection::TaylorGreen(tg) => FlowField::TaylorGreen {
-            amplitude: finite3("fluid.flow.taylor_green.amplitude", [tg.amplitude, 0.0, 0.0])?.x,
+            amplitude: finite3("fluid.flow.taylor_green.amplitude", V3([tg.amplitude, 0.0, 0.0]))?.x,
             frequency: positive("fluid.flow.taylor_green.frequency", tg.frequency)?,
         },
     };

@@ -240,7 +240,7 @@ pub(crate) fn non_negative(field: &str, v: f64) -> Result<f64, SceneError> {
 }
 
 pub(crate) fn finite3(field: &str, v: V3) -> Result<DVec3, SceneError> {
-    if v.iter().all(|c| c.is_finite()) { Ok(DVec3::from_array(v)) } else { Err(SceneError::field(field, "every component must be a finite number")) }
+    if v.iter().all(|c| c.is_finite()) { Ok(DVec3::from(v)) } else { Err(SceneError::field(field, "every component must be a finite number")) }
 }
 
 pub(crate) fn unit(field: &str, v: V3) -> Result<DVec3, SceneError> {

@@ -13,7 +13,52 @@ pub use sources::*;
 pub use sph::*;
 pub use wall_options::*;
 
-pub type V3 = [f64; 3];
+/// A point or vector in a scene: exactly three numbers [x, y, z]. (A plain `[f64; 3]` would
+/// take `[1, 2, 3, 4]` and drop the fourth without a word.)
+#[derive(Clone, Copy, Default, PartialEq)]
+pub struct V3(pub [f64; 3]);
+
+/// Written as the scene writes it, `[x, y, z]`, in messages.
+impl std::fmt::Debug for V3 {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl<'de> Deserialize<'de> for V3 {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<f64>::deserialize(d)?;
+        match v[..] {
+            [x, y, z] => Ok(V3([x, y, z])),
+            _ => Err(serde::de::Error::invalid_length(v.len(), &"three numbers [x, y, z]")),
+        }
+    }
+}
+
+impl std::ops::Deref for V3 {
+    type Target = [f64; 3];
+    fn deref(&self) -> &[f64; 3] {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for V3 {
+    fn deref_mut(&mut self) -> &mut [f64; 3] {
+        &mut self.0
+    }
+}
+
+impl From<V3> for glam::DVec3 {
+    fn from(v: V3) -> Self {
+        glam::DVec3::from_array(v.0)
+    }
+}
+
+impl From<[f64; 3]> for V3 {
+    fn from(v: [f64; 3]) -> Self {
+        V3(v)
+    }
+}
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -132,7 +177,7 @@ pub enum FlowSection {
 
 impl Default for FlowSection {
     fn default() -> Self {
-        FlowSection::Uniform([0.0; 3])
+        FlowSection::Uniform(V3::default())
     }
 }
 
