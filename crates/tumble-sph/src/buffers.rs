@@ -96,6 +96,7 @@ pub(crate) fn exchange(settings: &FluidSettings, p: &mut FluidParticles, next_id
     let n = p.len();
     let mut removed = vec![false; n];
     let mut changed = false;
+    #[allow(clippy::needless_range_loop)] // pushes to `p` as it goes: the range is the particles before.
     for i in 0..n {
         let x = p.position[i];
         match (p.kind[i], settings.wall_role(p.wall[i])) {

@@ -150,7 +150,7 @@ impl FluidPhase {
         }
         let reach = 2.0 * settings.h;
         let buffers = settings.inflows.iter().map(|b| &b.buffer).chain(settings.outflows.iter().map(|b| &b.buffer));
-        if let Some(b) = buffers.into_iter().find(|b| !(b.depth() >= reach)) {
+        if let Some(b) = buffers.into_iter().find(|b| b.depth().is_nan() || b.depth() < reach) {
             return Err(format!("a buffer must be at least 2h = {reach} deep along its flow (a full kernel), got {}", b.depth()));
         }
         if let Some(i) = settings.inflows.iter().find(|i| !(i.speed > 0.0 && i.speed.is_finite())) {

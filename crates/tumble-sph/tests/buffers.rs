@@ -77,7 +77,7 @@ fn a_channel_between_buffers_keeps_its_mass_books_and_develops_poiseuille_flow()
         if phase.time() >= 1.0 && steady.is_none() {
             steady = Some((phase.time(), b));
         }
-        if phase.time() >= 2.0 && phase.steps() % 10 == 0 {
+        if phase.time() >= 2.0 && phase.steps().is_multiple_of(10) {
             for (sum, &z) in profile.iter_mut().zip(&heights) {
                 *sum += phase.velocity_at(DVec3::new(2.0 * H, 0.0, z)).unwrap().x;
             }

@@ -23,7 +23,7 @@ pub(super) fn domain(scene: &Scene) -> Result<PeriodicBox, SceneError> {
     // Beyond it lengths lose the digits contacts need, and ±1e308 overflows to ∞ (a periodic
     // image at ∞, a potential energy of NaN).
     let extent = domain.extent();
-    if let Some(k) = (0..3).find(|&k| !(extent[k] <= MAX_DOMAIN_EXTENT)) {
+    if let Some(k) = (0..3).find(|&k| extent[k].is_nan() || extent[k] > MAX_DOMAIN_EXTENT) {
         return Err(SceneError::field(
             "domain",
             format!(

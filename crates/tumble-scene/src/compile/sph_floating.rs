@@ -66,7 +66,7 @@ pub(super) fn add_floating(
                 format!("holds no particle at spacing {}: make it at least one spacing across", settings.spacing),
             ));
         }
-        let outside = |x: DVec3| (0..3).any(|a| !(two_d && a == 1) && !domain.periodic[a] && (x[a] < domain.min[a] || x[a] > domain.max[a]));
+        let outside = |x: DVec3| (0..3).any(|a| (!two_d || a != 1) && !domain.periodic[a] && (x[a] < domain.min[a] || x[a] > domain.max[a]));
         if points.iter().any(|&x| outside(x)) {
             return Err(SceneError::field(format!("sph.floating[{k}]"), "must lie inside the domain"));
         }
