@@ -340,3 +340,41 @@ fn negative_numbers_reach_our_own_checks() {
     }
     assert!(!out.exists());
 }
+
+/// Ten million spheres under a 1.5 GiB address-space limit (`ulimit -v`, as a batch scheduler
+/// sets it) are refused before any is made, naming the limit, where reading MemAvailable alone
+/// let them abort in allocation.
+#[test]
+fn the_memory_check_reads_the_address_space_limit() {
+    let dir = tmp("rlimit");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("ten_million.toml");
+    std::fs::write(
+        &scene,
+        r#"name = "ten-million"
+[run]
+duration = 0.001
+[domain]
+min = [0.0, 0.0, 0.0]
+max = [2.2, 2.2, 2.2]
+[[materials]]
+name = "glass"
+density = 2500.0
+[contact]
+normal = { model = "linear", stiffness = 1.0e4 }
+restitution = 0.5
+[[particles]]
+material = "glass"
+shape = { sphere = { diameter = 0.009 } }
+lattice = { min = [0.0, 0.0, 0.0], max = [2.2, 2.2, 2.2], spacing = 0.01 }
+"#,
+    )
+    .unwrap();
+    let limited = format!("ulimit -v 1572864 && exec '{}' plan '{}'", env!("CARGO_BIN_EXE_tumble"), scene.display());
+    let o = Command::new("sh").arg("-c").arg(&limited).output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    println!("{stderr}");
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("particles[0].lattice") && stderr.contains("ulimit -v") && stderr.trim().lines().count() == 1, "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

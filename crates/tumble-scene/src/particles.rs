@@ -270,12 +270,46 @@ fn lattice_counts(l: &LatticeSection) -> [f64; 3] {
     std::array::from_fn(|k| ((l.max[k] - l.min[k]) / l.spacing + 1e-9).floor().max(0.0))
 }
 
-/// Memory the system has available, bytes (Linux's MemAvailable; None where unknown).
-pub(crate) fn available_memory() -> Option<f64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
+/// The memory a run may still take, bytes, and what sets it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Available {
+    pub bytes: f64,
+    pub limit: &'static str,
+}
+
+impl std::fmt::Display for Available {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:.1} GiB available ({})", self.bytes / (1u64 << 30) as f64, self.limit)
+    }
+}
+
+/// The smallest of what Linux says is free (MemAvailable), what the process's address-space
+/// limit leaves (`ulimit -v`, RLIMIT_AS, as batch schedulers set it, less what the process
+/// already maps) and what its cgroup's memory.max leaves; None where none is known.
+pub(crate) fn available_memory() -> Option<Available> {
+    let read = |path: &str| std::fs::read_to_string(path).ok();
+    let field = |text: &str, name: &str| -> Option<f64> {
+        let line = text.lines().find(|l| l.starts_with(name))?;
+        line.split_whitespace().nth(1)?.parse().ok()
+    };
+    let mut limits: Vec<Available> = Vec::new();
+    if let Some(kib) = read("/proc/meminfo").and_then(|t| field(&t, "MemAvailable:")) {
+        limits.push(Available { bytes: kib * 1024.0, limit: "this machine's free memory, MemAvailable" });
+    }
+    // "Max address space   <soft>   <hard>   bytes": a number where limited.
+    let soft = read("/proc/self/limits").and_then(|t| {
+        let line = t.lines().find(|l| l.starts_with("Max address space"))?.to_string();
+        line["Max address space".len()..].split_whitespace().next()?.parse::<f64>().ok()
+    });
+    if let Some(soft) = soft {
+        let mapped = read("/proc/self/status").and_then(|t| field(&t, "VmSize:")).map_or(0.0, |kib| kib * 1024.0);
+        limits.push(Available { bytes: (soft - mapped).max(0.0), limit: "the address-space limit, ulimit -v" });
+    }
+    let cgroup = |name: &str| read(&format!("/sys/fs/cgroup/{name}")).and_then(|t| t.trim().parse::<f64>().ok());
+    if let Some(max) = cgroup("memory.max") {
+        limits.push(Available { bytes: (max - cgroup("memory.current").unwrap_or(0.0)).max(0.0), limit: "the cgroup's memory.max" });
+    }
+    limits.into_iter().min_by(|a, b| a.bytes.total_cmp(&b.bytes))
 }
 
 /// Refuses scenes whose groups ask for more particles than ids allow or memory holds, before
@@ -296,14 +330,13 @@ fn check_counts(scene: &Scene) -> Result<(), SceneError> {
         ));
     }
     if let Some(available) = available_memory()
-        && total * SETUP_BYTES_PER_PARTICLE > available
+        && total * SETUP_BYTES_PER_PARTICLE > available.bytes
     {
         return Err(SceneError::field(
             field,
             format!(
-                "the groups ask for {total:.3e} particles, which need at least {:.1} GiB; this machine has {:.1} GiB available",
+                "the groups ask for {total:.3e} particles, which need at least {:.1} GiB; there is {available}",
                 total * SETUP_BYTES_PER_PARTICLE / (1u64 << 30) as f64,
-                available / (1u64 << 30) as f64
             ),
         ));
     }

@@ -195,13 +195,12 @@ fn without_particles(scene: &Scene) -> Scene {
 fn check_memory(plan: &Plan, particles: usize) -> Result<(), SceneError> {
     let need = plan.memory_bytes(particles) as f64;
     match crate::particles::available_memory() {
-        Some(free) if need > free => Err(SceneError::field(
+        Some(free) if need > free.bytes => Err(SceneError::field(
             "particles",
             format!(
-                "the run needs about {:.1} GiB ({particles} particles at {} bytes each and the cell grid); this machine has {:.1} GiB available",
+                "the run needs about {:.1} GiB ({particles} particles at {} bytes each and the cell grid); there is {free}",
                 need / (1u64 << 30) as f64,
                 plan.tuning.bytes_per_particle,
-                free / (1u64 << 30) as f64
             ),
         )),
         _ => Ok(()),

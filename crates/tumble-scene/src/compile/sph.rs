@@ -471,14 +471,13 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
         ));
     }
     if let Some(available) = crate::particles::available_memory()
-        && total * BYTES_PER_PARTICLE > available
+        && total * BYTES_PER_PARTICLE > available.bytes
     {
         return Err(SceneError::field(
             "sph.spacing",
             format!(
-                "the fluid and its walls would hold about {total:.3e} particles, which need about {:.1} GiB; this machine has {:.1} GiB available",
+                "the fluid and its walls would hold about {total:.3e} particles, which need about {:.1} GiB; there is {available}",
                 total * BYTES_PER_PARTICLE / (1u64 << 30) as f64,
-                available / (1u64 << 30) as f64
             ),
         ));
     }
