@@ -266,7 +266,7 @@ fn finish_run(result: Result<crate::RunSummary, RunError>) -> i32 {
             ));
             0
         }
-        Err(e @ (RunError::Unstable(_) | RunError::Capacity(_) | RunError::Lost(_) | RunError::Phase(_))) => {
+        Err(e @ (RunError::Unstable(_) | RunError::Capacity(_) | RunError::Lost(_) | RunError::Phase(_) | RunError::Idle(_))) => {
             eprintln!("error: {e}");
             3
         }

@@ -275,6 +275,17 @@ impl Space {
     }
 }
 
+/// The first source that tried to insert and never found room, in words.
+pub fn idle_source(sim: &crate::Simulation) -> Option<String> {
+    let books = sim.feeder_books()?;
+    sim.plan().model.sources.iter().zip(&books.sources).find(|(_, b)| b.inserted == 0 && b.deferred > 0).map(|(s, b)| {
+        format!(
+            "source \"{}\" inserted no particle: at each of its {} insertions none of {POSITION_TRIES} places drawn in its region was clear of the walls, the other particles and the domain's sides",
+            s.name, b.deferred
+        )
+    })
+}
+
 /// A warning per source that inserted nothing, or ended behind its schedule: a drawn particle
 /// still found no free place.
 pub fn shortfall_warnings(sim: &crate::Simulation) -> Vec<String> {

@@ -114,6 +114,9 @@ pub enum RunError {
     OutputFolder(String),
     /// More particles left the domain than `run.max_lost_fraction` allows; outputs so far were written.
     Lost(String),
+    /// The run ended, but a source never inserted a particle (its region had no room) and the
+    /// scene does not allow it; the outputs were written.
+    Idle(String),
     /// A run cannot be resumed (no checkpoint, a damaged or mismatched one); nothing was changed.
     Resume(String),
     /// A phase beside the particles (the SPH fluid) stopped: its cause and a Δt that works;
@@ -132,6 +135,7 @@ impl fmt::Display for RunError {
             RunError::Backend(e) => write!(f, "{e}"),
             RunError::OutputFolder(e) => write!(f, "{e}"),
             RunError::Lost(e) => write!(f, "{e}"),
+            RunError::Idle(e) => write!(f, "{e}"),
             RunError::Resume(e) => write!(f, "cannot resume: {e}"),
             RunError::Phase(e) => write!(f, "{e}"),
         }
@@ -269,6 +273,8 @@ pub(crate) enum Stop {
     Lost(String),
     /// A phase stopped (its cause and a Δt that works).
     Phase(String),
+    /// The run reached its end, but a source never found room to insert a particle.
+    Idle(String),
     Interrupted,
 }
 

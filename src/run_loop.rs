@@ -284,8 +284,16 @@ impl<'o> Run<'o> {
     }
 
     /// Writes the final summary.json and says how the run ended.
-    fn finish(self, stopped: Option<Stop>, wall_seconds: f64, particle_steps: u128) -> Result<RunSummary, RunError> {
+    fn finish(self, mut stopped: Option<Stop>, wall_seconds: f64, particle_steps: u128) -> Result<RunSummary, RunError> {
         let sim = &self.sim;
+        if matches!(stopped, None | Some(Stop::Ended(_)))
+            && !sim.plan().run.allow_idle_sources
+            && let Some(idle) = crate::feeder::idle_source(sim)
+        {
+            stopped = Some(Stop::Idle(format!(
+                "{idle}; the run's results hold none of its particles (set run.allow_idle_sources = true if that is intended)"
+            )));
+        }
         let mut warnings = self.warnings;
         warnings.extend(lost_warning(sim.removed(), self.books.initial_particles + inserted(sim)));
         warnings.extend(crate::feeder::shortfall_warnings(sim));
@@ -313,6 +321,7 @@ impl<'o> Run<'o> {
             Some(Stop::Capacity(e)) => Some(e.clone()),
             Some(Stop::Lost(e)) => Some(e.clone()),
             Some(Stop::Phase(e)) => Some(e.clone()),
+            Some(Stop::Idle(e)) => Some(e.clone()),
             Some(Stop::Interrupted) => {
                 let resume = if self.checkpoint_every.is_some() {
                     format!("; `tumble resume {}` continues it", self.out_dir.display())
@@ -336,6 +345,7 @@ impl<'o> Run<'o> {
             Some(Stop::Capacity(e)) => Err(RunError::Capacity(e)),
             Some(Stop::Lost(e)) => Err(RunError::Lost(e)),
             Some(Stop::Phase(e)) => Err(RunError::Phase(e)),
+            Some(Stop::Idle(e)) => Err(RunError::Idle(e)),
             Some(Stop::Interrupted) => Err(RunError::Interrupted { step: summary.steps, out_dir: self.out_dir }),
             None | Some(Stop::Ended(_)) => Ok(summary),
         }

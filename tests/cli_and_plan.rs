@@ -267,7 +267,8 @@ fn a_motion_or_a_source_starting_after_the_end_is_warned() {
 #[test]
 fn a_source_behind_an_end_plate_is_warned_before_and_after_the_run() {
     let scene = drum_scene("behind-plate", |text| {
-        text + "[[walls]]\nname = \"plate\"\nmaterial = \"steel\"\nplane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }\n\
+        text.replace("[run]\n", "[run]\nallow_idle_sources = true\n")
+            + "[[walls]]\nname = \"plate\"\nmaterial = \"steel\"\nplane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }\n\
                 [[sources]]\nname = \"feed\"\nmaterial = \"steel\"\nshape = { sphere = { diameter = 0.02 } }\n\
                 region = { box = { min = [-0.1, -0.1, -0.09], max = [0.1, 0.1, -0.01] } }\nrate = { particles_per_second = 100.0 }\n"
     });
@@ -377,4 +378,30 @@ lattice = { min = [0.0, 0.0, 0.0], max = [2.2, 2.2, 2.2], spacing = 0.01 }
     assert_eq!(o.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("particles[0].lattice") && stderr.contains("ulimit -v") && stderr.trim().lines().count() == 1, "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The same source behind the end plate, without `run.allow_idle_sources`: the run writes its
+/// outputs and then fails with exit status 3, naming the source, and summary.json says stopped.
+#[test]
+fn a_source_that_never_found_room_fails_the_run() {
+    let scene = drum_scene("idle-source", |text| {
+        text + "[[walls]]\nname = \"plate\"\nmaterial = \"steel\"\nplane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }\n\
+                [[sources]]\nname = \"feed\"\nmaterial = \"steel\"\nshape = { sphere = { diameter = 0.02 } }\n\
+                region = { box = { min = [-0.1, -0.1, -0.09], max = [0.1, 0.1, -0.01] } }\nrate = { particles_per_second = 100.0 }\n"
+    });
+    let out = scene.parent().unwrap().join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_tumble"))
+        .arg("run")
+        .arg(&scene)
+        .args(["--duration", "0.01", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(3), "{stderr}");
+    let error: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
+    assert!(error.len() == 1 && error[0].contains("source \"feed\" inserted no particle") && error[0].contains("run.allow_idle_sources"), "{stderr}");
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"status\": \"stopped\""), "{summary}");
+    let _ = std::fs::remove_dir_all(scene.parent().unwrap());
 }

@@ -145,6 +145,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         monitor,
         agglomerates: scene.run.agglomerates.unwrap_or(mechanics.cohesion),
         max_lost_fraction: lost_fraction(scene)?,
+        allow_idle_sources: scene.run.allow_idle_sources,
         snapshot_format: scene.output.snapshot_format,
         contacts: scene.output.contacts,
     };

@@ -73,6 +73,10 @@ pub struct RunSection {
     /// sides before the run stops with an error (0.01; 1 allows any loss, as a hopper discharging).
     #[serde(default = "default_lost_fraction")]
     pub max_lost_fraction: f64,
+    /// A source that found no room at any of its insertions (a region behind a wall, outside
+    /// the domain) fails the run, exit status 3, unless this is true.
+    #[serde(default)]
+    pub allow_idle_sources: bool,
     /// Write agglomerates.csv at every output interval (default: when cohesion is on).
     pub agglomerates: Option<bool>,
     /// Simulated seconds between checkpoints (`checkpoints/` in the output folder, for
