@@ -182,6 +182,27 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     Ok(Some((plan, particles)))
 }
 
+/// A box of the fluid's scene (a region, a body, a buffer) at `field`: finite corners in the
+/// fluid's space, max above min on every active axis.
+pub(super) fn plane_box(field: &str, b: &SphBoxSection, dimension: Dimension) -> Result<Aabb, SceneError> {
+    let min = in_plane(dimension, finite3(&format!("{field}.min"), b.min)?);
+    let max = in_plane(dimension, finite3(&format!("{field}.max"), b.max)?);
+    if (0..3).any(|a| !(dimension == Dimension::Two && a == 1) && max[a] <= min[a]) {
+        return Err(SceneError::field(field, "max must exceed min on every axis (in 2D, x and z)"));
+    }
+    Ok(Aabb::new(min, max))
+}
+
+/// A name that becomes an output file `<file>` (`<name>` in it): not empty, letters, digits,
+/// `_` or `-`, and not one of `taken`.
+pub(super) fn file_name(field: String, name: &str, taken: &[&str], what: &str, file: &str) -> Result<(), SceneError> {
+    let bad = name.is_empty() || name.chars().any(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'));
+    if bad || taken.contains(&name) {
+        return Err(SceneError::field(field, format!("names {what} file {file}: unique, letters, digits, '_' or '-'; got \"{name}\"")));
+    }
+    Ok(())
+}
+
 /// `x` in the fluid's space: a 2D fluid lies in the x–z plane at y = 0.
 pub(super) fn in_plane(dimension: Dimension, mut x: DVec3) -> DVec3 {
     if dimension == Dimension::Two {
@@ -204,15 +225,11 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
         let inside = |x: DVec3| (0..3).all(|a| flat(a) || (x[a] >= domain.min[a] && x[a] <= domain.max[a]));
         let clip = match &r.box_ {
             Some(b) => {
-                let min = in_plane(settings.dimension, finite3(&f("box.min"), b.min)?);
-                let max = in_plane(settings.dimension, finite3(&f("box.max"), b.max)?);
-                if (0..3).any(|a| !flat(a) && max[a] <= min[a]) {
-                    return Err(SceneError::field(f("box"), "max must exceed min on every axis (in 2D, x and z)"));
-                }
-                if !(inside(min) && inside(max)) {
+                let b = plane_box(&f("box"), b, settings.dimension)?;
+                if !(inside(b.min) && inside(b.max)) {
                     return Err(SceneError::field(f("box"), "must lie inside the domain"));
                 }
-                Some(Aabb::new(min, max))
+                Some(b)
             }
             None => None,
         };
@@ -488,13 +505,8 @@ fn probes(s: &SphSection, dimension: Dimension, domain: &PeriodicBox) -> Result<
     let mut out: Vec<SphProbe> = Vec::new();
     for (k, p) in s.probes.iter().enumerate() {
         let f = |x: &str| format!("sph.probes[{k}].{x}");
-        let bad_name = p.name.is_empty() || p.name.chars().any(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'));
-        if bad_name || out.iter().any(|q| q.name == p.name) {
-            return Err(SceneError::field(
-                f("name"),
-                format!("names the probe's file probe_<name>.csv: unique, letters, digits, '_' or '-'; got \"{}\"", p.name),
-            ));
-        }
+        let taken: Vec<&str> = out.iter().map(|q| q.name.as_str()).collect();
+        file_name(f("name"), &p.name, &taken, "the probe's", "probe_<name>.csv")?;
         let inside = |field: &str, x: DVec3| {
             let out = (0..3).any(|a| !(dimension == Dimension::Two && a == 1) && (x[a] < domain.min[a] || x[a] > domain.max[a]));
             if out { Err(SceneError::field(f(field), format!("{x} lies outside the domain"))) } else { Ok(()) }

@@ -2,7 +2,7 @@
 //! inflows' particles, and the fluid cleared from the inflows.
 
 use super::finite3;
-use super::sph::in_plane;
+use super::sph::plane_box;
 use crate::SceneError;
 use crate::schema::*;
 use glam::DVec3;
@@ -65,11 +65,7 @@ fn buffer_box(
     domain: &PeriodicBox,
 ) -> Result<BufferBox, SceneError> {
     let plane = settings.dimension == Dimension::Two;
-    let min = in_plane(settings.dimension, finite3(&format!("{field}.min"), b.min)?);
-    let max = in_plane(settings.dimension, finite3(&format!("{field}.max"), b.max)?);
-    if (0..3).any(|a| !(plane && a == 1) && max[a] <= min[a]) {
-        return Err(SceneError::field(field, "max must exceed min on every axis (in 2D, x and z)"));
-    }
+    let Aabb { min, max } = plane_box(field, b, settings.dimension)?;
     let slack = 1e-9 * (domain.max - domain.min).max_element();
     if (0..3).any(|a| !(plane && a == 1) && (min[a] < domain.min[a] - slack || max[a] > domain.max[a] + slack)) {
         return Err(SceneError::field(field, "must lie inside the domain"));

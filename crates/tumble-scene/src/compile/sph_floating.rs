@@ -1,13 +1,13 @@
 //! The [sph] section's floating bodies: their shapes, masses and starting motion, their wall
 //! particles, and the fluid cleared from them.
 
-use super::sph::{in_plane, region_cylinder};
+use super::sph::{file_name, in_plane, plane_box, region_cylinder};
 use super::{finite3, positive};
 use crate::SceneError;
 use crate::schema::*;
 use glam::DVec3;
 use tumble_geom::PeriodicBox;
-use tumble_sph::{Aabb, BodyShape, Dimension, FloatingBody, FluidParticles, FluidSettings, ParticleKind, wall_layers};
+use tumble_sph::{BodyShape, Dimension, FloatingBody, FluidParticles, FluidSettings, ParticleKind, wall_layers};
 
 /// The floating bodies: each one's mass and inertia in `settings`, its wall particles (numbered
 /// after the moving walls), and the fluid within half a spacing of it cleared. Returns their names.
@@ -22,13 +22,8 @@ pub(super) fn add_floating(
     let mut names: Vec<String> = Vec::new();
     for (k, b) in s.floating.iter().enumerate() {
         let f = |x: &str| format!("sph.floating[{k}].{x}");
-        let bad_name = b.name.is_empty() || b.name.chars().any(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'));
-        if bad_name || names.contains(&b.name) {
-            return Err(SceneError::field(
-                f("name"),
-                format!("names the body's file floating_<name>.csv: unique, letters, digits, '_' or '-'; got \"{}\"", b.name),
-            ));
-        }
+        let taken: Vec<&str> = names.iter().map(String::as_str).collect();
+        file_name(f("name"), &b.name, &taken, "the body's", "floating_<name>.csv")?;
         let density = positive(&f("density"), b.density)?;
         let velocity = finite3(&f("velocity"), b.velocity)?;
         let spin = finite3(&f("angular_velocity"), b.angular_velocity)?;
@@ -39,14 +34,7 @@ pub(super) fn add_floating(
             ));
         }
         let shape = match (&b.box_, &b.cylinder) {
-            (Some(bx), None) => {
-                let min = in_plane(dimension, finite3(&f("box.min"), bx.min)?);
-                let max = in_plane(dimension, finite3(&f("box.max"), bx.max)?);
-                if (0..3).any(|a| !(two_d && a == 1) && max[a] <= min[a]) {
-                    return Err(SceneError::field(f("box"), "max must exceed min on every axis (in 2D, x and z)"));
-                }
-                BodyShape::Box(Aabb::new(min, max))
-            }
+            (Some(bx), None) => BodyShape::Box(plane_box(&f("box"), bx, dimension)?),
             (None, Some(c)) => {
                 let mut c = region_cylinder(&f("cylinder"), c, dimension)?;
                 c.point = in_plane(dimension, c.point);
