@@ -49,15 +49,5 @@ fn order_cells(@builtin(global_invocation_id) gid: vec3<u32>) {
     if c > params.cells {
         return;
     }
-    let start = cell_start[c];
-    let end = cell_start[c + 1u];
-    for (var k = start + 1u; k < end; k++) {
-        let v = cell_list[k];
-        var m = k;
-        while m > start && cell_list[m - 1u] > v {
-            cell_list[m] = cell_list[m - 1u];
-            m--;
-        }
-        cell_list[m] = v;
-    }
+    order_cell_range(cell_start[c], cell_start[c + 1u]);
 }

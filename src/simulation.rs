@@ -31,9 +31,9 @@ impl Simulation {
     }
 
     /// Sets up a compiled scene on the GPU backend (the process's adapter).
-    pub fn gpu(scene: CompiledScene) -> Result<Self, GpuError> {
-        refuse_fluid_on_gpu(&scene)?;
-        Ok(Self::with_backend(Box::new(GpuSimulation::new(scene)?)))
+    pub fn gpu(mut scene: CompiledScene) -> Result<Self, GpuError> {
+        let phases = gpu_phases(&mut scene)?;
+        Ok(Self::with_backend(Box::new(GpuSimulation::new(scene)?)).with_phases(phases))
     }
 
     /// Sets up a compiled scene on the named backend (`threads` is for the CPU).
@@ -54,8 +54,9 @@ impl Simulation {
                 Self::with_backend(Box::new(CpuSimulation::from_state(scene, state, threads))).with_phases(phases)
             }
             BackendName::Gpu => {
-                refuse_fluid_on_gpu(&scene)?;
-                Self::with_backend(Box::new(GpuSimulation::from_state(scene, state)?))
+                let mut scene = scene;
+                let phases = gpu_phases(&mut scene)?;
+                Self::with_backend(Box::new(GpuSimulation::from_state(scene, state)?)).with_phases(phases)
             }
         })
     }
@@ -318,10 +319,17 @@ fn phases(scene: &mut CompiledScene, threads: usize) -> Vec<Box<dyn Phase>> {
     }
 }
 
-/// The SPH fluid runs on the CPU backend so far.
-fn refuse_fluid_on_gpu(scene: &CompiledScene) -> Result<(), GpuError> {
-    match scene.plan.sph {
-        Some(_) => Err(GpuError::Feature("the SPH fluid ([sph]) runs on the CPU backend so far; use --backend cpu".into())),
-        None => Ok(()),
+/// The phases of a compiled scene on the GPU; refuses a fluid with what the GPU does not run yet.
+fn gpu_phases(scene: &mut CompiledScene) -> Result<Vec<Box<dyn Phase>>, GpuError> {
+    let Some(sph) = &scene.plan.sph else { return Ok(Vec::new()) };
+    if let Some(why) = tumble_gpu::fluid_gpu_refusal(&sph.settings) {
+        return Err(GpuError::Feature(why));
+    }
+    match scene.fluid.take() {
+        Some(particles) => {
+            let fluid = crate::sph_phase::SphPhase::on(&scene.plan, particles, 1, true).map_err(GpuError::Feature)?;
+            Ok(vec![Box::new(fluid)])
+        }
+        None => Ok(Vec::new()),
     }
 }

@@ -9,7 +9,11 @@ use tumble_state::{Phase, PhasePoints, PhaseTable};
 
 /// A fluid phase and what the scene measures in it.
 pub struct SphPhase {
+    /// The fluid on the CPU; on the GPU, the device's state as of the last advance (sorted by
+    /// the CPU's grid), which the probes, rows and snapshots of points read.
     phase: FluidPhase,
+    /// The fluid on the GPU, which steps it there.
+    device: Option<Device>,
     probes: Vec<SphProbe>,
     floating: Vec<String>,
     fluid_particles: usize,
@@ -30,6 +34,15 @@ struct EnergyBooks {
     /// The energy scale: the largest kinetic + elastic energy seen, and at least a hundredth of
     /// the potential energy gravity can release from the start, J.
     scale: f64,
+}
+
+/// The GPU's fluid and what the host keeps of its last evaluation.
+struct Device {
+    fluid: tumble_gpu::GpuFluid,
+    /// Each particle's pressure by id at the last evaluation (walls: extrapolated).
+    pressure: Vec<f64>,
+    /// The time-step limit of the last advance's end state.
+    dt_limit: f64,
 }
 
 /// What a fluid's checkpoint section holds: the phase and its monitor's books.
@@ -56,6 +69,11 @@ impl SphPhase {
     /// The phase of `plan` over its starting `particles`, stepped on `threads` threads (its
     /// results do not depend on how many).
     pub fn new(plan: &Plan, particles: FluidParticles, threads: usize) -> Result<Self, String> {
+        Self::on(plan, particles, threads, false)
+    }
+
+    /// The phase of `plan` stepped on the process's GPU (f32), or on `threads` CPU threads.
+    pub fn on(plan: &Plan, particles: FluidParticles, threads: usize, gpu: bool) -> Result<Self, String> {
         let sph: &SphPlan = plan.sph.as_ref().ok_or("the plan has no fluid")?;
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.max(1)).build().map_err(|e| format!("the fluid's threads: {e}"))?;
         let fluid_particles = particles.fluid_count();
@@ -82,7 +100,52 @@ impl SphPhase {
         let energy_growth =
             (monitor.enabled && f.body_force == glam::DVec3::ZERO && f.moving_walls.is_empty() && f.inflows.is_empty() && f.outflows.is_empty())
                 .then_some(monitor.energy_growth);
-        Ok(SphPhase { phase, probes: sph.probes.clone(), floating: sph.floating.clone(), fluid_particles, pool, energy_growth, energy })
+        let device = if gpu {
+            let fluid = tumble_gpu::GpuFluid::new(phase.settings(), phase.particles()).map_err(|e| e.to_string())?;
+            let dt_limit = phase.time_step_limits().dt();
+            Some(Device { fluid, pressure: Vec::new(), dt_limit })
+        } else {
+            None
+        };
+        let mut sph_phase =
+            SphPhase { phase, device, probes: sph.probes.clone(), floating: sph.floating.clone(), fluid_particles, pool, energy_growth, energy };
+        sph_phase.take_device_state(0.0)?;
+        Ok(sph_phase)
+    }
+
+    /// Copies the GPU's state into the host's phase (sorted by its grid), with each particle's
+    /// pressure; refuses a state that is not finite or moved faster than the grid allows, with
+    /// the particle and a Δt that works.
+    fn take_device_state(&mut self, dt: f64) -> Result<(), String> {
+        let Some(device) = self.device.as_mut() else { return Ok(()) };
+        let mut snapshot = device.fluid.snapshot();
+        let p = &snapshot.particles;
+        let time = snapshot.time;
+        if let Some(i) = (0..p.len()).find(|&i| !(p.position[i].is_finite() && p.velocity[i].is_finite() && p.density[i].is_finite())) {
+            return Err(tumble_sph::FluidFault::NotFinite { id: p.id[i], time }.to_string());
+        }
+        let pressure = device.fluid.pressures();
+        device.pressure = vec![0.0; p.len()];
+        for (i, &id) in p.id.iter().enumerate() {
+            device.pressure[id as usize] = pressure[i];
+        }
+        snapshot.list_positions = Some(p.position.clone());
+        self.phase.restore(&snapshot)?;
+        let (limits, fastest) = device.fluid.time_step_limits();
+        device.dt_limit = limits.dt();
+        // The device sorts every step: a particle may move 0.2 h per half step (the cells' skin);
+        // a flow that fast has outrun the sound speed the step was chosen for.
+        let settings = self.phase.settings();
+        let skin = tumble_sph::rebuild_distance(settings.h);
+        if let Some((id, speed)) = fastest
+            && dt > 0.0
+            && speed * dt > skin
+        {
+            return Err(
+                tumble_sph::FluidFault::TooFast { id, time, speed, sound_speed: settings.sound_speed, dt_that_works: skin / speed }.to_string()
+            );
+        }
+        Ok(())
     }
 
     /// The fluid itself, for tests and tools.
@@ -145,6 +208,10 @@ impl Phase for SphPhase {
     }
 
     fn advance(&mut self, steps: u64, dt: f64) -> Result<(), String> {
+        if let Some(device) = self.device.as_mut() {
+            device.fluid.advance(steps, dt);
+            return self.take_device_state(dt);
+        }
         let phase = &mut self.phase;
         self.pool.install(|| (0..steps).try_for_each(|_| phase.step(dt))).map_err(|e| e.to_string())
     }
@@ -159,7 +226,10 @@ impl Phase for SphPhase {
 
     fn tables(&self) -> Vec<PhaseTable> {
         let o = self.pool.install(|| self.phase.observables());
-        let limit = self.pool.install(|| self.phase.time_step_limits());
+        let dt_limit = match &self.device {
+            Some(device) => device.dt_limit,
+            None => self.pool.install(|| self.phase.time_step_limits()).dt(),
+        };
         let columns = [
             "fluid_particles",
             "mass",
@@ -186,7 +256,7 @@ impl Phase for SphPhase {
             o.momentum.z,
             o.largest_density_deviation,
             o.largest_speed,
-            limit.dt(),
+            dt_limit,
         ];
         let mut fluid = PhaseTable { file: "fluid.csv".into(), columns: columns.iter().map(|c| c.to_string()).collect(), values };
         let s = self.phase.settings();
@@ -238,13 +308,15 @@ impl Phase for SphPhase {
         let p = self.phase.particles();
         let eos = self.phase.equation_of_state();
         let walls = self.phase.pressure();
+        let device_pressure = self.device.as_ref().map(|d| &d.pressure);
         let settings = self.phase.settings();
         // Sorted by id, as the particles' snapshots are.
         let mut order: Vec<usize> = (0..p.len()).collect();
         order.sort_by_key(|&i| p.id[i]);
-        let pressure = |i: usize| match p.kind[i] {
-            ParticleKind::Fluid => eos.pressure(p.density[i]),
-            ParticleKind::Wall => walls.get(i).copied().unwrap_or(0.0),
+        let pressure = |i: usize| match (p.kind[i], device_pressure) {
+            (ParticleKind::Fluid, _) => eos.pressure(p.density[i]),
+            (ParticleKind::Wall, Some(by_id)) => by_id[p.id[i] as usize],
+            (ParticleKind::Wall, None) => walls.get(i).copied().unwrap_or(0.0),
         };
         PhasePoints {
             positions: order.iter().map(|&i| p.position[i]).collect(),
@@ -265,12 +337,23 @@ impl Phase for SphPhase {
     }
 
     fn snapshot(&self) -> Vec<u8> {
-        postcard::to_stdvec(&SphSection { fluid: self.phase.snapshot(), energy: self.energy }).expect("a fluid snapshot always encodes")
+        // On the GPU, the device's arrays in its order, so that it continues bit-identically.
+        let fluid = match &self.device {
+            Some(device) => device.fluid.snapshot(),
+            None => self.phase.snapshot(),
+        };
+        postcard::to_stdvec(&SphSection { fluid, energy: self.energy }).expect("a fluid snapshot always encodes")
     }
 
     fn restore(&mut self, bytes: &[u8]) -> Result<(), String> {
         let section: SphSection = postcard::from_bytes(bytes).map_err(|e| format!("the fluid's section cannot be decoded: {e}"))?;
-        self.phase.restore(&section.fluid)?;
+        match self.device.as_mut() {
+            Some(device) => {
+                device.fluid.restore(&section.fluid)?;
+                self.take_device_state(0.0)?;
+            }
+            None => self.phase.restore(&section.fluid)?,
+        }
         self.energy = section.energy;
         Ok(())
     }

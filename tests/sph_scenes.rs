@@ -439,19 +439,19 @@ fn the_fluid_monitor_stops_a_run_whose_energy_grows() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The GPU backend refuses a fluid on one line and writes nothing; `tumble plan` states the
-/// fluid's time step and why.
+/// The GPU backend refuses a fluid with floating bodies on one line and writes nothing (they run
+/// on the CPU so far); `tumble plan` states the fluid's time step and why.
 #[test]
-fn the_plan_states_the_fluid_and_the_gpu_refuses_it() {
+fn the_plan_states_the_fluid_and_the_gpu_refuses_floating_bodies() {
     let dir = tmp("plan");
     let o = tumble(&["plan", "scenes/dam_break.toml"]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success() && text.contains("set by the sound speed (CFL)") && text.contains("800 fluid"), "{text}");
     let out = dir.join("gpu");
-    let o = tumble(&["run", "scenes/dam_break.toml", "--backend", "gpu", "--quiet", "--out", out.to_str().unwrap()]);
+    let o = tumble(&["run", "scenes/floating_box.toml", "--backend", "gpu", "--quiet", "--out", out.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.trim().lines().count() == 1 && err.contains("runs on the CPU backend so far"), "{err}");
+    assert!(err.trim().lines().count() == 1 && err.contains("floating bodies") && err.contains("run on the CPU backend so far"), "{err}");
     assert!(!out.exists(), "a refused run wrote {}", out.display());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -156,6 +156,43 @@ pub const REDUCE: &[Binding] = &[
     b("image", IMAGES, Read, Periodic),
 ];
 
+/// sph_sort.wgsl: the fluid's counting sort by cell and the permutation of its arrays.
+pub const SPH_SORT: &[Binding] = &[
+    b("fluid", "FluidParams", Uniform, Always),
+    // Position relative to the domain's centre (xyz) and mass.
+    b("pos", V4F, Read, Always),
+    // Velocity (a wall particle's: its wall's) and density.
+    b("vel", V4F, Read, Always),
+    // Kind (SPH_FLUID, SPH_WALL), id, wall number, cell.
+    b("tags", V4U, Read, Always),
+    b("cell", U32S, ReadWrite, Always),
+    b("count", ATOMICS, ReadWrite, Always),
+    b("cell_start", U32S, Read, Always),
+    b("cursor", ATOMICS, ReadWrite, Always),
+    b("cell_list", U32S, ReadWrite, Always),
+    b("pos_sorted", V4F, ReadWrite, Always),
+    b("vel_sorted", V4F, ReadWrite, Always),
+    b("tags_sorted", V4U, ReadWrite, Always),
+];
+
+/// sph_step.wgsl: the fluid's evaluations and the halves of its step, on the sorted arrays.
+pub const SPH_STEP: &[Binding] = &[
+    b("fluid", "FluidParams", Uniform, Always),
+    b("pos", V4F, ReadWrite, Always),
+    b("vel", V4F, ReadWrite, Always),
+    b("tags", V4U, Read, Always),
+    b("cell_start", U32S, Read, Always),
+    // Pressure, P/ρ², m/ρ, the tensile term R.
+    b("state", V4F, ReadWrite, Always),
+    // The velocity the viscous terms see (a wall's: Adami's 2 v_w − ṽ), and 1 for fluid, 0 for a wall.
+    b("viscous", V4F, ReadWrite, Always),
+    // Acceleration and density rate.
+    b("rate", V4F, ReadWrite, Always),
+    b("xsph", V4F, ReadWrite, Always),
+    // Velocity and density at the step's start.
+    b("start", V4F, ReadWrite, Always),
+];
+
 /// polyhedra_test.wgsl: the narrow-phase harness.
 pub const POLYHEDRA_TEST: &[Binding] = &[
     b("count", "vec4<u32>", Uniform, Always),

@@ -139,6 +139,20 @@ shared! {
     // ---- The overlap-volume contact ----
     /// Material points per edge against a cylinder (tumble-geom's `CYLINDER_EDGE_POINTS`).
     CYLINDER_EDGE_POINTS = 8;
+
+    // ---- The SPH fluid (sph_*.wgsl) ----
+    /// A fluid particle's kind (tags.x).
+    SPH_FLUID = 0;
+    /// A wall's dummy particle.
+    SPH_WALL = 1;
+    /// Method switches (FluidParams.counts.z bits): Morris's laminar viscosity (else Monaghan's artificial one).
+    SPH_LAMINAR = 1;
+    /// δ-SPH density diffusion.
+    SPH_DIFFUSE = 2;
+    /// Monaghan's tensile correction.
+    SPH_TENSILE = 4;
+    /// The XSPH velocity correction.
+    SPH_XSPH = 8;
 }
 
 // A face clipped by a face has at most twice its vertices; a wall manifold holds every vertex.

@@ -18,6 +18,8 @@ pub const COMMON: &str = include_str!("../common.wgsl");
 pub const GEOMETRY: &str = include_str!("../geometry.wgsl");
 /// Cell index and counting sort.
 pub const BROAD: &str = include_str!("../broad.wgsl");
+/// The counting sort's last step: a cell's range sorted by slot (needs `cell_list`).
+pub const CELL_ORDER: &str = include_str!("../cell_order.wgsl");
 /// Reduce-then-scan prefix sum.
 pub const SCAN: &str = include_str!("../scan.wgsl");
 /// Re-sort of per-particle arrays by cell.
@@ -48,12 +50,19 @@ pub const POLYHEDRA_TEST: &str = include_str!("../polyhedra_test.wgsl");
 pub const REDUCE: &str = include_str!("../reduce.wgsl");
 /// Body forces and the integrators.
 pub const INTEGRATE: &str = include_str!("../integrate.wgsl");
+/// The SPH fluid's parameters, grid, kernel and equation of state.
+pub const SPH_COMMON: &str = include_str!("../sph_common.wgsl");
+/// The fluid's counting sort by cell.
+pub const SPH_SORT: &str = include_str!("../sph_sort.wgsl");
+/// The fluid's evaluations and symplectic step.
+pub const SPH_STEP: &str = include_str!("../sph_step.wgsl");
 
 /// Every WGSL file, by file name.
 pub const FILES: &[(&str, &str)] = &[
     ("common.wgsl", COMMON),
     ("geometry.wgsl", GEOMETRY),
     ("broad.wgsl", BROAD),
+    ("cell_order.wgsl", CELL_ORDER),
     ("scan.wgsl", SCAN),
     ("reorder.wgsl", REORDER),
     ("forces.wgsl", FORCES),
@@ -69,6 +78,9 @@ pub const FILES: &[(&str, &str)] = &[
     ("polyhedra_test.wgsl", POLYHEDRA_TEST),
     ("integrate.wgsl", INTEGRATE),
     ("reduce.wgsl", REDUCE),
+    ("sph_common.wgsl", SPH_COMMON),
+    ("sph_sort.wgsl", SPH_SORT),
+    ("sph_step.wgsl", SPH_STEP),
 ];
 
 const NARROW_PHASE: [&str; 6] = [QUATERNION, POLYHEDRA, POLYHEDRON_POLYHEDRON, SPHERE_POLYHEDRON, POLYHEDRON_WALLS, VOLUME_CONTACT];
@@ -84,7 +96,7 @@ pub struct Module {
 
 /// The modules of a simulation, one pipeline per entry point.
 pub const MODULES: &[Module] = &[
-    Module { name: "broad", files: &[COMMON, BROAD], bindings: bindings::BROAD, entry_points: &["bin", "scatter", "order_cells"] },
+    Module { name: "broad", files: &[COMMON, CELL_ORDER, BROAD], bindings: bindings::BROAD, entry_points: &["bin", "scatter", "order_cells"] },
     Module { name: "scan", files: &[SCAN], bindings: bindings::SCAN, entry_points: &["reduce", "scan_block"] },
     Module { name: "reorder", files: &[COMMON, REORDER], bindings: bindings::REORDER, entry_points: &["permute"] },
     Module {
@@ -113,6 +125,23 @@ pub const MODULES: &[Module] = &[
         entry_points: &["initial", "kick_drift", "finish"],
     },
     Module { name: "reduce", files: &[COMMON, QUATERNION, REDUCE], bindings: bindings::REDUCE, entry_points: &["reduce_rows", "gather_tracks"] },
+];
+
+/// The SPH fluid's modules (one variant each: the method's switches are uniform bits), with the
+/// scan of [`MODULES`] for its cell starts.
+pub const FLUID_MODULES: &[Module] = &[
+    Module {
+        name: "fluid sort",
+        files: &[SPH_COMMON, CELL_ORDER, SPH_SORT],
+        bindings: bindings::SPH_SORT,
+        entry_points: &["fluid_bin", "fluid_scatter", "fluid_order_cells", "fluid_permute"],
+    },
+    Module {
+        name: "fluid step",
+        files: &[SPH_COMMON, SPH_STEP],
+        bindings: bindings::SPH_STEP,
+        entry_points: &["fluid_wall_state", "fluid_rates", "fluid_first_half", "fluid_second_half"],
+    },
 ];
 
 /// The polyhedra narrow phase with its test harness (entry point `evaluate`; no overrides).

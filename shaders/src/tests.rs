@@ -100,7 +100,7 @@ fn bindings_are_numbered_by_position_and_a_feature_that_is_off_gets_a_private_st
     assert!(none.contains("var<private> orient: array<vec4<f32>, 1>;") && !none.contains("@binding(18)"));
     assert_eq!(forces.storage_buffers(|_| true), 18);
     assert_eq!(forces.storage_buffers(|f| f == Feature::Always), 13);
-    for m in MODULES.iter().chain([&POLYHEDRA_TEST_MODULE]) {
+    for m in MODULES.iter().chain(FLUID_MODULES).chain([&POLYHEDRA_TEST_MODULE]) {
         let names: BTreeSet<&str> = m.bindings.iter().map(|b| b.name).collect();
         assert_eq!(names.len(), m.bindings.len(), "{}: a binding name twice", m.name);
         assert!(m.source(|_| true).starts_with(&prelude()), "{}", m.name);
@@ -111,7 +111,7 @@ fn bindings_are_numbered_by_position_and_a_feature_that_is_off_gets_a_private_st
 fn entry_points_are_unique_across_modules() {
     // The host looks pipelines up by entry point name alone.
     let mut seen = BTreeSet::new();
-    for m in MODULES {
+    for m in MODULES.iter().chain(FLUID_MODULES) {
         for e in m.entry_points {
             assert!(seen.insert(*e), "entry point {e} of module {} is also another module's", m.name);
         }

@@ -4,6 +4,8 @@
 //! (`TUMBLE_REQUIRE_GPU=1` makes that a failure); the end of the run reports the shader
 //! variants compiled. GPU tests share one device and take turns on it.
 
+/// The SPH fluid on the GPU against the CPU: one step, a dam break, a column at rest; determinism.
+mod fluid;
 /// Moving walls on the GPU against the CPU: a mill, a belt, lifters; determinism.
 mod moving_world;
 /// The f32 polyhedra narrow phase against tumble-geom's f64 routines.
@@ -77,6 +79,12 @@ fn main() {
         render::pictures_are_identical_run_to_run,
         render::a_polyhedral_body_is_drawn_as_its_faces_in_its_particles_colour,
         render::a_fluid_is_drawn_in_the_colour_of_its_pressure,
+        fluid::one_step_matches_the_cpu_with_every_switch,
+        fluid::a_dam_break_on_the_gpu_follows_the_cpu,
+        fluid::a_column_at_rest_on_the_gpu_keeps_its_hydrostatic_pressure,
+        fluid::a_periodic_box_on_the_gpu_keeps_its_momentum,
+        fluid::gpu_fluid_runs_are_bit_identical_and_restart_exactly,
+        fluid::a_gpu_fluid_scene_resumes_bit_identically,
     ];
     let cpu_only = vec![tumble_testkit::harness::cpu_trial("render::bad_input_is_refused_in_one_line", render::bad_input_is_refused_in_one_line)];
     tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only, cpu_only].into_iter().flatten().collect());

@@ -86,6 +86,8 @@ const CUBE_SETTLING_BED: &str = include_str!("../../scenes/conformance/cube_sett
 const POLYHEDRA_COLLISION: &str = include_str!("../../scenes/conformance/polyhedra_collision.toml");
 const CUBE_PLATE_STRIKE: &str = include_str!("../../scenes/conformance/cube_plate_strike.toml");
 const CUBE_DRUM: &str = include_str!("../../scenes/conformance/cube_drum.toml");
+const FLUID_DAM_BREAK: &str = include_str!("../../scenes/conformance/fluid_dam_break.toml");
+const FLUID_COLUMN: &str = include_str!("../../scenes/conformance/fluid_column.toml");
 
 fn compiled(text: &str) -> CompiledScene {
     tumble::compile(&tumble::parse_scene(text).expect("conformance scene parses")).expect("conformance scene compiles")
@@ -311,8 +313,55 @@ fn small_mill(backend: Backend) -> Vec<Measured> {
     ]
 }
 
+/// Runs a fluid scene to its end and returns its phase's tables: (file, column) → value at the end.
+fn fluid_run(backend: Backend, text: &str) -> HashMap<(String, String), f64> {
+    let (sim, _) = run_with_outputs(backend, compiled(text));
+    assert!(sim.phase_fault().is_none(), "{:?}", sim.phase_fault());
+    let fluid = sim.phases().iter().find(|p| p.name() == "fluid").expect("a fluid phase");
+    let mut values = HashMap::new();
+    for table in fluid.tables() {
+        for (column, value) in table.columns.iter().zip(&table.values) {
+            values.insert((table.file.clone(), column.clone()), *value);
+        }
+    }
+    values
+}
+
+/// A 2D dam break (SPH, 20 particles over the column's height, 0.15 s): the surge front and the
+/// column's height at the end against the CPU's, within a tenth and a half of the spacing on
+/// the GPU (f32: the fronts of a finer run differ by 1e-4 a, tests/backends/fluid.rs); the
+/// floor's pressure under the column within 5 %; the mass exactly (particles carry it); the
+/// largest density deviation within the method's 1 % at most.
+fn fluid_dam_break(backend: Backend) -> Vec<Measured> {
+    let v = fluid_run(backend, FLUID_DAM_BREAK);
+    let get = |file: &str, column: &str| v[&(file.to_string(), column.to_string())];
+    let dp = 0.005;
+    let mass = 1000.0 * 0.05 * 0.1;
+    vec![
+        against_cpu("fluid dam break: front [m]", get("probe_front.csv", "front"), Error::Absolute, 0.1 * dp),
+        against_cpu("fluid dam break: column height [m]", get("probe_column.csv", "height"), Error::Absolute, 0.5 * dp),
+        against_cpu("fluid dam break: floor pressure [Pa]", get("probe_floor.csv", "pressure"), Error::Relative, 0.05),
+        exact("fluid dam break: mass [kg/m]", get("fluid.csv", "mass"), mass, 1e-12, 1e-6),
+        exact("fluid dam break: largest |ρ/ρ0 − 1|", get("fluid.csv", "largest_density_deviation"), 0.0, 0.01, 0.01),
+    ]
+}
+
+/// A 2D column at rest (SPH, 20 particles over 0.2 m, 0.3 s): the pressure 0.18 m and 0.1 m deep
+/// against ρ g z, within 2 % of the bottom pressure ρ g H on either backend (the hydrostatic
+/// tests' bound).
+fn fluid_column(backend: Backend) -> Vec<Measured> {
+    let v = fluid_run(backend, FLUID_COLUMN);
+    let get = |file: &str| v[&(file.to_string(), "pressure".to_string())];
+    let (rho_g, height) = (1000.0 * 9.81, 0.2);
+    let bound = 0.02 * height / 0.18;
+    vec![
+        exact("fluid column: pressure 0.18 m deep [Pa]", get("probe_deep.csv"), rho_g * 0.18, bound, bound),
+        exact("fluid column: pressure 0.1 m deep [Pa]", get("probe_middle.csv"), rho_g * 0.1, 0.04, 0.04),
+    ]
+}
+
 /// The measurement families of the suite, by name.
-const FAMILIES: [(&str, fn(Backend) -> Vec<Measured>); 10] = [
+const FAMILIES: [(&str, fn(Backend) -> Vec<Measured>); 12] = [
     ("verification cases", verification_rows),
     ("settling bed", settling_bed),
     ("history bed", settling_bed_history),
@@ -323,6 +372,8 @@ const FAMILIES: [(&str, fn(Backend) -> Vec<Measured>); 10] = [
     ("polyhedra: cube bed", cube_settling_bed),
     ("polyhedra: plate strike", cube_plate_strike),
     ("polyhedra: cube drum", cube_drum),
+    ("fluid: dam break", fluid_dam_break),
+    ("fluid: column at rest", fluid_column),
 ];
 
 /// Every measurement of the suite on one backend (only the families whose name contains `only`, when given).

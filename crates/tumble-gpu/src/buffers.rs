@@ -123,7 +123,7 @@ fn init(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: &data, usage: STORAGE })
 }
 
-fn zeroed(gpu: &Gpu, label: &str, bytes: u64) -> wgpu::Buffer {
+pub(crate) fn zeroed(gpu: &Gpu, label: &str, bytes: u64) -> wgpu::Buffer {
     gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: bytes.max(16).next_multiple_of(4),

@@ -40,23 +40,26 @@ pub fn shader_compile_stats() -> ShaderCompileStats {
 
 /// The bind group layout of a module: its bindings that `switches` needs, each at its number.
 fn layout(gpu: &Gpu, shader: &ShaderSource, switches: &Switches) -> wgpu::BindGroupLayout {
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = bound(shader.module.bindings, switches)
-        .map(|(k, b)| wgpu::BindGroupLayoutEntry {
-            binding: k,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: match b.access {
-                    Access::Uniform => wgpu::BufferBindingType::Uniform,
-                    Access::Read => wgpu::BufferBindingType::Storage { read_only: true },
-                    Access::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
-                },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        })
-        .collect();
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = bound(shader.module.bindings, switches).map(|(k, b)| layout_entry(k, b)).collect();
     gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(shader.name), entries: &entries })
+}
+
+/// The layout entry of binding number `k`, a buffer as its access says.
+pub(crate) fn layout_entry(k: u32, b: &Binding) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding: k,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: match b.access {
+                Access::Uniform => wgpu::BufferBindingType::Uniform,
+                Access::Read => wgpu::BufferBindingType::Storage { read_only: true },
+                Access::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
+            },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
 }
 
 /// The bindings of a table that `switches` needs, with their numbers.

@@ -16,6 +16,8 @@
 //! time from the host, and their power per wall group is summed on the host in
 //! id order ([`GpuSimulation::wall_power`], [`GpuSimulation::wall_work`]).
 //!
+//! The SPH fluid has its own arrays, sort and kernels ([`GpuFluid`], fluid.rs).
+//!
 //! ```no_run
 //! let scene = tumble_scene::read_scene("scenes/box_settle.toml".as_ref()).unwrap();
 //! let mut sim = tumble_gpu::GpuSimulation::new(tumble_scene::compile(&scene).unwrap()).unwrap();
@@ -27,6 +29,7 @@ mod backend;
 mod buffers;
 mod context;
 mod drums;
+mod fluid;
 mod grow;
 mod history;
 mod kernels;
@@ -45,6 +48,7 @@ pub use buffers::{
     BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, device_bytes, history_bytes_per_particle, memory_bytes, wall_bytes_per_particle,
 };
 pub use context::{AdapterDescription, GpuError, available, gpu};
+pub use fluid::{FLUID_BYTES_PER_PARTICLE, FluidParams, GpuFluid, fluid_gpu_refusal, fluid_params};
 pub use kernels::{ShaderCompileStats, shader_compile_stats};
 pub use upload::Grid;
 

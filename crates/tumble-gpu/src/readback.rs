@@ -3,6 +3,7 @@
 //! snapshot's frame sum the full arrays on the host in f64, in id order, instead.
 
 use crate::GpuSimulation;
+use crate::context::Gpu;
 use crate::upload::FLAG_DEAD;
 use bytemuck::Pod;
 use glam::DVec3;
@@ -61,6 +62,44 @@ fn v3(a: [f32; 4]) -> DVec3 {
     DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
 }
 
+/// Copies the first bytes of several buffers back to the host, after what `record` records, in
+/// one submission and one mapping.
+pub(crate) fn read_back(gpu: &Gpu, record: impl FnOnce(&mut wgpu::CommandEncoder), parts: &[(&wgpu::Buffer, u64)]) -> Vec<Vec<u8>> {
+    let total: u64 = parts.iter().map(|p| p.1).sum();
+    if total == 0 {
+        return parts.iter().map(|_| Vec::new()).collect();
+    }
+    let device = &gpu.device;
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: total,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+    record(&mut encoder);
+    let mut offset = 0;
+    for (buffer, bytes) in parts {
+        if *bytes > 0 {
+            encoder.copy_buffer_to_buffer(buffer, 0, &staging, offset, *bytes);
+        }
+        offset += bytes;
+    }
+    gpu.queue.submit([encoder.finish()]);
+    staging.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("mapping a readback buffer"));
+    device.poll(wgpu::PollType::Wait { submission_index: None, timeout: None }).expect("waiting for the device");
+    let view = staging.slice(..).get_mapped_range().expect("mapped readback");
+    let mut out = Vec::new();
+    let mut offset = 0;
+    for (_, bytes) in parts {
+        out.push(view[offset as usize..(offset + bytes) as usize].to_vec());
+        offset += bytes;
+    }
+    drop(view);
+    staging.unmap();
+    out
+}
+
 impl GpuSimulation {
     /// Copies `count` elements of `buffer` back to the host.
     pub(crate) fn read<T: Pod>(&self, buffer: &wgpu::Buffer, count: usize) -> Vec<T> {
@@ -78,38 +117,7 @@ impl GpuSimulation {
         let total: u64 = parts.iter().map(|p| p.1).sum();
         self.readbacks.set(self.readbacks.get() + 1);
         self.readback_bytes.set(self.readback_bytes.get() + total);
-        if total == 0 {
-            return parts.iter().map(|_| Vec::new()).collect();
-        }
-        let device = &self.gpu.device;
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: total,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
-        record(&mut encoder);
-        let mut offset = 0;
-        for (buffer, bytes) in parts {
-            if *bytes > 0 {
-                encoder.copy_buffer_to_buffer(buffer, 0, &staging, offset, *bytes);
-            }
-            offset += bytes;
-        }
-        self.gpu.queue.submit([encoder.finish()]);
-        staging.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("mapping a readback buffer"));
-        device.poll(wgpu::PollType::Wait { submission_index: None, timeout: None }).expect("waiting for the device");
-        let view = staging.slice(..).get_mapped_range().expect("mapped readback");
-        let mut out = Vec::new();
-        let mut offset = 0;
-        for (_, bytes) in parts {
-            out.push(view[offset as usize..(offset + bytes) as usize].to_vec());
-            offset += bytes;
-        }
-        drop(view);
-        staging.unmap();
-        out
+        read_back(&self.gpu, record, parts)
     }
 
     /// Every per-particle array as the device holds it (slot order).

@@ -23,6 +23,18 @@ fn every_shader_module_validates() {
 }
 
 #[test]
+fn the_fluid_modules_validate() {
+    for module in tumble_shaders::FLUID_MODULES {
+        let source = module.source(|_| true);
+        let parsed = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}: {}", module.name, e.emit_to_string(&source)));
+        validator().validate(&parsed).unwrap_or_else(|e| panic!("{}: {}", module.name, e.emit_to_string(&source)));
+        for entry in module.entry_points {
+            assert!(parsed.entry_points.iter().any(|e| e.name == *entry), "{}: no entry point {entry}", module.name);
+        }
+    }
+}
+
+#[test]
 fn every_shader_variant_validates() {
     let mut checked = 0;
     for module in MODULES {

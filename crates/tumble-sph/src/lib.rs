@@ -31,11 +31,12 @@ pub use eos::{GAMMA, Tait};
 pub use floating::{BodyShape, BodyState, FloatingBody};
 pub use kernel::{Dimension, WendlandC2};
 pub use limits::{FluidFault, TimeStepLimits};
-pub use neighbours::SKIN;
+pub use neighbours::{SKIN, rebuild_distance};
 pub use particles::{
     Aabb, ClosedSides, FluidParticles, ParticleKind, Rectangle, cylinder_fill, cylinder_shell, lattice_points, on_fluid_side, rectangle_layers,
     wall_shell,
 };
+pub use pass::PassConstants;
 pub use phase::{FluidObservables, FluidPhase, FluidSnapshot};
 pub use rates::Rates;
 pub use settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity, WallRole};

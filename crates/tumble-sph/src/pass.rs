@@ -12,6 +12,7 @@
 use tumble_geom::DVec3;
 
 use crate::rates::Method;
+use crate::settings::{DensityDiffusion, FluidSettings};
 
 /// Neighbours evaluated abreast.
 const LANES: usize = 4;
@@ -43,30 +44,40 @@ pub(crate) struct ParticleRates {
     pub xsph: DVec3,
 }
 
-/// The method's constants the pass reads, as plain numbers.
+/// The method's constants the pair terms read, as plain numbers: the CPU's pass and the GPU's
+/// kernels (tumble-gpu) take them from here.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct PassConstants {
-    support2: f64,
-    inv_h: f64,
+pub struct PassConstants {
+    /// (2h)².
+    pub support2: f64,
+    pub inv_h: f64,
     /// −5 α / h², so that (dW/dr)/r = this · (1 − q/2)³.
-    gradient_scale: f64,
-    alpha: f64,
-    inv_w_dp: f64,
-    eta2: f64,
-    laminar_eta2: f64,
-    two_mu: f64,
-    /// α c₀ h of the artificial viscosity.
-    av_scale: f64,
+    pub gradient_scale: f64,
+    /// The kernel's normalisation α.
+    pub alpha: f64,
+    /// 1/W(Δp), the tensile correction's reference.
+    pub inv_w_dp: f64,
+    /// η² of the artificial viscosity and the density diffusion.
+    pub eta2: f64,
+    /// η² of the laminar term.
+    pub laminar_eta2: f64,
+    /// 2μ of the laminar term.
+    pub two_mu: f64,
+    /// α c₀ h of the artificial viscosity (zero with the laminar term).
+    pub av_scale: f64,
     /// ρ₀/c₀² times the external acceleration: Fourtakas's hydrostatic density difference per metre.
-    hydrostatic: DVec3,
-    reach: f64,
-    stiffness: f64,
+    pub hydrostatic: DVec3,
+    /// The wall repulsion's reach r₀ and stiffness.
+    pub reach: f64,
+    pub stiffness: f64,
     /// The smallest distance the repulsion divides by (coincident particles feel none).
-    tiny: f64,
+    pub tiny: f64,
+    /// δ h c₀ of the density diffusion (zero without it).
+    pub diffusion_scale: f64,
 }
 
 impl PassConstants {
-    pub fn new(method: &Method, alpha_av: f64, fourtakas: bool) -> Self {
+    pub(crate) fn new(method: &Method, alpha_av: f64, fourtakas: bool) -> Self {
         let h = method.kernel.h();
         let inv_h = 1.0 / h;
         let alpha = method.kernel.value(0.0);
@@ -84,7 +95,14 @@ impl PassConstants {
             reach: method.repulsion_reach,
             stiffness: method.repulsion_stiffness,
             tiny: 1e-9 * h,
+            diffusion_scale: method.diffusion_scale,
         }
+    }
+
+    /// The constants of the fluid `settings` describe, as an evaluation of its rates uses them.
+    pub fn of(settings: &FluidSettings) -> Self {
+        let method = Method::new(settings);
+        PassConstants::new(&method, method.artificial_alpha(), matches!(method.diffusion, DensityDiffusion::Fourtakas { .. }))
     }
 }
 
