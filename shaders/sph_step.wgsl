@@ -9,6 +9,30 @@
 // gathered by its particle over the cells around it in slot order: no atomics, the same
 // result run to run. The equations are tumble-sph's (rates.rs, pass.rs), term for term.
 
+// The affine map of the motion table's three rows from `row`, at x.
+fn motion_map(row: u32, x: vec3<f32>) -> vec3<f32> {
+    let r0 = motions[row];
+    let r1 = motions[row + 1u];
+    let r2 = motions[row + 2u];
+    return vec3<f32>(dot(r0.xyz, x) + r0.w, dot(r1.xyz, x) + r1.w, dot(r2.xyz, x) + r2.w);
+}
+
+// The first row of wall number `wall`'s motion table (wall > 0: a wall moving by a motion).
+fn motion_row(wall: u32) -> u32 {
+    return (wall - 1u) * SPH_MOTION_WORDS;
+}
+
+// Where a wall particle at x moves over the half step, and its velocity there: a moving wall's
+// by its motion table, any other's with its own velocity.
+fn wall_move(a: u32, x: vec3<f32>, v: vec3<f32>) -> array<vec3<f32>, 2> {
+    let wall = tags[a].z;
+    if wall == 0u {
+        return array<vec3<f32>, 2>(x + fluid.step.y * v, v);
+    }
+    let to = motion_map(motion_row(wall), x);
+    return array<vec3<f32>, 2>(to, motion_map(motion_row(wall) + 3u, to));
+}
+
 // The cells around a particle, each once: 27 in 3D, 9 in 2D, fewer at closed sides and on
 // short periodic axes.
 struct NeighbourCells {
@@ -77,7 +101,12 @@ fn fluid_wall_state(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
         }
         if sum_w > 0.0 {
-            p = max((sum_p + dot(fluid.body_acceleration.xyz, sum_rho_r)) / sum_w, 0.0);
+            // A moving wall's own acceleration enters as a body force of the opposite sign.
+            var apparent = fluid.body_acceleration.xyz;
+            if tags[a].z > 0u {
+                apparent -= motion_map(motion_row(tags[a].z) + 6u, xa.xyz);
+            }
+            p = max((sum_p + dot(apparent, sum_rho_r)) / sum_w, 0.0);
             rho = tait_density(p);
             viscous_velocity = 2.0 * va.xyz - sum_v / sum_w;
         } else {
@@ -172,7 +201,7 @@ fn fluid_rates(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // The first half of the symplectic step: the fluid keeps v and ρ of the step's start, then
 // drifts with v + XSPH while v and ρ advance half a step; wall particles move with their
-// velocity.
+// velocity, or by their wall's motion (which then gives their velocity).
 @compute @workgroup_size(WORKGROUP)
 fn fluid_first_half(@builtin(global_invocation_id) gid: vec3<u32>) {
     let a = fluid_index(gid);
@@ -182,14 +211,16 @@ fn fluid_first_half(@builtin(global_invocation_id) gid: vec3<u32>) {
     let half = fluid.step.y;
     let v = vel[a];
     let x = pos[a];
-    var moved = half * v.xyz;
     if tags[a].x == SPH_FLUID {
         start[a] = v;
         let r = rate[a];
-        moved = half * (v.xyz + xsph[a].xyz);
         vel[a] = vec4<f32>(v.xyz + half * r.xyz, v.w + half * r.w);
+        pos[a] = vec4<f32>(fluid_wrap(x.xyz + half * (v.xyz + xsph[a].xyz)), x.w);
+    } else {
+        let moved = wall_move(a, x.xyz, v.xyz);
+        vel[a] = vec4<f32>(moved[1], v.w);
+        pos[a] = vec4<f32>(fluid_wrap(moved[0]), x.w);
     }
-    pos[a] = vec4<f32>(fluid_wrap(x.xyz + moved), x.w);
 }
 
 // The second half: v = v⁰ + Δt a, ρ = ρ⁰ (2 − ε)/(2 + ε) with ε = −Δt (dρ/dt)/ρ at the half
@@ -204,14 +235,16 @@ fn fluid_second_half(@builtin(global_invocation_id) gid: vec3<u32>) {
     let half = fluid.step.y;
     let v = vel[a];
     let x = pos[a];
-    var moved = half * v.xyz;
     if tags[a].x == SPH_FLUID {
         let s = start[a];
         let r = rate[a];
         let velocity = s.xyz + dt * r.xyz;
         let eps = -dt * r.w / v.w;
         vel[a] = vec4<f32>(velocity, s.w * (2.0 - eps) / (2.0 + eps));
-        moved = half * (velocity + xsph[a].xyz);
+        pos[a] = vec4<f32>(fluid_wrap(x.xyz + half * (velocity + xsph[a].xyz)), x.w);
+    } else {
+        let moved = wall_move(a, x.xyz, v.xyz);
+        vel[a] = vec4<f32>(moved[1], v.w);
+        pos[a] = vec4<f32>(fluid_wrap(moved[0]), x.w);
     }
-    pos[a] = vec4<f32>(fluid_wrap(x.xyz + moved), x.w);
 }

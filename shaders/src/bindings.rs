@@ -191,6 +191,8 @@ pub const SPH_STEP: &[Binding] = &[
     b("xsph", V4F, ReadWrite, Always),
     // Velocity and density at the step's start.
     b("start", V4F, ReadWrite, Always),
+    // Per moving wall, the current half step's motion table (SPH_MOTION_WORDS entries each).
+    b("motions", V4F, Read, Always),
 ];
 
 /// polyhedra_test.wgsl: the narrow-phase harness.

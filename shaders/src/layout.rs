@@ -153,6 +153,10 @@ shared! {
     SPH_TENSILE = 4;
     /// The XSPH velocity correction.
     SPH_XSPH = 8;
+    /// vec4 entries per moving wall in the fluid's motion table, for one half step in device
+    /// coordinates: the move over the half step (rows of [A | b], x ↦ A x + b), the velocity at
+    /// its end and the acceleration at its start (rows of affine maps of the position).
+    SPH_MOTION_WORDS = 9;
 }
 
 // A face clipped by a face has at most twice its vertices; a wall manifold holds every vertex.

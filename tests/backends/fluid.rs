@@ -209,43 +209,90 @@ pub fn gpu_fluid_runs_are_bit_identical_and_restart_exactly() {
     assert!(front(&first.particles()) > 1.1 * a, "the column has not moved: front {}", front(&first.particles()));
 }
 
-/// The shipped dam break (at twice its spacing) run by `tumble run --backend gpu`: a run
-/// checkpointed halfway and resumed writes the same fluid.csv, probes and fluid snapshots as one
-/// that went straight through, and its front is the CPU's within a tenth of the spacing.
-pub fn a_gpu_fluid_scene_resumes_bit_identically() {
-    use std::path::Path;
-    use std::process::{Command, Stdio};
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("tumble-gpu-fluid-{}", std::process::id()));
+/// A temporary folder for a test's scene and runs.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("tumble-gpu-fluid-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string(root.join("scenes/dam_break.toml")).unwrap().replace("spacing = 0.0025", "spacing = 0.005");
-    let scene = dir.join("dam.toml");
-    std::fs::write(&scene, text).unwrap();
-    let tumble = |args: &[&str]| {
-        let o = Command::new(env!("CARGO_BIN_EXE_tumble")).args(args).current_dir(root).stdin(Stdio::null()).output().unwrap();
-        assert!(o.status.success(), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
-    };
-    let run = |out: &str, duration: &str, backend: &str| {
-        let out = dir.join(out);
-        let args = ["run", scene.to_str().unwrap(), "--quiet", "--backend", backend, "--duration", duration, "--checkpoint-interval", "0.02"];
-        tumble(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
-    };
-    run("whole", "0.1", "gpu");
-    run("halves", "0.05", "gpu");
-    tumble(&["resume", dir.join("halves").to_str().unwrap(), "--quiet", "--duration", "0.1"]);
-    let files = ["fluid.csv", "probe_front.csv", "probe_column.csv", "probe_floor.csv", "snapshots/fluid_000005.vtp"];
+    dir
+}
+
+/// Runs the `tumble` command in the repository's root; it must succeed.
+fn tumble(args: &[&str]) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let o =
+        std::process::Command::new(env!("CARGO_BIN_EXE_tumble")).args(args).current_dir(root).stdin(std::process::Stdio::null()).output().unwrap();
+    assert!(o.status.success(), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// A shipped scene with `from` replaced by `to` (a coarser spacing), written into `dir`.
+fn shipped_scene(dir: &std::path::Path, scene: &str, from: &str, to: &str) -> String {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("scenes").join(scene)).unwrap();
+    assert!(text.contains(from), "{scene} has no {from}");
+    let path = dir.join(scene);
+    std::fs::write(&path, text.replace(from, to)).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// `tumble run SCENE --backend BACKEND` into `dir/out` for `duration`, with checkpoints.
+fn run_scene(dir: &std::path::Path, scene: &str, out: &str, duration: &str, backend: &str) {
+    let out = dir.join(out);
+    tumble(&["run", scene, "--quiet", "--backend", backend, "--duration", duration, "--checkpoint-interval", "0.02", "--out", out.to_str().unwrap()]);
+}
+
+/// The last value of a CSV column.
+fn last_value(path: &std::path::Path, column: &str) -> f64 {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let k = text.lines().next().unwrap().split(',').position(|h| h == column).unwrap_or_else(|| panic!("{}: no {column}", path.display()));
+    text.lines().last().unwrap().split(',').nth(k).unwrap().parse().unwrap()
+}
+
+/// The shipped dam break (at twice its spacing) run by `tumble run --backend gpu` for 0.06 s: a
+/// run checkpointed at 0.04 s and resumed writes the same fluid.csv, probes and fluid snapshots as one
+/// that went straight through, and its front is the CPU's within a tenth of the spacing.
+pub fn a_gpu_fluid_scene_resumes_bit_identically() {
+    let dir = scratch("resume");
+    let scene = shipped_scene(&dir, "dam_break.toml", "spacing = 0.0025", "spacing = 0.005");
+    run_scene(&dir, &scene, "whole", "0.06", "gpu");
+    run_scene(&dir, &scene, "halves", "0.04", "gpu");
+    tumble(&["resume", dir.join("halves").to_str().unwrap(), "--quiet", "--duration", "0.06"]);
+    let files = ["fluid.csv", "probe_front.csv", "probe_column.csv", "probe_floor.csv", "snapshots/fluid_000003.vtp"];
     for file in files {
         let (a, b) = (std::fs::read(dir.join("whole").join(file)).unwrap(), std::fs::read(dir.join("halves").join(file)).unwrap());
         assert!(a == b, "{file} differs after the resume");
     }
-    run("cpu", "0.1", "cpu");
-    let last_front = |out: &str| {
-        let text = std::fs::read_to_string(dir.join(out).join("probe_front.csv")).unwrap();
-        text.lines().last().unwrap().split(',').nth(1).unwrap().parse::<f64>().unwrap()
-    };
-    let (gpu, cpu) = (last_front("whole"), last_front("cpu"));
-    println!("front at 0.1 s: GPU {gpu:.6} m, CPU {cpu:.6} m");
+    run_scene(&dir, &scene, "cpu", "0.06", "cpu");
+    let (gpu, cpu) = (last_value(&dir.join("whole/probe_front.csv"), "front"), last_value(&dir.join("cpu/probe_front.csv"), "front"));
+    println!("front at 0.06 s: GPU {gpu:.6} m, CPU {cpu:.6} m");
     assert!((gpu - cpu).abs() < 0.1 * 0.005, "fronts {gpu} and {cpu} differ");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The shipped turning drum (at twice its spacing, its turning ramped up over 0.5 s) on both
+/// backends for 0.2 s: the water beside the wall is dragged as on the CPU (the bottom probe's
+/// velocity within 2 % of the wall's speed), the deep probe reads the CPU's pressure within 1 %,
+/// and a run resumed from a checkpoint writes the same files.
+pub fn a_turning_drum_on_the_gpu_drags_the_water_as_on_the_cpu() {
+    let dir = scratch("drum");
+    let scene = shipped_scene(&dir, "drum_water.toml", "spacing = 0.0025", "spacing = 0.005");
+    run_scene(&dir, &scene, "gpu", "0.2", "gpu");
+    run_scene(&dir, &scene, "halves", "0.1", "gpu");
+    tumble(&["resume", dir.join("halves").to_str().unwrap(), "--quiet", "--duration", "0.2"]);
+    for file in ["fluid.csv", "probe_bottom.csv", "probe_deep.csv"] {
+        assert!(
+            std::fs::read(dir.join("gpu").join(file)).unwrap() == std::fs::read(dir.join("halves").join(file)).unwrap(),
+            "{file} differs after the resume"
+        );
+    }
+    run_scene(&dir, &scene, "cpu", "0.2", "cpu");
+    let read = |out: &str, file: &str, column: &str| last_value(&dir.join(out).join(file), column);
+    let (vg, vc) = (read("gpu", "probe_bottom.csv", "velocity_x"), read("cpu", "probe_bottom.csv", "velocity_x"));
+    let (pg, pc) = (read("gpu", "probe_deep.csv", "pressure"), read("cpu", "probe_deep.csv", "pressure"));
+    let wall_speed = 10.0 * 2.0 * std::f64::consts::PI / 60.0 * 0.1 * 0.2 / 0.5;
+    println!("at 0.2 s: bottom velocity GPU {vg:.5} m/s, CPU {vc:.5} m/s (wall {wall_speed:.4} m/s); deep pressure GPU {pg:.2} Pa, CPU {pc:.2} Pa");
+    assert!(vc < -0.15 * wall_speed, "the CPU's water is not dragged: {vc}");
+    assert!((vg - vc).abs() < 0.02 * wall_speed, "bottom velocity {vg} against the CPU's {vc}");
+    assert!((pg - pc).abs() < 0.01 * pc, "deep pressure {pg} against the CPU's {pc}");
     let _ = std::fs::remove_dir_all(&dir);
 }

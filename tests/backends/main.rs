@@ -85,6 +85,7 @@ fn main() {
         fluid::a_periodic_box_on_the_gpu_keeps_its_momentum,
         fluid::gpu_fluid_runs_are_bit_identical_and_restart_exactly,
         fluid::a_gpu_fluid_scene_resumes_bit_identically,
+        fluid::a_turning_drum_on_the_gpu_drags_the_water_as_on_the_cpu,
     ];
     let cpu_only = vec![tumble_testkit::harness::cpu_trial("render::bad_input_is_refused_in_one_line", render::bad_input_is_refused_in_one_line)];
     tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only, cpu_only].into_iter().flatten().collect());

@@ -7,9 +7,11 @@
 //! run gives the same bits every time on one device, and a run continued from a snapshot of
 //! the device's arrays continues bit-identically.
 //!
-//! Walls, periodic axes, both viscosities, both density diffusions, the tensile correction and
-//! XSPH run here; walls moving by a motion, floating bodies and inflow or outflow buffers are
-//! refused with the reason (they run on the CPU so far).
+//! Walls (fixed or moving by a motion), periodic axes, both viscosities, both density
+//! diffusions, the tensile correction and XSPH run here; floating bodies and inflow or outflow
+//! buffers are refused with the reason (they run on the CPU so far). A moving wall's particles
+//! move by a table the host writes per half step in f64 (the rigid move over the half step, the
+//! velocity at its end and the acceleration at its start, each an affine map of the position).
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -17,7 +19,9 @@ use std::time::Instant;
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
-use tumble_shaders::{FLUID_MODULES, MODULES, Module, SCAN_BLOCK, SPH_DIFFUSE, SPH_FLUID, SPH_LAMINAR, SPH_TENSILE, SPH_WALL, SPH_XSPH};
+use tumble_shaders::{
+    FLUID_MODULES, MODULES, Module, SCAN_BLOCK, SPH_DIFFUSE, SPH_FLUID, SPH_LAMINAR, SPH_MOTION_WORDS, SPH_TENSILE, SPH_WALL, SPH_XSPH,
+};
 use tumble_sph::{BufferBooks, FluidParticles, FluidSettings, FluidSnapshot, ParticleKind, PassConstants, SKIN, Tait, TimeStepLimits, Viscosity};
 use wgpu::util::DeviceExt;
 
@@ -55,9 +59,7 @@ fn v4(v: DVec3, w: f64) -> [f32; 4] {
 
 /// Why a fluid cannot run on the GPU yet, or None.
 pub fn fluid_gpu_refusal(settings: &FluidSettings) -> Option<String> {
-    let what = if !settings.moving_walls.is_empty() {
-        "walls moving by a motion"
-    } else if !settings.floating.is_empty() {
+    let what = if !settings.floating.is_empty() {
         "floating bodies ([[sph.floating]])"
     } else if !(settings.inflows.is_empty() && settings.outflows.is_empty()) {
         "inflow and outflow buffers"
@@ -133,6 +135,9 @@ struct FluidBuffers {
     rate: wgpu::Buffer,
     xsph: wgpu::Buffer,
     start: wgpu::Buffer,
+    /// The motion table of the current half step, and those of a batch's half steps.
+    motions: wgpu::Buffer,
+    motion_stage: wgpu::Buffer,
     /// u32 per particle.
     cell: wgpu::Buffer,
     cell_list: wgpu::Buffer,
@@ -159,6 +164,7 @@ impl FluidBuffers {
             "rate" => &self.rate,
             "xsph" => &self.xsph,
             "start" => &self.start,
+            "motions" => &self.motions,
             "cell" => &self.cell,
             "cell_list" => &self.cell_list,
             "count" => &self.count,
@@ -256,6 +262,7 @@ impl GpuFluid {
         let centre = 0.5 * (settings.domain.min + settings.domain.max);
         let zero = |bytes: u64| zeroed(&gpu, "fluid array", bytes);
         let per = 16 * n as u64;
+        let motion_bytes = 16 * SPH_MOTION_WORDS as u64 * settings.moving_walls.len() as u64;
         let buckets = cells as u64 + 2;
         let mut scan_sizes = vec![buckets as u32];
         while *scan_sizes.last().unwrap() > SCAN_BLOCK {
@@ -278,6 +285,8 @@ impl GpuFluid {
             rate: zero(per),
             xsph: zero(per),
             start: zero(per),
+            motions: zero(motion_bytes),
+            motion_stage: zero(2 * crate::STEPS_PER_SUBMIT * motion_bytes),
             cell: zero(4 * n as u64),
             cell_list: zero(4 * n as u64),
             count: zero(4 * buckets),
@@ -413,10 +422,15 @@ impl GpuFluid {
         encoder.copy_buffer_to_buffer(&b.tags_sorted, 0, &b.tags, 0, bytes);
     }
 
-    fn record_step(&self, encoder: &mut wgpu::CommandEncoder) {
+    /// One step; the motion tables of its halves are the stage's `2 step` and `2 step + 1`.
+    fn record_step(&self, encoder: &mut wgpu::CommandEncoder, step: u64) {
         let particles = dispatch(self.n, WORKGROUP);
         self.record_sort(encoder);
-        for half in ["fluid_first_half", "fluid_second_half"] {
+        let table = 16 * SPH_MOTION_WORDS as u64 * self.settings.moving_walls.len() as u64;
+        for (k, half) in ["fluid_first_half", "fluid_second_half"].into_iter().enumerate() {
+            if table > 0 {
+                encoder.copy_buffer_to_buffer(&self.buffers.motion_stage, (2 * step + k as u64) * table, &self.buffers.motions, 0, table);
+            }
             self.pass(encoder, "fluid_wall_state", &self.step_group, particles);
             self.pass(encoder, "fluid_rates", &self.step_group, particles);
             self.pass(encoder, half, &self.step_group, particles);
@@ -439,17 +453,44 @@ impl GpuFluid {
         while left > 0 {
             let batch = left.min(crate::STEPS_PER_SUBMIT);
             let mut encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fluid steps") });
-            for _ in 0..batch {
-                self.record_step(&mut encoder);
+            let mut tables = Vec::new();
+            for step in 0..batch {
+                // The host time sums Δt in f64 as the CPU's does, and the halves start where its do.
+                let half = 0.5 * dt;
+                tables.extend(self.motion_table(self.time, half));
+                tables.extend(self.motion_table(self.time + half, half));
+                self.record_step(&mut encoder, step);
+                self.time += dt;
+            }
+            if !tables.is_empty() {
+                self.gpu.queue.write_buffer(&self.buffers.motion_stage, 0, bytemuck::cast_slice(&tables));
             }
             self.gpu.queue.submit([encoder.finish()]);
             left -= batch;
         }
-        // The host time sums Δt in f64 as the CPU's does.
-        for _ in 0..steps {
-            self.time += dt;
-        }
         self.steps += steps;
+    }
+
+    /// The moving walls' table for the half step from `t0` to `t0 + half`, in device
+    /// coordinates (positions relative to the domain's centre): per wall the move, the velocity
+    /// at the end and the acceleration at the start, each as three rows of an affine map fitted
+    /// exactly (the motions are rigid) from the motion's answers at the centre and a metre along
+    /// each axis.
+    fn motion_table(&self, t0: f64, half: f64) -> Vec<[f32; 4]> {
+        let c = self.centre;
+        let affine = |f: &dyn Fn(DVec3) -> DVec3| {
+            let origin = f(c);
+            let columns = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| f(c + e) - origin);
+            [0, 1, 2].map(|r| [columns[0][r] as f32, columns[1][r] as f32, columns[2][r] as f32, origin[r] as f32])
+        };
+        let mut table = Vec::with_capacity(SPH_MOTION_WORDS as usize * self.settings.moving_walls.len());
+        for wall in &self.settings.moving_walls {
+            let t1 = t0 + half;
+            table.extend(affine(&|x| wall.advance(x, t0, t1) - c));
+            table.extend(affine(&|x| wall.velocity_at(x, t1)));
+            table.extend(affine(&|x| wall.acceleration_at(x, t0)));
+        }
+        table
     }
 
     /// The device's particles in its (sorted) order, in f64; wall particles carry their last
