@@ -296,3 +296,23 @@ pub fn a_turning_drum_on_the_gpu_drags_the_water_as_on_the_cpu() {
     assert!((pg - pc).abs() < 0.01 * pc, "deep pressure {pg} against the CPU's {pc}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A GPU run from a shell without XDG_RUNTIME_DIR (batch jobs, containers) prints only its own
+/// lines: Mesa's "XDG_RUNTIME_DIR is invalid or not set" error, which used to come with every
+/// GPU command, is not among them.
+pub fn a_gpu_run_without_a_runtime_dir_prints_no_loader_error() {
+    let dir = scratch("xdg");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = root.join("scenes/conformance/fluid_dam_break.toml");
+    let out = dir.join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tumble"))
+        .args(["run", scene.to_str().unwrap(), "--backend", "gpu", "--duration", "0.005", "--quiet", "--out", out.to_str().unwrap()])
+        .env_remove("XDG_RUNTIME_DIR")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("XDG_RUNTIME_DIR"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -4,7 +4,8 @@
 //! (`TUMBLE_REQUIRE_GPU=1` makes that a failure); the end of the run reports the shader
 //! variants compiled. GPU tests share one device and take turns on it.
 
-/// The SPH fluid on the GPU against the CPU: one step, a dam break, a column at rest; determinism.
+/// The SPH fluid on the GPU against the CPU: one step, a dam break, a column at rest, a turning
+/// drum; determinism and resumed scene runs; a GPU command's standard error.
 mod fluid;
 /// Moving walls on the GPU against the CPU: a mill, a belt, lifters; determinism.
 mod moving_world;
@@ -86,6 +87,7 @@ fn main() {
         fluid::gpu_fluid_runs_are_bit_identical_and_restart_exactly,
         fluid::a_gpu_fluid_scene_resumes_bit_identically,
         fluid::a_turning_drum_on_the_gpu_drags_the_water_as_on_the_cpu,
+        fluid::a_gpu_run_without_a_runtime_dir_prints_no_loader_error,
     ];
     let cpu_only = vec![tumble_testkit::harness::cpu_trial("render::bad_input_is_refused_in_one_line", render::bad_input_is_refused_in_one_line)];
     tumble_testkit::harness::run([cpu::trials(), gpu::trials(), gpu_only, cpu_only].into_iter().flatten().collect());
