@@ -26,6 +26,9 @@ pub struct ExtraColumns {
     /// Per outlet: particles deleted and their mass since t = 0, and the mass rate over the
     /// output interval, kg/s.
     pub outlets: Vec<(u64, f64, f64)>,
+    /// Why the run stops: an outlet deleted more than `run.max_outlet_fraction` of the particles
+    /// in the interval (not a column).
+    pub flood: Option<String>,
 }
 
 /// Opens `name` in `dir`: a new file that `header` starts, or, for a resumed run, the file

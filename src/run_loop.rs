@@ -226,6 +226,9 @@ impl<'o> Run<'o> {
             }
             let extra = self.books.extra.row(sim, &frame);
             io(out_dir, self.outputs.obs.row(&o, sim.plan().model.fluid.is_some(), sim.removed(), &extra))?;
+            if let Some(text) = extra.flood {
+                return Ok(Some(Stop::Lost(text)));
+            }
             if let Some(text) = too_many_lost(sim.plan(), sim.removed(), self.books.initial_particles + inserted(sim), o.time) {
                 return Ok(Some(Stop::Lost(text)));
             }
@@ -363,14 +366,43 @@ pub(crate) struct ExtraRows {
     moving: Vec<usize>,
     last: Option<(f64, Vec<f64>)>,
     flow: Option<FlowCounter>,
-    /// The outlets' deleted mass at the last row.
-    last_outlets: Option<(f64, Vec<f64>)>,
+    /// The outlets' books at the last row.
+    last_outlets: Option<OutletBooks>,
+}
+
+/// What the outlets had deleted by the last row.
+#[derive(Serialize, Deserialize)]
+struct OutletBooks {
+    time: f64,
+    /// Per outlet: particles deleted and their mass since t = 0.
+    deleted: Vec<(u64, f64)>,
 }
 
 impl ExtraRows {
     pub(crate) fn new(plan: &Plan) -> Self {
         let moving = (0..plan.model.wall_groups.len()).filter(|&g| plan.model.wall_groups[g].moving).collect();
         ExtraRows { moving, last: None, flow: None, last_outlets: None }
+    }
+
+    /// Why the run must stop because an outlet deleted more than `run.max_outlet_fraction` of
+    /// the particles since the last row (of those there would be now had no outlet deleted
+    /// any): an outlet whose normal points into the particles, or whose box holds them.
+    fn outlet_flood(&self, sim: &Simulation, particles: usize, t: f64) -> Option<String> {
+        let tallies = sim.outlet_tallies();
+        let before = |k: usize| self.last_outlets.as_ref().map_or((0, 0.0), |last| last.deleted[k]);
+        let since: Vec<u64> = tallies.iter().enumerate().map(|(k, o)| o.count - before(k).0).collect();
+        let present = particles as u64 + since.iter().sum::<u64>();
+        let limit = sim.plan().run.max_outlet_fraction;
+        let (k, &deleted) = since.iter().enumerate().max_by_key(|(_, d)| **d)?;
+        if deleted as f64 <= limit * present as f64 {
+            return None;
+        }
+        let from = self.last_outlets.as_ref().map_or(0.0, |last| last.time);
+        Some(format!(
+            "outlet \"{}\" deleted {deleted} of {present} particles ({:.1} %) between t = {from:.6e} and {t:.6e} s, more than run.max_outlet_fraction = {limit} allows: check that its plane's normal points away from the particles, or its box lies where they leave (set run.max_outlet_fraction = 1 if emptying the domain at once is intended)",
+            sim.plan().model.outlets[k].name,
+            100.0 * deleted as f64 / present as f64
+        ))
     }
 
     /// The extra columns of `sim`'s row now (the first row starts the flow count).
@@ -383,18 +415,19 @@ impl ExtraRows {
             .enumerate()
             .map(|(k, o)| {
                 let rate = match &self.last_outlets {
-                    Some((t0, m0)) if t > *t0 => (o.mass - m0[k]) / (t - t0),
+                    Some(last) if t > last.time => (o.mass - last.deleted[k].1) / (t - last.time),
                     _ => 0.0,
                 };
                 (o.count, o.mass, rate)
             })
             .collect();
+        let flood = self.outlet_flood(sim, frame.observables.particles, t);
         if !tallies.is_empty() {
-            self.last_outlets = Some((t, tallies.iter().map(|o| o.mass).collect()));
+            self.last_outlets = Some(OutletBooks { time: t, deleted: tallies.iter().map(|o| (o.count, o.mass)).collect() });
         }
         // Nothing else to add.
         if plan.model.wall_groups.is_empty() && plan.model.drums.is_empty() && plan.model.flow_planes.is_empty() {
-            return ExtraColumns { inserted, outlets, ..Default::default() };
+            return ExtraColumns { inserted, outlets, flood, ..Default::default() };
         }
         let work = &frame.wall_work;
         let power = match &self.last {
@@ -417,7 +450,7 @@ impl ExtraRows {
         let wall_loads = frame.wall_force.iter().copied().zip(frame.wall_torque.iter().copied()).collect();
         let servo = plan.model.wall_groups.iter().enumerate().filter(|(_, g)| g.servo.is_some()).map(|(k, _)| frame.servo_offset[k]).collect();
         let wear = sim.mesh_wear().iter().zip(&plan.model.walls).filter(|(_, w)| w.wear > 0.0).map(|(t, _)| t.iter().sum()).collect();
-        ExtraColumns { power, servo, wear, wall_loads, drums: frame.drums.clone(), flow, inserted, outlets }
+        ExtraColumns { power, servo, wear, wall_loads, drums: frame.drums.clone(), flow, inserted, outlets, flood }
     }
 }
 

@@ -40,6 +40,7 @@ pub(crate) fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, st
         "particle_steps_per_second": finite_or_null(s.particle_steps_per_second),
         "removed_particles": sim.removed(),
         "max_lost_fraction": plan.run.max_lost_fraction,
+        "max_outlet_fraction": plan.run.max_outlet_fraction,
         "sources": plan.model.sources.iter().zip(sim.inserted()).map(|(src, (n, m))| serde_json::json!({ "name": src.name, "inserted": n, "mass": m })).collect::<Vec<_>>(),
         "outlets": plan.model.outlets.iter().zip(sim.outlet_tallies()).map(|(o, t)| serde_json::json!({ "name": o.name, "deleted": t.count, "mass": t.mass })).collect::<Vec<_>>(),
         "warnings": s.warnings,

@@ -380,6 +380,38 @@ lattice = { min = [0.0, 0.0, 0.0], max = [2.2, 2.2, 2.2], spacing = 0.01 }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// An outlet plane whose normal points into three of four particles (the compile check refuses
+/// only an outlet that holds them all): the run writes its first rows, then stops with exit
+/// status 3 naming the outlet, the share it deleted and the remedy; with
+/// `run.max_outlet_fraction = 1` the same run completes.
+#[test]
+fn an_outlet_that_deletes_most_particles_at_once_stops_the_run() {
+    let text = scene_file("tests/bad_scenes/outlet_normal_points_at_the_bed.toml")
+        .replace("[0.04, 0.0, 0.0]]", "[0.04, 0.0, 0.0], [0.0, 0.0, -0.05]]")
+        .replace("point = [0.0, 0.0, -0.08]", "point = [0.0, 0.0, -0.02]");
+    let dir = tmp("outlet-flood");
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |name: &str, text: &str| {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, text).unwrap();
+        let out = dir.join(name);
+        let o = Command::new(env!("CARGO_BIN_EXE_tumble")).arg("run").arg(&scene).args(["--quiet", "--out"]).arg(&out).output().unwrap();
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).to_string(), out)
+    };
+    let (code, stderr, out) = run("flood", &text);
+    assert_eq!(code, Some(3), "{stderr}");
+    let error: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
+    assert!(
+        error.len() == 1 && error[0].contains("outlet \"bin\" deleted 3 of 4 particles (75.0 %)") && error[0].contains("run.max_outlet_fraction = 1"),
+        "{stderr}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"status\": \"stopped\""), "{summary}");
+    let (code, stderr, _) = run("intended", &text.replace("[run]\n", "[run]\nmax_outlet_fraction = 1.0\n"));
+    assert_eq!(code, Some(0), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The same source behind the end plate, without `run.allow_idle_sources`: the run writes its
 /// outputs and then fails with exit status 3, naming the source, and summary.json says stopped.
 #[test]

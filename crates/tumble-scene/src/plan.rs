@@ -365,6 +365,8 @@ pub struct RunSettings {
     pub agglomerates: bool,
     /// Largest share of the particles that may leave the domain before the run stops.
     pub max_lost_fraction: f64,
+    /// Largest share of the particles one outlet may delete in one output interval.
+    pub max_outlet_fraction: f64,
     /// A source that never found room does not fail the run.
     pub allow_idle_sources: bool,
     /// Encoding of the snapshot .vtp files.

@@ -144,7 +144,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         backend: scene.run.backend,
         monitor,
         agglomerates: scene.run.agglomerates.unwrap_or(mechanics.cohesion),
-        max_lost_fraction: lost_fraction(scene)?,
+        max_lost_fraction: fraction("run.max_lost_fraction", scene.run.max_lost_fraction)?,
+        max_outlet_fraction: fraction("run.max_outlet_fraction", scene.run.max_outlet_fraction)?,
         allow_idle_sources: scene.run.allow_idle_sources,
         snapshot_format: scene.output.snapshot_format,
         contacts: scene.output.contacts,
@@ -226,9 +227,8 @@ fn check_name(name: &str) -> Result<(), SceneError> {
     Ok(())
 }
 
-fn lost_fraction(scene: &Scene) -> Result<f64, SceneError> {
-    let f = scene.run.max_lost_fraction;
-    if (0.0..=1.0).contains(&f) { Ok(f) } else { Err(SceneError::field("run.max_lost_fraction", format!("must be a fraction from 0 to 1, got {f}"))) }
+fn fraction(field: &str, f: f64) -> Result<f64, SceneError> {
+    if (0.0..=1.0).contains(&f) { Ok(f) } else { Err(SceneError::field(field, format!("must be a fraction from 0 to 1, got {f}"))) }
 }
 
 pub(crate) fn positive(field: &str, v: f64) -> Result<f64, SceneError> {

@@ -73,6 +73,10 @@ pub struct RunSection {
     /// sides before the run stops with an error (0.01; 1 allows any loss, as a hopper discharging).
     #[serde(default = "default_lost_fraction")]
     pub max_lost_fraction: f64,
+    /// Largest share of the particles one outlet may delete within one output interval before
+    /// the run stops with an error (0.5; 1 allows any, as an outlet meant to empty the domain at once).
+    #[serde(default = "default_outlet_fraction")]
+    pub max_outlet_fraction: f64,
     /// A source that found no room at any of its insertions (a region behind a wall, outside
     /// the domain) fails the run, exit status 3, unless this is true.
     #[serde(default)]
@@ -105,6 +109,10 @@ fn default_seed() -> u64 {
 
 fn default_lost_fraction() -> f64 {
     0.01
+}
+
+fn default_outlet_fraction() -> f64 {
+    0.5
 }
 
 /// Starting-state checks: particles may start in contact only this deep.
