@@ -379,6 +379,25 @@ fn check_random_fill(g: usize, count: usize, mean_cube: f64, size: DVec3) -> Res
     Ok(())
 }
 
+/// Particles allowed to overlap still may not crowd their region without end: once their
+/// (bounding) spheres hold more than twice its volume, every particle overlaps many others
+/// deeply, and the start's overlap check would pair thousands per cell for minutes.
+fn check_overlapping_fill(g: usize, count: usize, mean_cube: f64, size: DVec3) -> Result<(), SceneError> {
+    let fill = count as f64 * std::f64::consts::PI / 6.0 * mean_cube / (size.x * size.y * size.z).abs().max(f64::MIN_POSITIVE);
+    if fill > OVERLAPPING_FILL_LIMIT {
+        return Err(SceneError::field(
+            format!("particles[{g}].random.count"),
+            format!(
+                "{count} particles' (bounding) spheres hold {fill:.3e} times the volume of random.region, more than the {OVERLAPPING_FILL_LIMIT} times overlapping placement allows; lower the count, enlarge random.region (lengths are in metres), or pour them in with a [[sources]] entry"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// How many times its region's volume an overlapping random group's spheres may hold.
+const OVERLAPPING_FILL_LIMIT: f64 = 2.0;
+
 /// The cell of the placement grid: the largest diameter the group can draw (`first` is one
 /// drawn), so that any sphere that overlaps a candidate lies in the 27 cells around it.
 fn placement_cell(group: &ParticleGroup, first: f64) -> f64 {
@@ -504,6 +523,8 @@ fn group_positions(
     let (min, max) = (DVec3::from(r.region.min), DVec3::from(r.region.max));
     if r.no_overlap {
         check_random_fill(g, r.count, mean_cube, max - min)?;
+    } else {
+        check_overlapping_fill(g, r.count, mean_cube, max - min)?;
     }
     let mut out: Vec<(DVec3, f64)> = Vec::with_capacity(r.count);
     // Every diameter is drawn first and the largest placed first: a large sphere drawn late
