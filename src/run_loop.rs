@@ -186,8 +186,12 @@ impl<'o> Run<'o> {
             if self.checkpoint_every.is_some_and(|k| step.is_multiple_of(k) || interrupted || step == total) {
                 self.checkpoint()?;
             }
-            if step == total && !on_cadence {
-                stopped = self.rows(step, true, false)?;
+            // The state at the end is always in the snapshot series, on its cadence or not
+            // (written after the checkpoint, as the row, so a continued run writes the series an
+            // uninterrupted one would have).
+            let final_snapshot = step == total && snapshot_every.is_some() && !snapshot;
+            if step == total && (!on_cadence || final_snapshot) {
+                stopped = self.rows(step, !on_cadence, final_snapshot)?;
                 if stopped.is_some() {
                     break;
                 }
@@ -255,7 +259,8 @@ impl<'o> Run<'o> {
         if let (true, true, Some(w), Some(k), Some(state)) =
             (snapshot, o.finite, self.outputs.snapshots.as_mut(), sim.plan().run.snapshot_every, frame.state.as_deref())
         {
-            io(out_dir, w.write((step / k) as usize, sim, o.time, state))?;
+            // The last snapshot of a run whose end is off the cadence takes the next number.
+            io(out_dir, w.write(step.div_ceil(k) as usize, sim, o.time, state))?;
         }
         Ok(ended)
     }

@@ -20,7 +20,8 @@ pub fn unit(value: f64, (lo, hi): (f64, f64)) -> f64 {
     if hi > lo { (value - lo) / (hi - lo) } else { 0.5 }
 }
 
-/// 3 × 5 glyphs, one row of three bits per entry (bit 2 is the left column).
+/// 3 × 5 glyphs, one row of three bits per entry (bit 2 is the left column): digits, the
+/// lowercase letters, the capitals SI units use, and the signs of numbers, units and labels.
 fn glyph(c: char) -> Option<[u8; 5]> {
     Some(match c {
         '0' => [7, 5, 5, 5, 7],
@@ -33,13 +34,77 @@ fn glyph(c: char) -> Option<[u8; 5]> {
         '7' => [7, 1, 1, 1, 1],
         '8' => [7, 5, 7, 5, 7],
         '9' => [7, 5, 7, 1, 7],
+        'a' => [0, 6, 1, 5, 3],
+        'b' => [4, 6, 5, 5, 6],
+        'c' => [0, 3, 4, 4, 3],
+        'd' => [1, 3, 5, 5, 3],
+        'e' => [0, 2, 7, 4, 3],
+        'f' => [1, 2, 7, 2, 2],
+        'g' => [0, 3, 5, 3, 6],
+        'h' => [4, 6, 5, 5, 5],
+        'i' => [2, 0, 2, 2, 2],
+        'j' => [1, 0, 1, 5, 2],
+        'k' => [4, 5, 6, 5, 5],
+        'l' => [6, 2, 2, 2, 7],
+        'm' => [0, 6, 7, 5, 5],
+        'n' => [0, 6, 5, 5, 5],
+        'o' => [0, 2, 5, 5, 2],
+        'p' => [0, 6, 5, 6, 4],
+        'q' => [0, 3, 5, 3, 1],
+        'r' => [0, 3, 4, 4, 4],
+        's' => [0, 3, 6, 1, 6],
+        't' => [2, 7, 2, 2, 1],
+        'u' => [0, 5, 5, 5, 3],
+        'v' => [0, 5, 5, 5, 2],
+        'w' => [0, 5, 5, 7, 5],
+        'x' => [0, 5, 2, 2, 5],
+        'y' => [0, 5, 5, 3, 6],
+        'z' => [0, 7, 1, 4, 7],
+        'J' => [1, 1, 1, 5, 2],
+        'N' => [5, 7, 7, 5, 5],
+        'P' => [6, 5, 6, 4, 4],
         '.' => [0, 0, 0, 0, 2],
         '-' => [0, 0, 7, 0, 0],
         '+' => [0, 2, 7, 2, 0],
-        'e' => [7, 4, 7, 4, 7],
+        '=' => [0, 7, 0, 7, 0],
+        '/' => [1, 1, 2, 4, 4],
+        '_' => [0, 0, 0, 0, 7],
+        '(' => [1, 2, 2, 2, 1],
+        ')' => [4, 2, 2, 2, 4],
+        ',' => [0, 0, 0, 2, 4],
+        ':' => [0, 2, 0, 2, 0],
         ' ' => [0; 5],
         _ => return None,
     })
+}
+
+/// The unit of a snapshot field tumble writes (empty for counts, codes and unknown fields).
+pub fn unit_of(field: &str) -> &'static str {
+    let base = ["_x", "_y", "_z"].iter().find_map(|axis| field.strip_suffix(axis)).unwrap_or(field);
+    match base {
+        "speed" | "velocity" => "m/s",
+        "angular_velocity" => "rad/s",
+        "pressure" | "shear_stress" => "Pa",
+        "density" => "kg/m3",
+        "radius" | "diameter" => "m",
+        "mass" => "kg",
+        "force" | "normal_force" | "shear_force" => "N",
+        "energy" | "kinetic_energy" => "J",
+        _ => "",
+    }
+}
+
+/// The colour bar's title: the field and its unit, `speed (m/s)`; letters without a glyph
+/// (capitals beyond the units') are drawn in lowercase.
+pub fn title(field: &str) -> String {
+    let unit = unit_of(field);
+    let field: String = field.chars().map(|c| if glyph(c).is_some() { c } else { c.to_ascii_lowercase() }).collect();
+    if unit.is_empty() { field } else { format!("{field} ({unit})") }
+}
+
+/// A frame's time stamp, `t = 0.25 s`.
+pub fn time_stamp(t: f64) -> String {
+    format!("t = {} s", label(t))
 }
 
 /// A label for a colour-bar end: three significant figures, exponent form outside [0.01, 10⁴).
@@ -96,8 +161,9 @@ impl Image<'_> {
         }
     }
 
-    /// A vertical colour bar at the right edge with the range's ends labelled beside it.
-    pub fn colour_bar(&mut self, range: (f64, f64)) {
+    /// A vertical colour bar at the right edge with the range's ends labelled beside it and its
+    /// `title` (the field and its unit) above it.
+    pub fn colour_bar(&mut self, range: (f64, f64), title: &str) {
         let scale = (self.height / 240).max(1);
         let (bar_w, margin) = (6 * scale, 8 * scale);
         let (top, bottom) = (self.height / 5, self.height - self.height / 5);
@@ -119,6 +185,15 @@ impl Image<'_> {
         let text_right = left.saturating_sub(2 * scale);
         self.text(&label(range.1), text_right, top, scale, ink);
         self.text(&label(range.0), text_right, bottom.saturating_sub(5 * scale), scale, ink);
+        // The title ends at the bar's right edge, above it (it may reach into the picture).
+        self.text(title, right, top.saturating_sub(9 * scale), scale, ink);
+    }
+
+    /// `text` at the top left corner (a frame's time stamp).
+    pub fn corner_text(&mut self, text: &str) {
+        let scale = (self.height / 240).max(1);
+        let right = 4 * scale + 4 * scale * text.chars().count();
+        self.text(text, right, 4 * scale, scale, [40, 40, 40]);
     }
 }
 
@@ -138,6 +213,24 @@ mod tests {
         // Lightness (here the green channel) rises monotonically.
         let g: Vec<f32> = (0..=64).map(|k| viridis(k as f64 / 64.0)[1]).collect();
         assert!(g.windows(2).all(|w| w[1] > w[0]));
+    }
+
+    /// Every field tumble's snapshots hold gets its unit, and every character of its title and
+    /// of a time stamp has a glyph (none is silently skipped).
+    #[test]
+    fn titles_name_the_field_and_its_unit_in_drawable_characters() {
+        assert_eq!(title("speed"), "speed (m/s)");
+        assert_eq!(title("pressure"), "pressure (Pa)");
+        assert_eq!(title("velocity_z"), "velocity_z (m/s)");
+        assert_eq!(title("angular_velocity"), "angular_velocity (rad/s)");
+        assert_eq!(title("density"), "density (kg/m3)");
+        assert_eq!(title("kind"), "kind");
+        assert_eq!(time_stamp(0.25), "t = 0.25 s");
+        for field in ["speed", "pressure", "density", "radius", "mass", "angular_velocity", "material", "group", "id", "kind", "Shear_Force"] {
+            let t = title(field);
+            assert!(t.chars().all(|c| glyph(c).is_some()), "{t}");
+        }
+        assert!(time_stamp(1.5e-4).chars().all(|c| glyph(c).is_some()));
     }
 
     #[test]

@@ -105,7 +105,9 @@ pub fn render_run(dir: &Path, options: &RenderOptions) -> Result<RenderReport, S
         let mut rgba = renderer.draw(&picture, &camera);
         draw_seconds += t.elapsed().as_secs_f64();
         if options.legend {
-            colour::Image { rgba: &mut rgba, width: options.width as usize, height: options.height as usize }.colour_bar(range);
+            let mut image = colour::Image { rgba: &mut rgba, width: options.width as usize, height: options.height as usize };
+            image.colour_bar(range, &colour::title(&options.field));
+            image.corner_text(&colour::time_stamp(s.time));
         }
         writer.frame(s.index, &rgba)?;
     }

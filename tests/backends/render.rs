@@ -270,6 +270,18 @@ box = { min = [0.0, 0.0, 0.0], max = [0.1, 0.0, 0.1] }
     println!("viridis(1) on {} pixels at mean row {:.1}; viridis(0) on {} at mean row {:.1}", high.len(), mean(&high), low.len(), mean(&low));
     assert!(!high.is_empty() && !low.is_empty(), "both ends of the pressure range are drawn");
     assert!(mean(&high) > mean(&low) + 50.0, "the highest pressure is drawn below the lowest");
+    // With the legend: the colour bar's title and the frame's time stamp in the legend's ink, in
+    // the top left corner (empty background without the legend) and above the bar.
+    let ink_in = |rgba: &[u8], x: std::ops::Range<usize>, y: std::ops::Range<usize>| {
+        y.flat_map(|row| x.clone().map(move |col| (row, col))).filter(|&(row, col)| rgba[4 * (row * w as usize + col)..][..3] == [40, 40, 40]).count()
+    };
+    let corner = |rgba: &[u8]| ink_in(rgba, 0..60, 0..12);
+    assert_eq!(corner(&rgba), 0, "ink in the corner without a legend");
+    let report = render_run(&dir, &RenderOptions { legend: true, ..options }).unwrap();
+    let (_, _, rgba) = read_png(&report.frames[0]);
+    let (stamp, title) = (corner(&rgba), ink_in(&rgba, 200..320, 20..42));
+    println!("legend ink: time stamp {stamp} pixels, title {title} pixels");
+    assert!(stamp > 20 && title > 20, "time stamp {stamp}, title {title} pixels of ink");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
