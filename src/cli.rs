@@ -101,6 +101,23 @@ pub enum Command {
     },
 }
 
+/// The plan's line on the fluid on the GPU: its device memory and grid, or why it runs on the CPU
+/// only; empty without a fluid.
+fn fluid_gpu_line(c: &tumble_scene::CompiledScene) -> String {
+    let (Some(sph), Some(fluid)) = (&c.plan.sph, &c.fluid) else { return String::new() };
+    if let Some(why) = tumble_gpu::fluid_gpu_refusal(&sph.settings) {
+        return format!("fluid gpu    not this scene: {why}\n");
+    }
+    match tumble_gpu::fluid_device_bytes(&sph.settings, fluid.len()) {
+        Ok((bytes, dims)) => format!(
+            "fluid gpu    {:.1} MiB in f32 ({} bytes per fluid or wall particle, 12 per cell, grid {dims:?})\n",
+            bytes as f64 / (1 << 20) as f64,
+            tumble_gpu::FLUID_BYTES_PER_PARTICLE
+        ),
+        Err(e) => format!("fluid gpu    not this scene: {e}\n"),
+    }
+}
+
 /// Writes `text` to stdout; a reader that has gone (`tumble plan SCENE | head`) is not an error.
 fn print_out(text: &str) {
     use std::io::Write;
@@ -117,8 +134,8 @@ pub fn main_with(cli: Cli) -> i32 {
         }
         Command::Plan { scene } => match load_scene(&scene, None, None) {
             Ok(c) if c.plan.sph.is_some() && c.particles.is_empty() && c.plan.model.sources.is_empty() => {
-                // Fluid alone: no DEM particle, and the fluid runs on the CPU so far.
-                print_out(&c.plan.describe(0));
+                // Fluid alone: no DEM particle.
+                print_out(&format!("{}{}", c.plan.describe(0), fluid_gpu_line(&c)));
                 0
             }
             Ok(c) => {
@@ -128,8 +145,9 @@ pub fn main_with(cli: Cli) -> i32 {
                 let mib = |slots: u64| tumble_gpu::device_bytes(&c.plan, slots, &grid) as f64 / (1 << 20) as f64;
                 let growth = if c.plan.model.sources.is_empty() { String::new() } else { format!(" at the start, {:.1} MiB at capacity", mib(n)) };
                 print_out(&format!(
-                    "{}gpu memory   {:.1} MiB{growth} ({} bytes per particle, {} per cell, grid {:?})\n",
+                    "{}{}gpu memory   {:.1} MiB{growth} ({} bytes per particle, {} per cell, grid {:?})\n",
                     c.plan.describe(c.particles.len()),
+                    fluid_gpu_line(&c),
                     mib(start + c.plan.tuning.capacity_chunk),
                     tumble_gpu::bytes_per_particle(&c.plan),
                     tumble_gpu::BYTES_PER_CELL,

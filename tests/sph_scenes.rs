@@ -440,13 +440,18 @@ fn the_fluid_monitor_stops_a_run_whose_energy_grows() {
 }
 
 /// The GPU backend refuses a fluid with floating bodies on one line and writes nothing (they run
-/// on the CPU so far); `tumble plan` states the fluid's time step and why.
+/// on the CPU so far); `tumble plan` states the fluid's time step and why, and its memory on the
+/// GPU or why it cannot run there.
 #[test]
 fn the_plan_states_the_fluid_and_the_gpu_refuses_floating_bodies() {
     let dir = tmp("plan");
     let o = tumble(&["plan", "scenes/dam_break.toml"]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success() && text.contains("set by the sound speed (CFL)") && text.contains("800 fluid"), "{text}");
+    assert!(text.contains("fluid gpu    0.4 MiB in f32 (184 bytes per fluid or wall particle"), "{text}");
+    let o = tumble(&["plan", "scenes/floating_box.toml"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("fluid gpu    not this scene: the SPH fluid's floating bodies"), "{text}");
     let out = dir.join("gpu");
     let o = tumble(&["run", "scenes/floating_box.toml", "--backend", "gpu", "--quiet", "--out", out.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&o.stderr);

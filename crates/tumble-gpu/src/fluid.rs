@@ -91,6 +91,13 @@ fn grid_dims(settings: &FluidSettings) -> Result<([u32; 3], [f64; 3]), GpuError>
     Ok((dims, inv))
 }
 
+/// Bytes a fluid of `particles` (fluid and wall) takes on the device, and its cell grid.
+pub fn fluid_device_bytes(settings: &FluidSettings, particles: usize) -> Result<(u64, [u32; 3]), GpuError> {
+    let (dims, _) = grid_dims(settings)?;
+    let cells: u64 = dims.iter().map(|&d| d as u64).product();
+    Ok((FLUID_BYTES_PER_PARTICLE * particles as u64 + 12 * (cells + 2), dims))
+}
+
 /// The step parameters of `settings` over `n` particles on a grid of `dims` cells.
 pub fn fluid_params(settings: &FluidSettings, n: u32, dims: [u32; 3], inv_cell: [f64; 3], dt: f64) -> FluidParams {
     let k = PassConstants::of(settings);
