@@ -123,8 +123,9 @@ fn snapshots_read_back_with_the_particles_state() {
     assert!(corners.iter().all(|&c| c == 0.0 || c == 0.15 || c == 0.35), "box corners: {corners:?}");
     let pvd = std::fs::read_to_string(out.join("particles.pvd")).unwrap();
     let files: Vec<&str> = pvd.lines().filter_map(|l| l.split("file=\"").nth(1)).map(|f| f.trim_end_matches("\"/>")).collect();
-    assert_eq!(files.len(), 3, "t = 0, 0.01, 0.02: {pvd}");
-    let last = std::fs::read_to_string(out.join(files[2])).unwrap();
+    // The interval's three, and the state at the run's end (its last step falls just past 0.02 s).
+    assert_eq!(files.len(), 4, "t = 0, 0.01, 0.02 and the end: {pvd}");
+    let last = std::fs::read_to_string(out.join(files[3])).unwrap();
     assert!(last.contains(&format!("NumberOfPoints=\"{n}\"")));
     let (radius, velocity, points, ids) =
         (data_array(&last, "radius"), data_array(&last, "velocity"), data_array(&last, "position"), data_array(&last, "id"));
