@@ -4,7 +4,7 @@ use crate::CpuSimulation;
 use glam::DVec3;
 use std::any::Any;
 use std::borrow::Cow;
-use tumble_scene::{Plan, Wall};
+use tumble_plan::{Plan, Wall};
 use tumble_state::{
     Backend, BackendInfo, Fault, Frame, NeighbourState, NeighbourStateRef, SNAPSHOT_VERSION, Snapshot, SnapshotError, SnapshotRef, State, WallState,
 };

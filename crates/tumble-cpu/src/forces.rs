@@ -11,7 +11,7 @@ use tumble_contact::{
     rolling_stiffness, rolling_torque, tangential_force,
 };
 use tumble_geom::{MeshWall, NO_CONTACT, SurfaceContact, SurfaceShape, sphere_sphere};
-use tumble_scene::{PairParams, PhysicsModel, SPHERE, Wall};
+use tumble_plan::{PairParams, PhysicsModel, SPHERE, Wall};
 use tumble_state::{ContactSum, MESH_KEY, RollingHalf, Spring, State, TangentialHalf, WALL_KEY};
 
 /// A particle's copy in cell order, for the candidate scan.

@@ -48,7 +48,7 @@ use forces::{PairOut, SortedEntry};
 use glam::DVec3;
 use neighbours::NeighbourList;
 use tumble_broad::CellGrid;
-use tumble_scene::{CompiledScene, Plan};
+use tumble_plan::{CompiledScene, Plan};
 
 /// A running CPU simulation.
 pub struct CpuSimulation {
@@ -76,7 +76,7 @@ pub struct CpuSimulation {
     outlet_tally: Vec<tumble_state::OutletTally>,
     threads: usize,
     /// The walls in their pose at `walls_time` (moving ones updated every step).
-    walls: Vec<tumble_scene::Wall>,
+    walls: Vec<tumble_plan::Wall>,
     moving_walls: bool,
     /// Some wall does work (it moves, or it is a conveyor): integrate the groups' power.
     working_walls: bool,
@@ -251,7 +251,7 @@ impl CpuSimulation {
     }
 
     /// The walls in their current pose.
-    pub fn walls(&self) -> &[tumble_scene::Wall] {
+    pub fn walls(&self) -> &[tumble_plan::Wall] {
         &self.walls
     }
 

@@ -11,7 +11,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use tumble_broad::CellGrid;
 use tumble_geom::PeriodicBox;
-use tumble_scene::Wall;
+use tumble_plan::Wall;
 use tumble_state::State;
 
 /// Pairs that may touch before the next rebuild, and each particle's share of them.

@@ -5,7 +5,7 @@
 use crate::forces::{ContactInputs, pair_contact};
 use glam::DVec3;
 use tumble_broad::{CellGrid, grid_pairs};
-use tumble_scene::{PhysicsModel, Wall};
+use tumble_plan::{PhysicsModel, Wall};
 use tumble_state::{Spring, State};
 
 /// One touching pair: slots `a` (the lower id) and `b`, and the force on a (b feels its negation).
@@ -111,7 +111,7 @@ pub fn mesh_loads(model: &PhysicsModel, state: &State, walls: &[Wall]) -> Vec<Ve
     let inputs = ContactInputs { model, state, vel: &state.vel, omega: omegas, walls };
     let poly = model.polyhedra && state.shape.len() == state.len();
     for i in order {
-        if poly && state.shape[i] != tumble_scene::SPHERE {
+        if poly && state.shape[i] != tumble_plan::SPHERE {
             // A polyhedron's patch contact spreads its force over the patch's triangles by volume share.
             for (w, wall) in walls.iter().enumerate() {
                 let SurfaceShape::Mesh(mesh) = &wall.shape else { continue };

@@ -19,8 +19,8 @@ use tumble_geom::{
     MeshWall, PatchContact, PolyContact, Polyhedron, Pose, VolumeContact, polyhedron_polyhedron, polyhedron_polyhedron_volume, sphere_polyhedron,
 };
 use tumble_integrate::world_inverse_inertia_times;
-use tumble_scene::{PairParams, PolyhedronContact};
-use tumble_scene::{SPHERE, Wall};
+use tumble_plan::{PairParams, PolyhedronContact};
+use tumble_plan::{SPHERE, Wall};
 use tumble_state::{MESH_KEY, Spring, WALL_KEY};
 
 /// Particle `i`'s polyhedron and pose, when it is one.

@@ -7,7 +7,7 @@
 //! the snapshot so a restart continues bit-identically.
 
 use crate::CpuSimulation;
-use tumble_scene::{Motion, Wall};
+use tumble_plan::{Motion, Wall};
 use tumble_state::ServoState;
 
 impl CpuSimulation {

@@ -12,7 +12,7 @@ use tumble_integrate::{
     Integrator, euler, free_rotation, implicit_drag, symplectic_euler, verlet_force_velocity, verlet_kick, verlet_kick_drift,
     world_inverse_inertia_times,
 };
-use tumble_scene::Drag;
+use tumble_plan::Drag;
 use tumble_state::{HistoryOverflow, RollingHalf, Spring, TangentialHalf};
 
 /// Per-particle body-force context, copied out of the plan once per pass.

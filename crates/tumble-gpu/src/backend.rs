@@ -4,7 +4,7 @@ use crate::GpuSimulation;
 use glam::DVec3;
 use std::any::Any;
 use std::borrow::Cow;
-use tumble_scene::{Plan, Wall};
+use tumble_plan::{Plan, Wall};
 use tumble_state::{AdapterInfo, Backend, BackendInfo, Fault, Frame, Snapshot, SnapshotError, State};
 
 impl Backend for GpuSimulation {

@@ -28,7 +28,7 @@ pub(crate) fn history_entries_per_particle(slots: usize) -> u64 {
 }
 
 /// Device bytes per particle of a plan (history slots, orientations and periodic images included).
-pub fn bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
+pub fn bytes_per_particle(plan: &tumble_plan::Plan) -> u64 {
     BYTES_PER_PARTICLE
         + history_bytes_per_particle(crate::upload::history_slots(plan))
         + wall_bytes_per_particle(plan)
@@ -47,7 +47,7 @@ pub fn memory_bytes(particles: u64, grid: &Grid, history_slots: usize) -> u64 {
 
 /// Device memory of `plan` with `slots` particle slots on `grid`, bytes (every per-particle
 /// array the plan needs and the grid's).
-pub fn device_bytes(plan: &tumble_scene::Plan, slots: u64, grid: &Grid) -> u64 {
+pub fn device_bytes(plan: &tumble_plan::Plan, slots: u64, grid: &Grid) -> u64 {
     memory_bytes(0, grid, 0) + slots * bytes_per_particle(plan)
 }
 
@@ -64,7 +64,7 @@ pub struct WallBuffers {
 
 /// Device bytes per particle for the wall loads (32 bytes per group) and, with moving walls,
 /// the work (8 bytes per group).
-pub fn wall_bytes_per_particle(plan: &tumble_scene::Plan) -> u64 {
+pub fn wall_bytes_per_particle(plan: &tumble_plan::Plan) -> u64 {
     let groups = plan.model.wall_groups.len() as u64;
     32 * groups + if crate::upload::moving_walls(plan) { 8 * groups } else { 0 }
 }

@@ -5,7 +5,7 @@
 
 use crate::reduce::Partial;
 use glam::DVec3;
-use tumble_scene::Plan;
+use tumble_plan::Plan;
 use tumble_shaders::{DRUM_BINS, DRUM_ROW_WORDS};
 use tumble_state::{DrumFrame, DrumProfile, no_drum_profile, quantile_rank};
 

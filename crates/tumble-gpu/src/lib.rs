@@ -57,7 +57,7 @@ use context::Gpu;
 use kernels::Kernels;
 use std::cell::Cell;
 use std::sync::Arc;
-use tumble_scene::{CompiledScene, Plan};
+use tumble_plan::{CompiledScene, Plan};
 
 /// Command buffers are submitted every this many steps.
 pub(crate) const STEPS_PER_SUBMIT: u64 = 16;

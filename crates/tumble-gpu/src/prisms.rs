@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 use tumble_geom::{Polyhedron, Pose, Prism, SurfaceShape};
-use tumble_scene::Plan;
+use tumble_plan::Plan;
 
 /// One lifter bar as a table shape.
 #[derive(Clone, Debug)]

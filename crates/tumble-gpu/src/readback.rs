@@ -236,7 +236,7 @@ impl GpuSimulation {
                 let fixed = a.vel[i][3] == 0.0;
                 let inv = match shape {
                     _ if fixed => DVec3::ZERO,
-                    tumble_scene::SPHERE => DVec3::splat(a.omega[i][3] as f64),
+                    tumble_plan::SPHERE => DVec3::splat(a.omega[i][3] as f64),
                     k => self.plan.model.shapes[k as usize].body.principal_inertia(self.plan.model.materials[a.props[i][1] as usize].density).recip(),
                 };
                 s.inv_inertia_body.push(inv);

@@ -32,7 +32,7 @@ use crate::shaders::{MODULES, ShaderSource, Switches};
 use crate::upload::{WORKGROUP, dispatch};
 use bytemuck::{Pod, Zeroable};
 use glam::{DQuat, DVec3};
-use tumble_scene::Plan;
+use tumble_plan::Plan;
 use tumble_shaders::{DRUM_BINS, NO_TRACK, REDUCE_BLOCK, TRACK_ROW_WORDS};
 use tumble_state::{Frame, Observables, TrackRow};
 use wgpu::util::DeviceExt;

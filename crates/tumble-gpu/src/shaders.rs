@@ -8,7 +8,7 @@
 //! source and every combination of switches a plan can produce.
 
 use tumble_integrate::Integrator;
-use tumble_scene::{Drag, Plan};
+use tumble_plan::{Drag, Plan};
 pub use tumble_shaders::{Feature, MODULES, Module, POLYHEDRA_TEST_MODULE, prelude};
 
 /// One shader module as a plan's pipelines build it: its name, the text that decides which
@@ -113,7 +113,7 @@ impl Switches {
             moving: crate::upload::moving_walls(plan),
             prisms: plan.model.walls.iter().any(|w| matches!(w.shape, tumble_geom::SurfaceShape::Prism(_))),
             polyhedra: plan.model.polyhedra,
-            volume: plan.model.polyhedra && plan.model.polyhedron_contact == tumble_scene::PolyhedronContact::Volume,
+            volume: plan.model.polyhedra && plan.model.polyhedron_contact == tumble_plan::PolyhedronContact::Volume,
             drag: match plan.model.fluid.map(|f| f.drag) {
                 None => tumble_shaders::DRAG_NONE,
                 Some(Drag::Stokes { .. }) => tumble_shaders::DRAG_STOKES,

@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use tumble_contact::{FlowField, NormalLaw, SpringLaw, TangentialLaw, ViscousParameter};
 use tumble_geom::SurfaceShape;
-use tumble_scene::Plan;
+use tumble_plan::Plan;
 use tumble_state::State;
 
 use crate::prisms::PrismHulls;
@@ -175,7 +175,7 @@ pub fn params(plan: &Plan, grid: &Grid, slots: u32, shape_base: usize) -> Params
 }
 
 // A deleted particle's flags hold its outlet's index + 1 in the 8 bits from OUTLET_SHIFT, below the shape index.
-const _: () = assert!(tumble_scene::MAX_OUTLETS < 256 && codes::OUTLET_SHIFT + 8 <= codes::SHAPE_SHIFT);
+const _: () = assert!(tumble_plan::MAX_OUTLETS < 256 && codes::OUTLET_SHIFT + 8 <= codes::SHAPE_SHIFT);
 
 /// The outlets as the device reads them (relative to the domain's centre), OUTLET_ENTRIES each.
 pub fn outlet_table(plan: &Plan) -> Vec<[f32; 4]> {
@@ -184,8 +184,8 @@ pub fn outlet_table(plan: &Plan) -> Vec<[f32; 4]> {
     let mut t = Vec::new();
     for o in &plan.model.outlets {
         match o.region {
-            tumble_scene::OutletRegion::Box { min, max } => t.extend([[code(codes::OUTLET_BOX), 0.0, 0.0, 0.0], f4(min - origin), f4(max - origin)]),
-            tumble_scene::OutletRegion::Beyond { point, normal } => {
+            tumble_plan::OutletRegion::Box { min, max } => t.extend([[code(codes::OUTLET_BOX), 0.0, 0.0, 0.0], f4(min - origin), f4(max - origin)]),
+            tumble_plan::OutletRegion::Beyond { point, normal } => {
                 t.extend([[code(codes::OUTLET_PLANE), 0.0, 0.0, 0.0], f4(point - origin), f4(normal)])
             }
         }
@@ -297,7 +297,7 @@ impl ParticleArrays {
 /// lifter bars' hulls (prisms.rs).
 pub fn plan_shapes(plan: &Plan, hulls: &PrismHulls) -> Result<Vec<[f32; 4]>, crate::GpuError> {
     let bodies: Vec<tumble_geom::Polyhedron> = plan.model.shapes.iter().map(|s| s.body.clone()).chain(hulls.shapes().cloned()).collect();
-    if plan.model.polyhedra && plan.model.polyhedron_contact == tumble_scene::PolyhedronContact::Volume {
+    if plan.model.polyhedra && plan.model.polyhedron_contact == tumble_plan::PolyhedronContact::Volume {
         crate::shapes::check_volume_limits(&bodies).map_err(|e| crate::GpuError::Feature(e.0))?;
     }
     crate::shapes::shape_table(&bodies).map_err(|e| crate::GpuError::Feature(e.0))

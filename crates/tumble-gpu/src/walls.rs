@@ -3,7 +3,7 @@
 
 use crate::GpuSimulation;
 use glam::DVec3;
-use tumble_scene::Wall;
+use tumble_plan::Wall;
 use tumble_state::DrumProfile;
 
 impl GpuSimulation {
@@ -89,7 +89,7 @@ pub(crate) fn wall_work_value(w: &[f32; 2]) -> f64 {
 }
 
 /// Why the GPU backend cannot run the plan's walls, if it cannot.
-pub(crate) fn unsupported_walls(plan: &tumble_scene::Plan, hulls: &crate::prisms::PrismHulls) -> Option<String> {
+pub(crate) fn unsupported_walls(plan: &tumble_plan::Plan, hulls: &crate::prisms::PrismHulls) -> Option<String> {
     let mesh = |w: &Wall| matches!(w.shape, tumble_geom::SurfaceShape::Mesh(_));
     let groups = &plan.model.wall_groups;
     if let Some(w) = plan.model.walls.iter().find(|w| mesh(w) || groups[w.group as usize].servo.is_some()) {

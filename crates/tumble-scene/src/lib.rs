@@ -26,7 +26,6 @@
 //! ```
 
 mod compile;
-mod describe;
 mod error;
 mod load;
 pub mod mesh_file;

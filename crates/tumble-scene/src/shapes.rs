@@ -2,11 +2,9 @@
 
 use crate::SceneError;
 use crate::schema::{ParticleGroup, ShapeSection};
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 use tumble_geom::Polyhedron;
-
-/// Shape index of a sphere (any other value indexes `Plan::shapes`).
-pub const SPHERE: u16 = u16::MAX;
+pub use tumble_plan::{ParticleShape, SPHERE};
 
 /// The shortest and longest lengths a polyhedral shape may be given in, m.
 const MIN_LENGTH: f64 = 1e-9;
@@ -17,41 +15,6 @@ const MAX_HULL_POINTS: usize = 1000;
 
 /// The most sides of a prism (past that it is a cylinder for any granular purpose).
 const MAX_PRISM_SIDES: u32 = 128;
-
-/// Radius of the sphere with volume `volume`: a polyhedron's R* and overlap-ratio radius.
-pub(crate) fn equivalent_radius(volume: f64) -> f64 {
-    (3.0 * volume / (4.0 * std::f64::consts::PI)).cbrt()
-}
-
-/// A polyhedral particle type: the body (centre of mass at the origin, principal axes along
-/// the body axes) and the rotation that takes the shape as the scene gave it to the body frame.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ParticleShape {
-    /// Where the shape came from (`particles[g].shape.cube`), for messages and outputs.
-    pub name: String,
-    pub body: Polyhedron,
-    /// The radius of the sphere of equal volume: R* of the contact laws and the overlap ratio.
-    pub equivalent_radius: f64,
-    /// The largest face area: the overlap-volume contact's reference area (a face lying flat on
-    /// another body or a wall meets the normal law's stiffness at this area).
-    pub contact_area: f64,
-    /// How many times a face lying on a larger face meets the normal law in that model
-    /// (`tumble_geom::face_on_weight`): its parts are damped at m* over it.
-    pub face_on_weight: f64,
-    /// Orientation of the body frame in the frame the shape was given in (a particle with this
-    /// orientation shows the shape as written in the scene).
-    pub as_given: DQuat,
-}
-
-impl ParticleShape {
-    fn new(name: String, body: Polyhedron) -> ParticleShape {
-        let equivalent_radius = equivalent_radius(body.volume());
-        let as_given = body.input_to_body().rotation.inverse();
-        let contact_area = body.largest_face_area();
-        let face_on_weight = tumble_geom::face_on_weight(&body);
-        ParticleShape { name, body, equivalent_radius, contact_area, face_on_weight, as_given }
-    }
-}
 
 /// The polyhedron of group `g`, or `None` for spheres.
 pub(crate) fn group_shape(group: &ParticleGroup, g: usize) -> Result<Option<ParticleShape>, SceneError> {
@@ -142,6 +105,7 @@ pub(crate) fn shape_of(section: &ShapeSection, at: &str) -> Result<Option<Partic
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DQuat;
 
     #[test]
     fn boxes_and_prisms_within_one_to_a_hundred_are_solids_at_every_length() {

@@ -5,7 +5,7 @@ use crate::{DrumProfile, Fault, Observables, Snapshot, SnapshotError, State, Tra
 use glam::DVec3;
 use std::any::Any;
 use std::borrow::Cow;
-use tumble_scene::{Plan, Wall};
+use tumble_plan::{Plan, Wall};
 
 /// What a backend is and runs on, as summary.json reports it.
 #[derive(Clone, Debug, PartialEq)]

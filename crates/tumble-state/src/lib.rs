@@ -31,3 +31,33 @@ pub use snapshot::{
     DeviceImage, NeighbourState, NeighbourStateRef, OutletTally, SNAPSHOT_VERSION, ServoState, Snapshot, SnapshotError, SnapshotRef, WallState,
 };
 pub use state::State;
+
+#[cfg(test)]
+mod tests {
+    /// The `[dependencies]` table of a manifest, as the packages it names.
+    fn dependencies(manifest: &str) -> Vec<String> {
+        let table = manifest.split("\n[dependencies]\n").nth(1).unwrap_or("");
+        let table = table.split("\n[").next().unwrap_or("");
+        table.lines().filter_map(|l| l.split(['=', '.']).next()).map(|n| n.trim().to_string()).filter(|n| !n.is_empty()).collect()
+    }
+
+    /// The state crate and the backends read a plan's plain data (tumble-plan), never the scene
+    /// format: tumble-scene may only be a backend's test dependency.
+    #[test]
+    fn neither_the_state_nor_a_backend_depends_on_the_scene_format() {
+        let crates = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let mut read = 0;
+        for name in ["tumble-state", "tumble-cpu", "tumble-gpu"] {
+            let Ok(manifest) = std::fs::read_to_string(crates.join(name).join("Cargo.toml")) else {
+                // A packaged tumble-state has no sibling crates beside it.
+                assert_ne!(name, "tumble-state", "tumble-state's own manifest must be readable");
+                continue;
+            };
+            let deps = dependencies(&manifest);
+            assert!(deps.iter().any(|d| d == "tumble-plan"), "{name} should read the plan from tumble-plan; its dependencies: {deps:?}");
+            assert!(!deps.iter().any(|d| d == "tumble-scene"), "{name} depends on tumble-scene, the scene format: {deps:?}");
+            read += 1;
+        }
+        assert!(read >= 1);
+    }
+}

@@ -133,7 +133,7 @@ pub struct DrumFrame {
 }
 
 impl DrumFrame {
-    pub fn of(d: &tumble_scene::Drum, g: DVec3) -> Option<DrumFrame> {
+    pub fn of(d: &tumble_plan::Drum, g: DVec3) -> Option<DrumFrame> {
         let g_plane = g - d.axis * g.dot(d.axis);
         if g_plane.length() <= 1e-12 * g.length().max(1e-300) {
             return None;
@@ -155,7 +155,7 @@ impl DrumFrame {
 
     /// The profile from the charge's mass, Σ m·radial and the shell layer's 5th and 95th
     /// percentile angles (NaN when the layer is empty).
-    pub fn profile(&self, d: &tumble_scene::Drum, t: f64, charge_mass: f64, moment: DVec3, toe: f64, shoulder: f64) -> DrumProfile {
+    pub fn profile(&self, d: &tumble_plan::Drum, t: f64, charge_mass: f64, moment: DVec3, toe: f64, shoulder: f64) -> DrumProfile {
         let mut p = DrumProfile { charge_mass, com_angle: f64::NAN, toe, shoulder, ..Default::default() };
         if charge_mass > 0.0 {
             let com = moment / charge_mass;
@@ -180,7 +180,7 @@ pub fn quantile_rank(q: f64, n: usize) -> usize {
 
 /// The charge profile of each drum of `plan` from any backend's state at time `t` (NaN angles
 /// without gravity across the axis).
-pub fn drum_profiles(plan: &tumble_scene::Plan, s: &State, t: f64) -> Vec<DrumProfile> {
+pub fn drum_profiles(plan: &tumble_plan::Plan, s: &State, t: f64) -> Vec<DrumProfile> {
     plan.model
         .drums
         .iter()

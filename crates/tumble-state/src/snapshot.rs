@@ -217,7 +217,7 @@ impl Snapshot {
     }
 
     /// Refuses a snapshot of another scene or time step than `plan`'s.
-    pub fn check_fits(&self, plan: &tumble_scene::Plan) -> Result<(), SnapshotError> {
+    pub fn check_fits(&self, plan: &tumble_plan::Plan) -> Result<(), SnapshotError> {
         if self.version != SNAPSHOT_VERSION {
             return Err(SnapshotError::Version { found: self.version, expected: SNAPSHOT_VERSION });
         }

@@ -4,7 +4,7 @@ use crate::history::HistorySlots;
 use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 use tumble_broad::permute;
-use tumble_scene::{CompiledScene, Drag};
+use tumble_plan::{CompiledScene, Drag};
 
 /// Per-particle state. Arrays the plan does not need (rotation, drag) stay empty.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -34,7 +34,7 @@ pub struct State {
     pub fluid_work: Vec<f64>,
     /// Tangential springs of this particle's contacts (empty without history).
     pub history: HistorySlots,
-    /// Polyhedra only (empty in sphere-only scenes): shape index (`tumble_scene::SPHERE` for a
+    /// Polyhedra only (empty in sphere-only scenes): shape index (`tumble_plan::SPHERE` for a
     /// sphere), body-to-world orientation and principal inverse inertia (zero for fixed bodies).
     pub shape: Vec<u16>,
     pub orient: Vec<DQuat>,
@@ -51,7 +51,7 @@ impl State {
     }
 
     /// The arrays of particles `p` of `plan`'s model, with ids from `first_id` on.
-    pub fn from_particles(plan: &tumble_scene::Plan, p: &tumble_scene::InitialParticles, first_id: u32) -> State {
+    pub fn from_particles(plan: &tumble_plan::Plan, p: &tumble_plan::InitialParticles, first_id: u32) -> State {
         let n = p.len();
         let mut s = State::default();
         for i in 0..n {
@@ -73,7 +73,7 @@ impl State {
                 s.omega.push(p.angular_velocity[i]);
                 s.alpha.push(DVec3::ZERO);
                 let principal = match p.shape[i] {
-                    tumble_scene::SPHERE => DVec3::splat(0.4 * m * p.radius[i] * p.radius[i]),
+                    tumble_plan::SPHERE => DVec3::splat(0.4 * m * p.radius[i] * p.radius[i]),
                     k => plan.model.shapes[k as usize].body.principal_inertia(density),
                 };
                 let inv = if p.fixed[i] { DVec3::ZERO } else { principal.recip() };

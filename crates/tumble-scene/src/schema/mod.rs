@@ -11,6 +11,7 @@ pub use contact::*;
 pub use run::*;
 pub use sources::*;
 pub use sph::*;
+pub use tumble_plan::{DiameterRange, DiameterSpec, LogNormalSize, LogNormalWrapper, NormalSize, NormalWrapper, SieveWrapper};
 pub use wall_options::*;
 
 /// A point or vector in a scene: exactly three numbers [x, y, z]. (A plain `[f64; 3]` would
@@ -288,60 +289,6 @@ pub struct SphereSection {
     pub effect_diameter: Option<f64>,
     /// Effect diameter as a multiple of each particle's diameter.
     pub effect_ratio: Option<f64>,
-}
-
-/// A sphere's diameter: one value or a distribution (sampled in crate::sizes).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(untagged)]
-pub enum DiameterSpec {
-    Fixed(f64),
-    /// `{ min, max }`: uniform in diameter.
-    Uniform(DiameterRange),
-    /// `{ normal = { mean, std } }`, truncated at mean ± 3 std.
-    Normal(NormalWrapper),
-    /// `{ log_normal = { median, sigma } }`: ln d normal around ln median with `sigma`, truncated at ±3 sigma.
-    LogNormal(LogNormalWrapper),
-    /// `{ sieve = [[d_lo, d_hi, mass_fraction], …] }`: a sieve analysis; uniform in d within a class.
-    Sieve(SieveWrapper),
-}
-
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct NormalWrapper {
-    pub normal: NormalSize,
-}
-
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct NormalSize {
-    pub mean: f64,
-    pub std: f64,
-}
-
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct LogNormalWrapper {
-    pub log_normal: LogNormalSize,
-}
-
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct LogNormalSize {
-    pub median: f64,
-    pub sigma: f64,
-}
-
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct SieveWrapper {
-    pub sieve: Vec<[f64; 3]>,
-}
-
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct DiameterRange {
-    pub min: f64,
-    pub max: f64,
 }
 
 #[derive(Clone, Debug, Deserialize)]
