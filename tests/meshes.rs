@@ -510,3 +510,212 @@ fn a_bed_of_cubes_at_rest_on_a_mesh_presses_its_weight_on_the_floor_triangles() 
     assert!(pressed >= 12, "only {pressed} floor triangles pressed");
     assert!((0..t.len()).all(|k| -loads[0][k].dot(mesh.body.mesh.normals[k]) >= -1e-12 * weight));
 }
+
+/// A 2D (`dimension = 2`) or 3D water scene in the domain from (0, −hi.y, 0) to `hi` with
+/// `walls`, its fluid filling `region`, and one pressure probe at `probe`.
+fn fluid_scene(dimension: u8, spacing: f64, hi: DVec3, region: &str, probe: DVec3, walls: &str) -> String {
+    let v = |x: DVec3| format!("[{}, {}, {}]", x.x, x.y, x.z);
+    let lo = DVec3::new(0.0, -hi.y, 0.0);
+    format!(
+        r#"
+name = "fluid mesh"
+[run]
+duration = 0.1
+output_interval = 0.05
+[domain]
+min = {}
+max = {}
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[sph]
+dimension = {dimension}
+spacing = {spacing}
+density = 1000.0
+viscosity = 1.0e-3
+expected_speed = 1.0
+[[sph.regions]]
+{region}
+[[sph.probes]]
+name = "deep"
+pressure = {}
+{walls}
+"#,
+        v(lo),
+        v(hi),
+        v(probe)
+    )
+}
+
+/// The fluid's particles of a compiled scene, each kind's positions sorted.
+fn fluid_and_walls(text: &str) -> (Vec<DVec3>, Vec<DVec3>, f64) {
+    let compiled = compile(&parse_scene(text).unwrap()).unwrap_or_else(|e| panic!("{e}"));
+    let p = compiled.fluid.unwrap();
+    let h = compiled.plan.sph.unwrap().settings.h;
+    let of = |kind| {
+        let mut x: Vec<DVec3> = (0..p.len()).filter(|&i| p.kind[i] == kind).map(|i| p.position[i]).collect();
+        x.sort_by(|a, b| (a.z, a.y, a.x).partial_cmp(&(b.z, b.y, b.x)).unwrap());
+        x
+    };
+    (of(tumble_sph::ParticleKind::Fluid), of(tumble_sph::ParticleKind::Wall), h)
+}
+
+/// The same points, to round-off.
+fn same_points(a: &[DVec3], b: &[DVec3], what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}: {} against {} points", a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        assert!((*x - *y).length() < 1e-12, "{what}: {x} against {y}");
+    }
+}
+
+/// The tank of the analytic box `lo`–`hi` as a mesh file: its faces cut `n` × `n`, normals
+/// inward (a container: the fluid is on the side they point to).
+fn mesh_tank(name: &str, lo: DVec3, hi: DVec3, n: usize) -> PathBuf {
+    let (v, mut t) = box_triangles_subdivided(lo, hi, n);
+    for tri in &mut t {
+        tri.swap(1, 2);
+    }
+    let path = folder(name).join("tank.obj");
+    write_obj(&path, &v, &t);
+    path
+}
+
+/// A tank given as a mesh gives the fluid the wall particles the analytic box gives it wherever
+/// a fluid particle can see them (within 2h), and the same fluid, in 2D and 3D; the corners
+/// behind the walls differ only out of every fluid particle's reach (the mesh's layers are a
+/// distance deep, the box's a lattice square).
+#[test]
+fn a_fluid_tank_given_as_a_mesh_starts_as_the_analytic_tank() {
+    for (dimension, spacing, hi) in [(2, 0.005, DVec3::new(0.1, 0.01, 0.15)), (3, 0.01, DVec3::new(0.1, 0.03, 0.15))] {
+        let lo = DVec3::new(0.0, -hi.y, 0.0);
+        let region = format!("box = {{ min = [0.0, {}, 0.0], max = [0.1, {}, 0.08] }}", lo.y, hi.y);
+        let probe = DVec3::new(0.05, 0.5 * (lo.y + hi.y), 0.02);
+        let analytic = fluid_scene(
+            dimension,
+            spacing,
+            hi,
+            &region,
+            probe,
+            &format!("[[walls]]\nbox = {{ min = [0.0, {}, 0.0], max = [0.1, {}, 0.15] }}", lo.y, hi.y),
+        );
+        let tank = mesh_tank(&format!("fluid-tank-{dimension}d"), lo, hi, 3);
+        let mesh = fluid_scene(dimension, spacing, hi, &region, probe, &format!("[[walls]]\nmesh = {{ file = \"{}\" }}", tank.display()));
+        let (fluid_a, walls_a, h) = fluid_and_walls(&analytic);
+        let (fluid_m, walls_m, _) = fluid_and_walls(&mesh);
+        same_points(&fluid_a, &fluid_m, &format!("{dimension}D fluid"));
+        let seen =
+            |walls: &[DVec3]| -> Vec<DVec3> { walls.iter().copied().filter(|w| fluid_a.iter().any(|f| (*f - *w).length() < 2.0 * h)).collect() };
+        let (seen_a, seen_m) = (seen(&walls_a), seen(&walls_m));
+        println!(
+            "{dimension}D: {} fluid, walls {} (analytic) and {} (mesh), {} seen by the fluid",
+            fluid_a.len(),
+            walls_a.len(),
+            walls_m.len(),
+            seen_a.len()
+        );
+        assert!(seen_a.len() > 50);
+        same_points(&seen_a, &seen_m, &format!("{dimension}D walls within 2h of the fluid"));
+    }
+}
+
+/// Water in a tank given as a mesh, at rest or shaken, reads the pressure it reads in the
+/// analytic tank, to round-off, after 0.1 s (2D, 20 particles over its height).
+#[test]
+fn water_at_rest_in_a_mesh_tank_reads_the_analytic_tanks_pressure() {
+    let hi = DVec3::new(0.1, 0.01, 0.15);
+    let region = "box = { min = [0.0, -0.01, 0.0], max = [0.1, 0.01, 0.1] }";
+    let probe = DVec3::new(0.05, 0.0, 0.02);
+    let tank = mesh_tank("fluid-rest", DVec3::new(0.0, -0.01, 0.0), hi, 1);
+    let read = |walls: &str| {
+        let text = fluid_scene(2, 0.005, hi, region, probe, walls);
+        let mut sim = Simulation::new(compile(&parse_scene(&text).unwrap()).unwrap(), 1);
+        let steps = sim.plan().run.steps;
+        sim.advance(steps);
+        let tables = sim.phases()[0].tables();
+        let probe = tables.iter().find(|t| t.file == "probe_deep.csv").unwrap();
+        probe.values[probe.columns.iter().position(|c| c == "pressure").unwrap()]
+    };
+    let hydrostatic = 1000.0 * 9.81 * 0.08;
+    for motion in ["", "motion = { oscillate = { direction = [1.0, 0.0, 0.0], amplitude = 0.005, frequency = 2.0 } }"] {
+        let analytic = read(&format!("[[walls]]\nbox = {{ min = [0.0, -0.01, 0.0], max = [0.1, 0.01, 0.15] }}\n{motion}"));
+        let mesh = read(&format!("[[walls]]\nmesh = {{ file = \"{}\" }}\n{motion}", tank.display()));
+        println!("{motion}: pressure 2 cm above the floor: {analytic} Pa (analytic tank), {mesh} Pa (mesh tank), rho g (H - z) = {hydrostatic} Pa");
+        // At rest the water is near hydrostatic; shaken at up to 0.8 m/s² it is not.
+        assert!(!motion.is_empty() || (analytic - hydrostatic).abs() < 0.05 * hydrostatic, "the analytic tank: {analytic} Pa");
+        assert!((mesh - analytic).abs() < 1e-9 * hydrostatic, "{mesh} Pa in the mesh tank against {analytic} Pa in the analytic one");
+    }
+}
+
+/// A closed prism of `sides` sides around the y axis through (x0, ·, z0), radius `r`, from
+/// y = `y0` to `y1`, normals outward.
+fn prism(sides: usize, x0: f64, z0: f64, r: f64, y0: f64, y1: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let ring = |y: f64| {
+        (0..sides).map(move |k| {
+            let a = std::f64::consts::TAU * k as f64 / sides as f64;
+            DVec3::new(x0 + r * a.cos(), y, z0 + r * a.sin())
+        })
+    };
+    let mut v: Vec<DVec3> = ring(y0).chain(ring(y1)).collect();
+    v.push(DVec3::new(x0, y0, z0));
+    v.push(DVec3::new(x0, y1, z0));
+    let (n, c0, c1) = (sides as u32, 2 * sides as u32, 2 * sides as u32 + 1);
+    let mut t = Vec::new();
+    for k in 0..n {
+        let j = (k + 1) % n;
+        // The side, and the two caps; corners counter-clockwise seen from outside.
+        t.push([k, n + k, j]);
+        t.push([j, n + k, n + j]);
+        t.push([c0, k, j]);
+        t.push([c1, n + j, n + k]);
+    }
+    (v, t)
+}
+
+/// The fluid fills the inside of a closed mesh (a 48-sided prism, 2D and 3D) to its volume within
+/// the lattice's error, never outside it, and with a box only the part inside the box.
+#[test]
+fn a_fluid_region_inside_a_closed_mesh_fills_its_volume() {
+    let (r, y0, y1) = (0.05, -0.03, 0.03);
+    let (v, t) = prism(48, 0.06, 0.06, r, y0, y1);
+    let (vol, area) = {
+        let a = 0.5 * 48.0 * r * r * (std::f64::consts::TAU / 48.0).sin();
+        (a * (y1 - y0), a)
+    };
+    let path = folder("fluid-region").join("prism.obj");
+    write_obj(&path, &v, &t);
+    let mut flipped = t.clone();
+    for tri in &mut flipped {
+        tri.swap(1, 2);
+    }
+    let flipped_path = folder("fluid-region").join("prism_inward.obj");
+    write_obj(&flipped_path, &v, &flipped);
+    for (dimension, spacing) in [(2u8, 0.0025), (3, 0.005)] {
+        for file in [&path, &flipped_path] {
+            let hi = DVec3::new(0.12, 0.04, 0.12);
+            let region = format!("mesh = {{ file = \"{}\" }}", file.display());
+            let text = fluid_scene(dimension, spacing, hi, &region, DVec3::new(0.06, 0.0, 0.03), "");
+            let (fluid, walls, _) = fluid_and_walls(&text);
+            assert!(walls.is_empty());
+            let expected = if dimension == 2 { area / (spacing * spacing) } else { vol / spacing.powi(3) };
+            let error = fluid.len() as f64 / expected - 1.0;
+            println!(
+                "{dimension}D {}: {} fluid particles against {expected:.1} from the volume ({:+.2} %)",
+                file.display(),
+                fluid.len(),
+                100.0 * error
+            );
+            assert!(error.abs() < 0.02, "{dimension}D: {} particles for {expected:.1}", fluid.len());
+            let apothem = r * (std::f64::consts::PI / 48.0).cos();
+            assert!(fluid.iter().all(|x| (x.x - 0.06).hypot(x.z - 0.06) < r && x.y > y0 && x.y < y1));
+            assert!(fluid.iter().any(|x| (x.x - 0.06).hypot(x.z - 0.06) > apothem - spacing));
+            // Filled to a level: only the part below z = 0.06.
+            let level = format!("{region}\nbox = {{ min = [0.0, {y0}, 0.0], max = [0.12, {y1}, 0.06] }}");
+            let (half, _, _) = fluid_and_walls(&fluid_scene(dimension, spacing, hi, &level, DVec3::new(0.06, 0.0, 0.03), ""));
+            assert!(
+                half.iter().all(|x| x.z < 0.06) && (half.len() as f64 / fluid.len() as f64 - 0.5).abs() < 0.03,
+                "{} of {}",
+                half.len(),
+                fluid.len()
+            );
+        }
+    }
+}

@@ -22,6 +22,7 @@ pub use glam::{DQuat, DVec3};
 mod contact_mass;
 mod enclosing_sphere;
 mod mesh;
+mod mesh_distance;
 mod mesh_grid;
 mod mesh_wall;
 mod motion;

@@ -99,6 +99,12 @@ impl TriangleGrid {
         out.dedup();
     }
 
+    /// The box the grid's cells cover (every triangle lies in it), in the mesh's frame.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let [x, y, z] = self.dims.map(|d| d as f64 * self.cell);
+        (self.origin, self.origin + DVec3::new(x, y, z))
+    }
+
     /// Cells along each axis and their width.
     pub fn layout(&self) -> ([usize; 3], f64) {
         (self.dims, self.cell)

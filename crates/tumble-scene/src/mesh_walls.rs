@@ -14,7 +14,14 @@ pub const MESH_TRIANGLES_AT_MOST: u32 = 1 << 30;
 /// Wall `k`'s mesh, binned on cells of about `cell`; its triangles' spring keys start at
 /// `first_key`. Returns the surface and the checks' warnings, each naming the wall.
 pub(crate) fn mesh_wall(scene: &Scene, k: usize, m: &MeshSection, cell: f64, first_key: u32) -> Result<(SurfaceShape, Vec<String>), SceneError> {
-    let f = |x: &str| format!("walls[{k}].mesh.{x}");
+    let (wall, warnings) = placed_mesh(scene, &format!("walls[{k}].mesh"), m, cell, first_key)?;
+    Ok((SurfaceShape::Mesh(wall), warnings))
+}
+
+/// The mesh of section `field` read, placed and checked, binned on cells of about `cell`, its
+/// triangles' spring keys from `first_key`; with the checks' warnings, each naming the section.
+pub(crate) fn placed_mesh(scene: &Scene, field: &str, m: &MeshSection, cell: f64, first_key: u32) -> Result<(MeshWall, Vec<String>), SceneError> {
+    let f = |x: &str| format!("{field}.{x}");
     let rotation = match &m.rotate {
         None => DQuat::IDENTITY,
         Some(r) => {
@@ -43,8 +50,8 @@ pub(crate) fn mesh_wall(scene: &Scene, k: usize, m: &MeshSection, cell: f64, fir
     if first_key as u64 + triangles > MESH_TRIANGLES_AT_MOST as u64 {
         return Err(SceneError::field(f("file"), format!("the scene's meshes hold more than {MESH_TRIANGLES_AT_MOST} triangles")));
     }
-    let warnings = report.warnings().into_iter().map(|w| format!("walls[{k}].mesh ({}): {w}", path.display())).collect();
-    Ok((SurfaceShape::Mesh(MeshWall::new(mesh, cell, first_key)), warnings))
+    let warnings = report.warnings().into_iter().map(|w| format!("{field} ({}): {w}", path.display())).collect();
+    Ok((MeshWall::new(mesh, cell, first_key), warnings))
 }
 
 /// The point of a mesh nearest to `x`, and its distance.

@@ -40,4 +40,7 @@ pub use pass::PassConstants;
 pub use phase::{FluidObservables, FluidPhase, FluidSnapshot};
 pub use rates::Rates;
 pub use settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity, WallRole};
-pub use setup::{add_fluid_block, add_fluid_cylinder, add_inflow, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab, wall_layers};
+pub use setup::{
+    add_fluid_block, add_fluid_cylinder, add_fluid_points, add_inflow, add_wall_box, add_wall_cylinder, add_wall_rectangle, add_wall_slab,
+    push_walls, wall_layers,
+};

@@ -41,7 +41,7 @@ pub fn add_fluid_cylinder(
 
 /// Adds fluid particles at `points`, each of mass ρ₀ times its volume, in hydrostatic balance
 /// below the highest point's free surface (half a spacing above it).
-fn add_fluid_points(particles: &mut FluidParticles, settings: &FluidSettings, points: &[(DVec3, f64)], velocity: DVec3) -> usize {
+pub fn add_fluid_points(particles: &mut FluidParticles, settings: &FluidSettings, points: &[(DVec3, f64)], velocity: DVec3) -> usize {
     let g = settings.gravity.length();
     let up = if g > 0.0 { -settings.gravity / g } else { DVec3::ZERO };
     let top = points.iter().map(|(x, _)| up.dot(*x)).fold(f64::NEG_INFINITY, f64::max) + 0.5 * settings.spacing;
@@ -79,7 +79,7 @@ pub fn add_wall_slab(particles: &mut FluidParticles, settings: &FluidSettings, l
 }
 
 /// Adds wall particles at `points`, at rest density and lattice mass, moving at `velocity`.
-fn push_walls(particles: &mut FluidParticles, settings: &FluidSettings, points: Vec<DVec3>, velocity: DVec3) -> usize {
+pub fn push_walls(particles: &mut FluidParticles, settings: &FluidSettings, points: Vec<DVec3>, velocity: DVec3) -> usize {
     let mass = settings.particle_mass();
     for &x in &points {
         particles.push(ParticleKind::Wall, x, velocity, settings.rho0, mass);

@@ -12,6 +12,7 @@ mod run;
 mod sph;
 mod sph_buffers;
 mod sph_floating;
+mod sph_meshes;
 mod tuning;
 
 use crate::SceneError;

@@ -122,11 +122,11 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     FluidPhase::new(settings.clone(), FluidParticles::default()).map_err(|e| SceneError::field("sph", e))?;
     check_counts(scene, s, &settings, domain)?;
     let mut particles = FluidParticles::default();
-    fill_regions(s, &settings, domain, &mut particles)?;
+    fill_regions(scene, s, &settings, domain, &mut particles)?;
     let walls = add_walls(scene, &settings, domain, &mut particles)?;
     settings.moving_walls = walls.moving.iter().map(|&(_, wall, _)| wall).collect();
-    // Fluid on the wrong side of a cylinder or a rectangle, or within half a spacing of it, is left out.
-    particles.retain(|kind, x| kind == ParticleKind::Wall || walls.leave_fluid_at(x, spacing, dimension));
+    // Fluid on the wrong side of a cylinder, a rectangle or a mesh, or within half a spacing of it, is left out.
+    particles.retain(|kind, x| kind == ParticleKind::Wall || walls.leave_fluid_at(x, &settings));
     let floating = super::sph_floating::add_floating(s, &mut settings, domain, &mut particles)?;
     super::sph_buffers::add_buffers(s, &mut settings, domain, &mut particles)?;
     let fluid_particles = particles.fluid_count();
@@ -211,7 +211,13 @@ pub(super) fn in_plane(dimension: Dimension, mut x: DVec3) -> DVec3 {
     x
 }
 
-fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<(), SceneError> {
+fn fill_regions(
+    scene: &Scene,
+    s: &SphSection,
+    settings: &FluidSettings,
+    domain: &PeriodicBox,
+    particles: &mut FluidParticles,
+) -> Result<(), SceneError> {
     if s.regions.is_empty() {
         return Err(SceneError::field("sph.regions", "the fluid fills nothing; add [[sph.regions]] with box = { min = [...], max = [...] }"));
     }
@@ -234,6 +240,13 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
             None => None,
         };
         let added = match (&r.cylinder, clip) {
+            _ if r.mesh.is_some() => {
+                if r.cylinder.is_some() {
+                    return Err(SceneError::field(f("mesh"), "give a region one shape: a mesh or a cylinder (with a box: the part inside it)"));
+                }
+                let m = r.mesh.as_ref().expect("checked");
+                super::sph_meshes::fill_mesh_region(scene, k, m, clip, settings, domain, velocity, particles)?
+            }
             (Some(c), clip) => {
                 let cylinder = region_cylinder(&f("cylinder"), c, settings.dimension)?;
                 let first = particles.len();
@@ -247,7 +260,7 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
             (None, None) => {
                 return Err(SceneError::field(
                     format!("sph.regions[{k}]"),
-                    "give the region's shape: box = { min = [...], max = [...] }, or cylinder = { point, axis, radius, length } (with a box: the part inside it)",
+                    "give the region's shape: box = { min = [...], max = [...] }, cylinder = { point, axis, radius, length } or mesh = { file = \"...\" } (with a box: the part inside it)",
                 ));
             }
         };
@@ -261,9 +274,6 @@ fn fill_regions(s: &SphSection, settings: &FluidSettings, domain: &PeriodicBox, 
     Ok(())
 }
 
-/// The scene's walls as dummy particles on the fluid's side: a box's closed sides (the fluid
-/// inside), an axis-aligned plane's layers behind it across the domain, a cylinder's rings.
-/// Returns the cylinders, whose wrong side the fluid must leave.
 /// A region's cylinder, checked: positive radius and length, a unit axis (in 2D along y).
 pub(super) fn region_cylinder(field: &str, c: &SphCylinderSection, dimension: Dimension) -> Result<Cylinder, SceneError> {
     positive(&format!("{field}.radius"), c.radius)?;
@@ -286,15 +296,23 @@ pub(super) fn region_cylinder(field: &str, c: &SphCylinderSection, dimension: Di
 struct FluidWalls {
     cylinders: Vec<Cylinder>,
     rectangles: Vec<Rectangle>,
+    meshes: Vec<super::sph_meshes::FluidMesh>,
     moving: Vec<(usize, MovingWall, f64)>,
 }
 
 impl FluidWalls {
-    fn leave_fluid_at(&self, x: DVec3, spacing: f64, dimension: Dimension) -> bool {
-        self.cylinders.iter().all(|c| on_fluid_side(c, x, spacing, dimension)) && !self.rectangles.iter().any(|r| r.covers(x, 0.5 * spacing))
+    fn leave_fluid_at(&self, x: DVec3, settings: &FluidSettings) -> bool {
+        let (spacing, dimension) = (settings.spacing, settings.dimension);
+        let thickness = wall_layers(settings) as f64 * spacing;
+        self.cylinders.iter().all(|c| on_fluid_side(c, x, spacing, dimension))
+            && !self.rectangles.iter().any(|r| r.covers(x, 0.5 * spacing))
+            && self.meshes.iter().all(|m| m.leaves_fluid_at(x, spacing, thickness))
     }
 }
 
+/// The scene's walls as dummy particles on the fluid's side: a box's closed sides (the fluid
+/// inside), an axis-aligned plane's layers behind it across the domain, a cylinder's rings, a
+/// quad's and a mesh's layers behind their surfaces. Returns what the fluid must leave.
 fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<FluidWalls, SceneError> {
     let two_d = settings.dimension == Dimension::Two;
     let mut walls = FluidWalls::default();
@@ -304,7 +322,7 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
         let not_yet = || {
             SceneError::field(
                 format!("walls[{k}]"),
-                "the SPH fluid's walls are boxes, axis-aligned planes, rectangular quads and cylinders, static or moving, so far; lifters, meshes, servos and conveyors are not yet made into wall particles",
+                "the SPH fluid's walls are boxes, axis-aligned planes, rectangular quads, cylinders and meshes, static or moving, so far; lifters, servos and conveyors are not yet made into wall particles",
             )
         };
         if w.servo.is_some() || w.surface_velocity.is_some() {
@@ -363,6 +381,8 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
             }
             add_wall_cylinder(particles, settings, &c, DVec3::ZERO);
             walls.cylinders.push(c);
+        } else if let Some(m) = &w.mesh {
+            walls.meshes.push(super::sph_meshes::add_mesh_wall(scene, k, m, settings, particles)?);
         } else {
             return Err(not_yet());
         }
@@ -479,11 +499,17 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
             total += full * (thickness / deepest).min(1.0);
         }
     }
+    check_total("sph.spacing", total)
+}
+
+/// Refuses, naming `field`, a fluid that would hold about `total` particles: more than ids allow
+/// or memory holds.
+pub(super) fn check_total(field: &str, total: f64) -> Result<(), SceneError> {
     const MOST: f64 = u32::MAX as f64;
     const BYTES_PER_PARTICLE: f64 = 512.0;
     if total > MOST {
         return Err(SceneError::field(
-            "sph.spacing",
+            field,
             format!("the fluid and its walls would hold about {total:.3e} particles; a scene holds at most {MOST:.0} (32-bit ids)"),
         ));
     }
@@ -491,7 +517,7 @@ fn check_counts(scene: &Scene, s: &SphSection, settings: &FluidSettings, domain:
         && total * BYTES_PER_PARTICLE > available.bytes
     {
         return Err(SceneError::field(
-            "sph.spacing",
+            field,
             format!(
                 "the fluid and its walls would hold about {total:.3e} particles, which need about {:.1} GiB; there is {available}",
                 total * BYTES_PER_PARTICLE / (1u64 << 30) as f64,

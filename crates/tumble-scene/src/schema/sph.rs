@@ -140,6 +140,9 @@ pub struct SphRegionSection {
     /// The inside of a cylinder, filled in rings that follow its surface (with `box`: only the
     /// part inside the box, a drum filled to a level).
     pub cylinder: Option<SphCylinderSection>,
+    /// The inside of a closed mesh (with `box`: only the part inside the box, a tank filled to
+    /// a level).
+    pub mesh: Option<MeshSection>,
     #[serde(default)]
     pub velocity: V3,
 }
