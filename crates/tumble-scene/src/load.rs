@@ -30,8 +30,9 @@ fn field_at(text: &str, offset: usize) -> Option<String> {
     let before = &text[..line_start];
     let Some(header) = before.lines().rev().map(str::trim).find(|l| l.starts_with('[')) else { return Some(key.to_string()) };
     let table = if let Some(name) = header.strip_prefix("[[").and_then(|h| h.split("]]").next()) {
-        let k = before.lines().filter(|l| l.trim().starts_with(&format!("[[{name}]]"))).count();
-        format!("{}[{}]", name.trim(), k - 1)
+        // A header without its closing brackets ("[[run") counts no entry: no table is named.
+        let k = before.lines().filter(|l| l.trim().starts_with(&format!("[[{name}]]"))).count().checked_sub(1)?;
+        format!("{}[{k}]", name.trim())
     } else {
         header.trim_start_matches('[').split(']').next()?.trim().to_string()
     };
@@ -100,6 +101,13 @@ mod tests {
         let _ = std::fs::remove_file(&path);
         assert_eq!(e.line_col, Some((3, 18)));
         assert!(e.to_string().ends_with(":3:18: byte 0xff is not UTF-8 text; a scene file is UTF-8"), "{e}");
+    }
+
+    #[test]
+    fn a_value_under_an_unclosed_array_of_tables_header_names_no_table() {
+        // Found by the scene fuzzer: "[[" without its "]]" counted minus one entries.
+        let text = "name = \"a\"\n[[run\nduration = 1.0\n";
+        assert_eq!(field_at(text, text.find("1.0").unwrap()), None);
     }
 
     #[test]
