@@ -296,10 +296,15 @@ fn check_region(field: String, min: V3, max: V3, domain: &DomainSection) -> Resu
 /// as the gap to it cubed: 200,000 spheres take seconds at 30 % and a minute at 35 %.
 const RANDOM_FILL_LIMIT: f64 = 0.30;
 
+/// The share of a region of `size` that `count` spheres of mean cubed diameter `mean_cube` fill.
+fn fill(count: usize, mean_cube: f64, size: DVec3) -> f64 {
+    count as f64 * std::f64::consts::PI / 6.0 * mean_cube / (size.x * size.y * size.z).abs().max(f64::MIN_POSITIVE)
+}
+
 /// Refuses a `random` group of `count` whose (bounding) spheres, of mean cubed diameter
 /// `mean_cube`, would fill more of the region of `size` than random placement can reach.
 fn check_random_fill(g: usize, count: usize, mean_cube: f64, size: DVec3) -> Result<(), SceneError> {
-    let fill = count as f64 * std::f64::consts::PI / 6.0 * mean_cube / (size.x * size.y * size.z).abs().max(f64::MIN_POSITIVE);
+    let fill = fill(count, mean_cube, size);
     if fill > RANDOM_FILL_LIMIT {
         return Err(SceneError::field(
             format!("particles[{g}].random.count"),
@@ -316,7 +321,7 @@ fn check_random_fill(g: usize, count: usize, mean_cube: f64, size: DVec3) -> Res
 /// (bounding) spheres hold more than twice its volume, every particle overlaps many others
 /// deeply, and the start's overlap check would pair thousands per cell for minutes.
 fn check_overlapping_fill(g: usize, count: usize, mean_cube: f64, size: DVec3) -> Result<(), SceneError> {
-    let fill = count as f64 * std::f64::consts::PI / 6.0 * mean_cube / (size.x * size.y * size.z).abs().max(f64::MIN_POSITIVE);
+    let fill = fill(count, mean_cube, size);
     if fill > OVERLAPPING_FILL_LIMIT {
         return Err(SceneError::field(
             format!("particles[{g}].random.count"),
