@@ -719,3 +719,88 @@ fn a_fluid_region_inside_a_closed_mesh_fills_its_volume() {
         }
     }
 }
+
+/// A 2D drum of radius 0.1 m full of water, started at 20 rpm about y, with `lifters` (a
+/// `[[walls]]` entry, or nothing); its water's angular momentum about the axis over that of the
+/// water turning with the drum as a solid, after 0.25 s.
+fn drum_spin_up(lifters: &str) -> (f64, usize) {
+    let text = format!(
+        r#"
+name = "fluid lifters"
+[run]
+duration = 0.25
+output_interval = 0.05
+[domain]
+min = [-0.12, -0.01, -0.12]
+max = [0.12, 0.01, 0.12]
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[sph]
+dimension = 2
+spacing = 0.005
+density = 1000.0
+viscosity = 1.0e-3
+expected_speed = 0.5
+viscosity_model = {{ model = "artificial", alpha = 0.1 }}
+[[sph.regions]]
+cylinder = {{ point = [0.0, -0.01, 0.0], axis = [0.0, 1.0, 0.0], radius = 0.1, length = 0.02 }}
+[[walls]]
+name = "drum"
+cylinder = {{ point = [0.0, -0.01, 0.0], axis = [0.0, 1.0, 0.0], radius = 0.1, length = 0.02 }}
+motion = {{ rotate = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 1.0, 0.0], rpm = 20.0 }} }}
+{lifters}
+"#
+    );
+    let compiled = compile(&parse_scene(&text).unwrap()).unwrap_or_else(|e| panic!("{e}"));
+    let fluid = compiled.fluid.as_ref().unwrap();
+    let bars: Vec<tumble_geom::Prism> = compiled
+        .plan
+        .model
+        .walls
+        .iter()
+        .filter_map(|w| match &w.shape {
+            tumble_geom::SurfaceShape::Prism(p) => Some((**p).clone()),
+            _ => None,
+        })
+        .collect();
+    // No water starts inside a bar, nor within half a spacing of one.
+    for (i, &x) in fluid.position.iter().enumerate() {
+        if fluid.kind[i] == tumble_sph::ParticleKind::Fluid {
+            for bar in &bars {
+                let outside = bar.faces.iter().map(|q| (x - q.corners[0]).dot(q.normal)).fold(f64::NEG_INFINITY, f64::max);
+                assert!(outside >= 0.0025 - 1e-12, "water at {x} starts {outside} outside a bar");
+            }
+        }
+    }
+    let mut sim = Simulation::new(compiled, 1);
+    let steps = sim.plan().run.steps;
+    sim.advance(steps);
+    let points = sim.phases()[0].points();
+    let of = |name: &str| &points.scalars.iter().find(|s| s.0 == name).unwrap().1;
+    let kind = &points.integers.iter().find(|s| s.0 == "kind").unwrap().1;
+    let velocity = &points.vectors.iter().find(|s| s.0 == "velocity").unwrap().1;
+    let (mass, omega) = (of("mass"), 20.0 * std::f64::consts::TAU / 60.0);
+    let (mut l, mut solid) = (0.0, 0.0);
+    for i in (0..points.positions.len()).filter(|&i| kind[i] == 0) {
+        let r = points.positions[i];
+        // About +y, the drum's axis: r × v · ŷ = z vx − x vz.
+        l += mass[i] * (r.z * velocity[i].x - r.x * velocity[i].z);
+        solid += mass[i] * (r.x * r.x + r.z * r.z) * omega;
+    }
+    (l / solid, bars.len())
+}
+
+/// Lifters on a turning drum drag its water round, as paddles: 0.25 s after the drum starts at
+/// 20 rpm (a twelfth of a turn) the water holds more than half the angular momentum it would
+/// turning with the drum as a solid, and well over what the bare drum's wall, which only shears
+/// it, has passed on (0.61 against 0.29 measured). Bars missing from the fluid, or standing
+/// still, leave the two alike.
+#[test]
+fn lifters_on_a_turning_drum_drag_the_water_round() {
+    let (bare, none) = drum_spin_up("");
+    let (lifted, bars) = drum_spin_up("[[walls]]\nname = \"bars\"\nlifters = { on = \"drum\", count = 4, height = 0.025, width = 0.01 }");
+    println!("angular momentum over the solid body's after 0.25 s: {bare:.3} (bare drum), {lifted:.3} (4 lifters)");
+    assert_eq!((none, bars), (0, 4));
+    assert!(lifted > 0.5, "with lifters: {lifted}");
+    assert!(lifted > 1.6 * bare, "bare drum: {bare}, with lifters: {lifted}");
+}

@@ -44,7 +44,6 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let (particles, mut shapes) = compile_particles(scene, &table.index, &domain)?;
     let densities: Vec<f64> = table.materials.iter().map(|m| m.density).collect();
     let gravity = model::gravity(scene)?;
-    let sph = sph::sph(scene, &domain, gravity)?;
     let (mut sources, prototypes) =
         crate::sources::compile_sources(scene, &table.index, &densities, &mut shapes, &domain, gravity, scene.particles.len() as u16)?;
     let outlets = crate::sources::compile_outlets(scene)?;
@@ -55,6 +54,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let mesh_cell = 2.0 * kinds.radius.iter().fold(0.0, |a: f64, &r| a.max(r));
     let lookup = |field: String, name: &str| table.lookup(scene, field, name);
     let (walls, wall_groups, drums, mesh_warnings) = crate::walls::compile_walls(scene, &lookup, &domain, mesh_cell)?;
+    // The fluid's walls follow the compiled surfaces where the scene derives them (lifter bars).
+    let sph = sph::sph(scene, &domain, gravity, &walls)?;
     non_negative("run.start.max_overlap", scene.run.start.max_overlap)?;
     crate::start::check_starting_state(scene, &particles, &shapes, &walls, &wall_groups, &domain)?;
     let flow_planes = model::flow_planes(scene)?;

@@ -3,7 +3,7 @@
 
 use super::{finite3, non_negative, positive};
 use crate::SceneError;
-use crate::plan::{SphPlan, SphProbe, SphProbeKind};
+use crate::plan::{SphPlan, SphProbe, SphProbeKind, Wall};
 use crate::schema::*;
 use glam::DVec3;
 use tumble_geom::{Cylinder, Motion, PeriodicBox};
@@ -19,7 +19,8 @@ pub const SMOOTHING_RATIO: f64 = 1.5;
 pub const SOUND_SPEED_FACTOR: f64 = 10.0;
 
 /// The fluid's plan and starting particles, or none without an [sph] table.
-pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result<Option<(SphPlan, FluidParticles)>, SceneError> {
+/// `compiled` are the scene's walls as the particles see them (lifters as their bars).
+pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3, compiled: &[Wall]) -> Result<Option<(SphPlan, FluidParticles)>, SceneError> {
     let Some(s) = &scene.sph else { return Ok(None) };
     let dimension = match s.dimension {
         2 => Dimension::Two,
@@ -123,7 +124,7 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3) -> Result
     check_counts(scene, s, &settings, domain)?;
     let mut particles = FluidParticles::default();
     fill_regions(scene, s, &settings, domain, &mut particles)?;
-    let walls = add_walls(scene, &settings, domain, &mut particles)?;
+    let walls = add_walls(scene, compiled, &settings, domain, &mut particles)?;
     settings.moving_walls = walls.moving.iter().map(|&(_, wall, _)| wall).collect();
     // Fluid on the wrong side of a cylinder, a rectangle or a mesh, or within half a spacing of it, is left out.
     particles.retain(|kind, x| kind == ParticleKind::Wall || walls.leave_fluid_at(x, &settings));
@@ -313,7 +314,13 @@ impl FluidWalls {
 /// The scene's walls as dummy particles on the fluid's side: a box's closed sides (the fluid
 /// inside), an axis-aligned plane's layers behind it across the domain, a cylinder's rings, a
 /// quad's and a mesh's layers behind their surfaces. Returns what the fluid must leave.
-fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, particles: &mut FluidParticles) -> Result<FluidWalls, SceneError> {
+fn add_walls(
+    scene: &Scene,
+    compiled: &[Wall],
+    settings: &FluidSettings,
+    domain: &PeriodicBox,
+    particles: &mut FluidParticles,
+) -> Result<FluidWalls, SceneError> {
     let two_d = settings.dimension == Dimension::Two;
     let mut walls = FluidWalls::default();
     let thickness = wall_layers(settings) as f64 * settings.spacing;
@@ -322,7 +329,7 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
         let not_yet = || {
             SceneError::field(
                 format!("walls[{k}]"),
-                "the SPH fluid's walls are boxes, axis-aligned planes, rectangular quads, cylinders and meshes, static or moving, so far; lifters, servos and conveyors are not yet made into wall particles",
+                "the SPH fluid's walls are boxes, axis-aligned planes, rectangular quads, cylinders, lifters and meshes, static or moving, so far; servos and conveyors are not yet made into wall particles",
             )
         };
         if w.servo.is_some() || w.surface_velocity.is_some() {
@@ -383,6 +390,17 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
             walls.cylinders.push(c);
         } else if let Some(m) = &w.mesh {
             walls.meshes.push(super::sph_meshes::add_mesh_wall(scene, k, m, settings, particles)?);
+        } else if w.lifters.is_some() {
+            let bars: Vec<&Wall> = compiled.iter().filter(|c| c.group as usize == k).collect();
+            walls.meshes.extend(super::sph_meshes::add_lifters(k, &bars, settings, particles)?);
+            // The bars turn with their drum: its motion, as the particles' lifters take it.
+            if let Some(Wall { motion: Some(motion), timing, .. }) = bars.first().copied() {
+                if two_d && motion_leaves_plane(&motion) {
+                    return Err(SceneError::field(f("on"), "a 2D fluid moves in the x–z plane: its drum must turn about y"));
+                }
+                add_moving(&mut walls, particles, first, k, MovingWall { motion: *motion, timing: *timing });
+            }
+            continue;
         } else {
             return Err(not_yet());
         }
@@ -391,12 +409,17 @@ fn add_walls(scene: &Scene, settings: &FluidSettings, domain: &PeriodicBox, part
             if two_d && motion_leaves_plane(&motion) {
                 return Err(SceneError::field(f("motion"), "a 2D fluid moves in the x–z plane: rotate about y, translate and oscillate within x–z"));
             }
-            let speed = particles.position[first..].iter().map(|&x| motion.velocity_at(x).length()).fold(0.0, f64::max);
-            walls.moving.push((k, MovingWall { motion, timing }, speed));
-            particles.assign_moving_wall(first, walls.moving.len() as u16);
+            add_moving(&mut walls, particles, first, k, MovingWall { motion, timing });
         }
     }
     Ok(walls)
+}
+
+/// The wall particles from `first` on move as `wall`, the motion of `[[walls]]` entry `k`.
+fn add_moving(walls: &mut FluidWalls, particles: &mut FluidParticles, first: usize, k: usize, wall: MovingWall) {
+    let speed = particles.position[first..].iter().map(|&x| wall.motion.velocity_at(x).length()).fold(0.0, f64::max);
+    walls.moving.push((k, wall, speed));
+    particles.assign_moving_wall(first, walls.moving.len() as u16);
 }
 
 /// Whether a motion would carry a 2D fluid's walls out of the x–z plane.

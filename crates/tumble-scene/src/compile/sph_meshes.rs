@@ -1,5 +1,6 @@
 //! Meshes in the fluid's scene: a `[[walls]] mesh` as dummy wall particles behind its surface,
-//! and a `[[sph.regions]] mesh`, the inside of a closed mesh filled with fluid.
+//! lifter bars as the closed meshes of their prisms, and a `[[sph.regions]] mesh`, the inside of
+//! a closed mesh filled with fluid.
 //!
 //! Both use the fluid's global lattice, points at (i + ½) Δp from the origin on every axis (in
 //! 2D the x–z plane at y = 0), so a mesh face on a multiple of Δp gets its layers at ½ Δp, 1½ Δp, …
@@ -9,11 +10,12 @@
 use super::sph::check_total;
 use crate::SceneError;
 use crate::mesh_walls::placed_mesh;
+use crate::plan::Wall;
 use crate::schema::{MeshSection, Scene};
 use glam::DVec3;
 use std::collections::HashSet;
 use std::ops::RangeInclusive;
-use tumble_geom::{MeshWall, OPEN};
+use tumble_geom::{MeshWall, OPEN, SurfaceShape, TriangleMesh};
 use tumble_sph::{Aabb, Dimension, FluidParticles, FluidSettings, add_fluid_points, push_walls, wall_layers};
 
 /// A mesh the fluid keeps off: a closed one (a body or a container) has a fluid side and a solid
@@ -62,15 +64,32 @@ fn lattice_point([i, j, k]: [i64; 3], dp: f64, dimension: Dimension) -> DVec3 {
 /// Wall `k`'s mesh as dummy particles: every lattice point behind its surface (against the
 /// normals) no deeper than the wall layers' thickness, inside the fluid's grid. The fluid is on
 /// the side the normals point to: outward for a body standing in it, inward for a container.
-pub(super) fn add_mesh_wall(
-    scene: &Scene,
-    k: usize,
-    m: &MeshSection,
-    settings: &FluidSettings,
-    particles: &mut FluidParticles,
-) -> Result<FluidMesh, SceneError> {
+pub(super) fn add_mesh_wall(scene: &Scene, k: usize, m: &MeshSection, settings: &FluidSettings, particles: &mut FluidParticles) -> Result<FluidMesh, SceneError> {
     let field = format!("walls[{k}].mesh");
     let (wall, _) = placed_mesh(scene, &field, m, 2.0 * settings.h, 0)?;
+    add_layers(&field, wall, settings, particles)
+}
+
+/// Wall `k`'s lifter bars (its compiled prisms) as closed meshes of dummy particles.
+pub(super) fn add_lifters(k: usize, bars: &[&Wall], settings: &FluidSettings, particles: &mut FluidParticles) -> Result<Vec<FluidMesh>, SceneError> {
+    let mut meshes = Vec::new();
+    for (r, bar) in bars.iter().enumerate() {
+        let SurfaceShape::Prism(prism) = &bar.shape else { continue };
+        let field = format!("walls[{k}].lifters (bar {r})");
+        // Each outward quad face as two triangles; corners welded by the mesh.
+        let vertices: Vec<DVec3> = prism.faces.iter().flat_map(|q| q.corners).collect();
+        let triangles: Vec<[u32; 3]> = (0..6u32).flat_map(|f| [[4 * f, 4 * f + 1, 4 * f + 2], [4 * f, 4 * f + 2, 4 * f + 3]]).collect();
+        let mesh = TriangleMesh::new(&vertices, &triangles, tumble_geom::DEFAULT_CURVATURE)
+            .map_err(|e| SceneError::field(field.clone(), format!("its bar is not a solid: {e}")))?
+            .0;
+        meshes.push(add_layers(&field, MeshWall::new(mesh, 2.0 * settings.h, 0), settings, particles)?);
+    }
+    Ok(meshes)
+}
+
+/// `wall`'s dummy particles: every lattice point behind its surface (against the normals) no
+/// deeper than the wall layers' thickness, inside the fluid's grid; `field` names it in errors.
+fn add_layers(field: &str, wall: MeshWall, settings: &FluidSettings, particles: &mut FluidParticles) -> Result<FluidMesh, SceneError> {
     let (dp, dimension) = (settings.spacing, settings.dimension);
     let thickness = wall_layers(settings) as f64 * dp;
     let grid = settings.domain;
@@ -83,7 +102,7 @@ pub(super) fn add_mesh_wall(
             box_indices(lo, hi, dp, dimension)
         })
         .collect();
-    check_total(&field, boxes.iter().map(|b| b.1).sum())?;
+    check_total(field, boxes.iter().map(|b| b.1).sum())?;
     let mut sites: HashSet<[i64; 3]> = HashSet::new();
     for (ranges, _) in &boxes {
         for kz in ranges[2].clone() {
@@ -103,10 +122,7 @@ pub(super) fn add_mesh_wall(
         .collect();
     if points.is_empty() {
         let why = if dimension == Dimension::Two { "; a 2D fluid lies in the plane y = 0, which the mesh must cross" } else { "" };
-        return Err(SceneError::field(
-            field,
-            format!("gives the fluid no wall particles: no lattice point lies behind its surface inside the fluid's grid{why}"),
-        ));
+        return Err(SceneError::field(field, format!("gives the fluid no wall particles: no lattice point lies behind its surface inside the fluid's grid{why}")));
     }
     push_walls(particles, settings, points, DVec3::ZERO);
     let closed = !wall.body.mesh.two_sided;
