@@ -31,6 +31,9 @@ struct FluidParams {
     eos: vec4<f32>,
     // Δt, Δt/2, unused, unused.
     step: vec4<f32>,
+    // The first floating body's wall number, the bodies, the motion table's row of the first
+    // body's centre, unused.
+    bodies: vec4<u32>,
 }
 
 fn fluid_index(gid: vec3<u32>) -> u32 {

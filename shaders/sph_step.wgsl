@@ -3,7 +3,9 @@
 // fluid_wall_state   each fluid particle's pressure from the Tait equation; each wall
 //                    particle's pressure, density and viscous velocity extrapolated from the
 //                    fluid around it (Adami, Hu & Adams 2012)
-// fluid_rates        each fluid particle's acceleration, density rate and XSPH correction
+// fluid_rates        each fluid particle's acceleration, density rate and XSPH correction, and
+//                    each floating body's particle the fluid's force on it
+// fluid_body_sums    per floating body, that force summed and its moment about the centre
 //
 // and the symplectic scheme's halves (fluid_first_half, fluid_second_half). Every sum is
 // gathered by its particle over the cells around it in slot order: no atomics, the same
@@ -131,7 +133,14 @@ fn fluid_rates(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     if tags[a].x != SPH_FLUID {
-        rate[a] = vec4<f32>(0.0);
+        // A floating body's particle keeps the fluid's force on it where a fluid particle keeps
+        // its rates; fluid_body_sums adds them up.
+        var reaction = vec3<f32>(0.0);
+        let wall = tags[a].z;
+        if wall >= fluid.bodies.x && wall < fluid.bodies.x + fluid.bodies.y {
+            reaction = body_reaction(a);
+        }
+        rate[a] = vec4<f32>(reaction, 0.0);
         xsph[a] = vec4<f32>(0.0);
         return;
     }
@@ -197,6 +206,93 @@ fn fluid_rates(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     rate[a] = vec4<f32>(acc + fluid.body_acceleration.xyz, continuity + fluid.more_terms.w * diffusion);
     xsph[a] = vec4<f32>(fluid.hydrostatic.w * correction, 0.0);
+}
+
+// The force the fluid around wall particle `w` (a floating body's) exerts on it: minus what each
+// fluid neighbour feels from it in fluid_rates, term for term (tumble-sph's wall_reaction).
+fn body_reaction(w: u32) -> vec3<f32> {
+    let laminar = method_has(SPH_LAMINAR);
+    let tensile = method_has(SPH_TENSILE);
+    let xw = pos[w];
+    let vvw = viscous[w].xyz;
+    let rho_w = vel[w].w;
+    let sw = state[w];
+    let m_w = xw.w;
+    var force = vec3<f32>(0.0);
+    let around = neighbour_cells(w);
+    for (var k = 0u; k < around.count; k++) {
+        let n = around.cells[k];
+        for (var f = cell_start[n]; f < cell_start[n + 1u]; f++) {
+            if tags[f].x != SPH_FLUID {
+                continue;
+            }
+            let xf = pos[f];
+            let d = fluid_separation(xf.xyz, xw.xyz);
+            let r2 = dot(d, d);
+            if r2 >= fluid.kernel.x {
+                continue;
+            }
+            let r = sqrt(r2);
+            let kernel = wendland(r);
+            let gw = kernel.y;
+            let vf = vel[f];
+            let rho_f = vf.w;
+            let sf = state[f];
+            var p_term = sf.y + sw.y;
+            if tensile {
+                let x = kernel.x * fluid.terms.x;
+                let x2 = x * x;
+                p_term += (sf.w + sw.w) * x2 * x2;
+            }
+            var acceleration = vec3<f32>(0.0);
+            if laminar {
+                let nu = m_w * fluid.terms.w * r2 * gw / (rho_f * rho_w * (r2 + fluid.terms.z));
+                acceleration = nu * (vf.xyz - vvw);
+            } else {
+                let vr = dot(vf.xyz - vvw, d);
+                p_term -= fluid.more_terms.x * min(vr, 0.0) / (0.5 * (rho_f + rho_w) * (r2 + fluid.terms.y));
+            }
+            let repulsion = fluid.more_terms.z * max(fluid.more_terms.y - r, 0.0) / max(r, fluid.extent.w);
+            acceleration += (repulsion - m_w * p_term * gw) * d;
+            force -= xf.w * acceleration;
+        }
+    }
+    return force;
+}
+
+var<workgroup> partial_force: array<vec3<f32>, WORKGROUP>;
+var<workgroup> partial_moment: array<vec3<f32>, WORKGROUP>;
+
+// One workgroup per floating body: the fluid's force on it and the moment about its centre,
+// summed over its particles in slot order by strides, then pairwise in a fixed tree.
+@compute @workgroup_size(WORKGROUP)
+fn fluid_body_sums(@builtin(local_invocation_index) i: u32, @builtin(workgroup_id) group: vec3<u32>) {
+    let body = group.x;
+    let wall = fluid.bodies.x + body;
+    let centre = motions[fluid.bodies.z + body].xyz;
+    var force = vec3<f32>(0.0);
+    var moment = vec3<f32>(0.0);
+    for (var a = i; a < fluid.counts.x; a += WORKGROUP) {
+        if tags[a].x != SPH_FLUID && tags[a].z == wall {
+            let f = rate[a].xyz;
+            force += f;
+            moment += cross(fluid_separation(pos[a].xyz, centre), f);
+        }
+    }
+    partial_force[i] = force;
+    partial_moment[i] = moment;
+    workgroupBarrier();
+    for (var stride = WORKGROUP / 2u; stride > 0u; stride = stride / 2u) {
+        if i < stride {
+            partial_force[i] += partial_force[i + stride];
+            partial_moment[i] += partial_moment[i + stride];
+        }
+        workgroupBarrier();
+    }
+    if i == 0u {
+        body_sums[2u * body] = vec4<f32>(partial_force[0], 0.0);
+        body_sums[2u * body + 1u] = vec4<f32>(partial_moment[0], 0.0);
+    }
 }
 
 // The first half of the symplectic step: the fluid keeps v and ρ of the step's start, then

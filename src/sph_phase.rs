@@ -118,21 +118,21 @@ impl SphPhase {
     /// the particle and a Δt that works.
     fn take_device_state(&mut self, dt: f64) -> Result<(), String> {
         let Some(device) = self.device.as_mut() else { return Ok(()) };
-        let mut snapshot = device.fluid.snapshot();
+        let read = device.fluid.read();
+        let mut snapshot = device.fluid.snapshot_of(read.particles);
         let p = &snapshot.particles;
         let time = snapshot.time;
         if let Some(i) = (0..p.len()).find(|&i| !(p.position[i].is_finite() && p.velocity[i].is_finite() && p.density[i].is_finite())) {
             return Err(tumble_sph::FluidFault::NotFinite { id: p.id[i], time }.to_string());
         }
-        let pressure = device.fluid.pressures();
         device.pressure = vec![0.0; p.len()];
         for (i, &id) in p.id.iter().enumerate() {
-            device.pressure[id as usize] = pressure[i];
+            device.pressure[id as usize] = read.pressures[i];
         }
         snapshot.list_positions = Some(p.position.clone());
         self.phase.restore(&snapshot)?;
-        let (limits, fastest) = device.fluid.time_step_limits();
-        device.dt_limit = limits.dt();
+        let fastest = read.fastest;
+        device.dt_limit = read.limits.dt();
         // The device sorts every step: a particle may move 0.2 h per half step (the cells' skin);
         // a flow that fast has outrun the sound speed the step was chosen for.
         let settings = self.phase.settings();

@@ -439,11 +439,11 @@ fn the_fluid_monitor_stops_a_run_whose_energy_grows() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The GPU backend refuses a fluid with floating bodies on one line and writes nothing (they run
-/// on the CPU so far); `tumble plan` states the fluid's time step and why, and its memory on the
-/// GPU or why it cannot run there.
+/// The GPU backend refuses a fluid with inflow and outflow buffers on one line and writes
+/// nothing (they run on the CPU so far); `tumble plan` states the fluid's time step and why, and
+/// its memory on the GPU (floating bodies included) or why it cannot run there.
 #[test]
-fn the_plan_states_the_fluid_and_the_gpu_refuses_floating_bodies() {
+fn the_plan_states_the_fluid_and_the_gpu_refuses_buffers() {
     let dir = tmp("plan");
     let o = tumble(&["plan", "scenes/dam_break.toml"]);
     let text = String::from_utf8_lossy(&o.stdout);
@@ -451,12 +451,15 @@ fn the_plan_states_the_fluid_and_the_gpu_refuses_floating_bodies() {
     assert!(text.contains("fluid gpu    0.4 MiB in f32 (184 bytes per fluid or wall particle"), "{text}");
     let o = tumble(&["plan", "scenes/floating_box.toml"]);
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains("fluid gpu    not this scene: the SPH fluid's floating bodies"), "{text}");
+    assert!(text.contains("fluid gpu    ") && text.contains(" MiB in f32 (184 bytes per fluid or wall particle"), "{text}");
+    let o = tumble(&["plan", "scenes/channel_inflow.toml"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("fluid gpu    not this scene: the SPH fluid's inflow and outflow buffers"), "{text}");
     let out = dir.join("gpu");
-    let o = tumble(&["run", "scenes/floating_box.toml", "--backend", "gpu", "--quiet", "--out", out.to_str().unwrap()]);
+    let o = tumble(&["run", "scenes/channel_inflow.toml", "--backend", "gpu", "--quiet", "--out", out.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.trim().lines().count() == 1 && err.contains("floating bodies") && err.contains("run on the CPU backend so far"), "{err}");
+    assert!(err.trim().lines().count() == 1 && err.contains("buffers") && err.contains("run on the CPU backend so far"), "{err}");
     assert!(!out.exists(), "a refused run wrote {}", out.display());
     let _ = std::fs::remove_dir_all(&dir);
 }

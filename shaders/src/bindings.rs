@@ -191,8 +191,11 @@ pub const SPH_STEP: &[Binding] = &[
     b("xsph", V4F, ReadWrite, Always),
     // Velocity and density at the step's start.
     b("start", V4F, ReadWrite, Always),
-    // Per moving wall, the current half step's motion table (SPH_MOTION_WORDS entries each).
+    // Per moving wall and floating body, the current half step's motion table (SPH_MOTION_WORDS
+    // entries each), then each body's centre.
     b("motions", V4F, Read, Always),
+    // Per floating body, the fluid's force on it and its moment about the centre.
+    b("body_sums", V4F, ReadWrite, Always),
 ];
 
 /// polyhedra_test.wgsl: the narrow-phase harness.

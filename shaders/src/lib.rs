@@ -140,7 +140,7 @@ pub const FLUID_MODULES: &[Module] = &[
         name: "fluid step",
         files: &[SPH_COMMON, SPH_STEP],
         bindings: bindings::SPH_STEP,
-        entry_points: &["fluid_wall_state", "fluid_rates", "fluid_first_half", "fluid_second_half"],
+        entry_points: &["fluid_wall_state", "fluid_rates", "fluid_body_sums", "fluid_first_half", "fluid_second_half"],
     },
 ];
 

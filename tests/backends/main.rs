@@ -87,6 +87,7 @@ fn main() {
         fluid::gpu_fluid_runs_are_bit_identical_and_restart_exactly,
         fluid::a_gpu_fluid_scene_resumes_bit_identically,
         fluid::a_turning_drum_on_the_gpu_drags_the_water_as_on_the_cpu,
+        fluid::a_floating_box_on_the_gpu_moves_as_on_the_cpu,
         fluid::a_gpu_run_without_a_runtime_dir_prints_no_loader_error,
     ];
     let cpu_only = vec![tumble_testkit::harness::cpu_trial("render::bad_input_is_refused_in_one_line", render::bad_input_is_refused_in_one_line)];

@@ -7,11 +7,14 @@
 //! run gives the same bits every time on one device, and a run continued from a snapshot of
 //! the device's arrays continues bit-identically.
 //!
-//! Walls (fixed or moving by a motion), periodic axes, both viscosities, both density
-//! diffusions, the tensile correction and XSPH run here; floating bodies and inflow or outflow
-//! buffers are refused with the reason (they run on the CPU so far). A moving wall's particles
-//! move by a table the host writes per half step in f64 (the rigid move over the half step, the
-//! velocity at its end and the acceleration at its start, each an affine map of the position).
+//! Walls (fixed or moving by a motion), floating bodies, periodic axes, both viscosities, both
+//! density diffusions, the tensile correction and XSPH run here; inflow or outflow buffers are
+//! refused with the reason (they run on the CPU so far). A moving wall's particles move by a
+//! table the host writes per half step in f64 (the rigid move over the half step, the velocity
+//! at its end and the acceleration at its start, each an affine map of the position). A floating
+//! body's particles move by the same table: the device sums the fluid's force on the body and its
+//! moment at each evaluation, the host reads them back and integrates the body in f64 as
+//! tumble-sph does, then writes its move.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -22,7 +25,7 @@ use glam::DVec3;
 use tumble_shaders::{
     FLUID_MODULES, MODULES, Module, SCAN_BLOCK, SPH_DIFFUSE, SPH_FLUID, SPH_LAMINAR, SPH_MOTION_WORDS, SPH_TENSILE, SPH_WALL, SPH_XSPH,
 };
-use tumble_sph::{BufferBooks, FluidParticles, FluidSettings, FluidSnapshot, ParticleKind, PassConstants, SKIN, Tait, TimeStepLimits, Viscosity};
+use tumble_sph::{BodyMove, BodyState, BufferBooks, FluidParticles, FluidSettings, FluidSnapshot, ParticleKind, PassConstants, SKIN, Tait, TimeStepLimits, Viscosity};
 use wgpu::util::DeviceExt;
 
 use crate::buffers::zeroed;
@@ -46,6 +49,7 @@ pub struct FluidParams {
     pub body_acceleration: [f32; 4],
     pub eos: [f32; 4],
     pub step: [f32; 4],
+    pub bodies: [u32; 4],
 }
 
 /// Bytes the device holds per fluid or wall particle: eleven arrays of 16 bytes (position,
@@ -59,14 +63,8 @@ fn v4(v: DVec3, w: f64) -> [f32; 4] {
 
 /// Why a fluid cannot run on the GPU yet, or None.
 pub fn fluid_gpu_refusal(settings: &FluidSettings) -> Option<String> {
-    let what = if !settings.floating.is_empty() {
-        "floating bodies ([[sph.floating]])"
-    } else if !(settings.inflows.is_empty() && settings.outflows.is_empty()) {
-        "inflow and outflow buffers"
-    } else {
-        return None;
-    };
-    Some(format!("the SPH fluid's {what} run on the CPU backend so far; use --backend cpu"))
+    (!(settings.inflows.is_empty() && settings.outflows.is_empty()))
+        .then(|| "the SPH fluid's inflow and outflow buffers run on the CPU backend so far; use --backend cpu".to_string())
 }
 
 /// The cell grid of the fluid's domain: cells at least 2h·SKIN wide (one along a flat axis).
@@ -125,7 +123,14 @@ pub fn fluid_params(settings: &FluidSettings, n: u32, dims: [u32; 3], inv_cell: 
         body_acceleration: v4(settings.external_acceleration(), 0.0),
         eos: [eos.rho0 as f32, eos.b as f32, (1.0 / eos.rho0) as f32, 0.0],
         step: [dt as f32, (0.5 * dt) as f32, 0.0, 0.0],
+        bodies: [settings.body_wall_number(0) as u32, settings.floating.len() as u32, body_centre_row(settings), 0],
     }
+}
+
+/// The motion table's row of the first floating body's centre: after the moving walls' and the
+/// bodies' maps.
+fn body_centre_row(settings: &FluidSettings) -> u32 {
+    SPH_MOTION_WORDS * (settings.moving_walls.len() + settings.floating.len()) as u32
 }
 
 /// The device's arrays of one fluid (16-byte elements unless said otherwise).
@@ -145,6 +150,8 @@ struct FluidBuffers {
     /// The motion table of the current half step, and those of a batch's half steps.
     motions: wgpu::Buffer,
     motion_stage: wgpu::Buffer,
+    /// Per floating body: the fluid's force and its moment about the centre.
+    body_sums: wgpu::Buffer,
     /// u32 per particle.
     cell: wgpu::Buffer,
     cell_list: wgpu::Buffer,
@@ -172,6 +179,7 @@ impl FluidBuffers {
             "xsph" => &self.xsph,
             "start" => &self.start,
             "motions" => &self.motions,
+            "body_sums" => &self.body_sums,
             "cell" => &self.cell,
             "cell_list" => &self.cell_list,
             "count" => &self.count,
@@ -223,6 +231,20 @@ fn bind<'a>(gpu: &Gpu, module: &Module, layout: &wgpu::BindGroupLayout, buffer: 
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(module.name), layout, entries: &entries })
 }
 
+/// What [`GpuFluid::read`] brings back in one read-back.
+#[derive(Clone, Debug)]
+pub struct FluidReadBack {
+    /// The particles in the device's (sorted) order, in f64; wall particles carry their last
+    /// extrapolated density.
+    pub particles: FluidParticles,
+    /// Each particle's pressure at the last evaluation (walls: extrapolated), in that order.
+    pub pressures: Vec<f64>,
+    /// The time-step limits at the fluid's largest speed and acceleration of the last evaluation.
+    pub limits: TimeStepLimits,
+    /// The fastest fluid particle's id and speed (the lowest id among equals).
+    pub fastest: Option<(u32, f64)>,
+}
+
 /// An SPH fluid stepped on the GPU in f32.
 pub struct GpuFluid {
     gpu: Arc<Gpu>,
@@ -240,6 +262,8 @@ pub struct GpuFluid {
     /// The ids the particles had before the device held them (in their upload order), kept for
     /// nothing but the snapshot's next id.
     next_id: u32,
+    /// The floating bodies, integrated on the host in f64 from the device's sums.
+    bodies: Vec<BodyState>,
     time: f64,
     steps: u64,
 }
@@ -269,7 +293,8 @@ impl GpuFluid {
         let centre = 0.5 * (settings.domain.min + settings.domain.max);
         let zero = |bytes: u64| zeroed(&gpu, "fluid array", bytes);
         let per = 16 * n as u64;
-        let motion_bytes = 16 * SPH_MOTION_WORDS as u64 * settings.moving_walls.len() as u64;
+        let bodies = settings.floating.len() as u64;
+        let motion_bytes = 16 * (body_centre_row(settings) as u64 + bodies);
         let buckets = cells as u64 + 2;
         let mut scan_sizes = vec![buckets as u32];
         while *scan_sizes.last().unwrap() > SCAN_BLOCK {
@@ -294,6 +319,7 @@ impl GpuFluid {
             start: zero(per),
             motions: zero(motion_bytes),
             motion_stage: zero(2 * crate::STEPS_PER_SUBMIT * motion_bytes),
+            body_sums: zero(32 * bodies),
             cell: zero(4 * n as u64),
             cell_list: zero(4 * n as u64),
             count: zero(4 * buckets),
@@ -348,6 +374,7 @@ impl GpuFluid {
             scan_groups,
             _scan_params: scan_params,
             next_id: 0,
+            bodies: settings.floating.iter().map(|b| b.start).collect(),
             time: 0.0,
             steps: 0,
         };
@@ -438,8 +465,7 @@ impl GpuFluid {
             if table > 0 {
                 encoder.copy_buffer_to_buffer(&self.buffers.motion_stage, (2 * step + k as u64) * table, &self.buffers.motions, 0, table);
             }
-            self.pass(encoder, "fluid_wall_state", &self.step_group, particles);
-            self.pass(encoder, "fluid_rates", &self.step_group, particles);
+            self.record_evaluation(encoder);
             self.pass(encoder, half, &self.step_group, particles);
         }
     }
@@ -456,6 +482,13 @@ impl GpuFluid {
             self.params.step = step;
             self.gpu.queue.write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&self.params));
         }
+        if !self.bodies.is_empty() {
+            for _ in 0..steps {
+                self.step_with_bodies(dt);
+            }
+            self.steps += steps;
+            return;
+        }
         let mut left = steps;
         while left > 0 {
             let batch = left.min(crate::STEPS_PER_SUBMIT);
@@ -464,8 +497,8 @@ impl GpuFluid {
             for step in 0..batch {
                 // The host time sums Δt in f64 as the CPU's does, and the halves start where its do.
                 let half = 0.5 * dt;
-                tables.extend(self.motion_table(self.time, half));
-                tables.extend(self.motion_table(self.time + half, half));
+                tables.extend(self.motion_table(self.time, half, None));
+                tables.extend(self.motion_table(self.time + half, half, None));
                 self.record_step(&mut encoder, step);
                 self.time += dt;
             }
@@ -478,36 +511,115 @@ impl GpuFluid {
         self.steps += steps;
     }
 
-    /// The moving walls' table for the half step from `t0` to `t0 + half`, in device
-    /// coordinates (positions relative to the domain's centre): per wall the move, the velocity
-    /// at the end and the acceleration at the start, each as three rows of an affine map fitted
-    /// exactly (the motions are rigid) from the motion's answers at the centre and a metre along
-    /// each axis.
-    fn motion_table(&self, t0: f64, half: f64) -> Vec<[f32; 4]> {
+    /// One step with floating bodies. As tumble-sph does, the host integrates the bodies in f64
+    /// between the evaluations, from the forces and moments the device sums: two read-backs a
+    /// step, where a fluid without bodies submits many steps at once.
+    fn step_with_bodies(&mut self, dt: f64) {
+        let half = 0.5 * dt;
+        let t0 = self.time;
+        let particles = dispatch(self.n, WORKGROUP);
+        // The evaluation at the step's start, with the bodies' accelerations of their last loads.
+        self.write_motions(&self.motion_table(t0, half, None));
+        let mut encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fluid step") });
+        self.record_sort(&mut encoder);
+        self.record_evaluation(&mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        self.load_bodies();
+        let start = self.bodies.clone();
+        let moves: Vec<BodyMove> = self.bodies.iter().map(|b| BodyMove::first_half(b, half)).collect();
+        self.write_motions(&self.motion_table(t0, half, Some(&moves)));
+        self.submit_pass("fluid_first_half", particles);
+        self.bodies = moves.iter().map(|m| m.state).collect();
+        // The evaluation at the middle, then the second half.
+        self.write_motions(&self.motion_table(t0 + half, half, None));
+        let mut encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fluid step") });
+        self.record_evaluation(&mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        self.load_bodies();
+        let moves: Vec<BodyMove> = start.iter().zip(&self.bodies).map(|(s, m)| BodyMove::second_half(s, m, dt)).collect();
+        self.write_motions(&self.motion_table(t0 + half, half, Some(&moves)));
+        self.submit_pass("fluid_second_half", particles);
+        self.bodies = moves.iter().map(|m| m.state).collect();
+        self.time += dt;
+    }
+
+    /// The walls' states and the rates, and with floating bodies the fluid's loads on them.
+    fn record_evaluation(&self, encoder: &mut wgpu::CommandEncoder) {
+        let particles = dispatch(self.n, WORKGROUP);
+        self.pass(encoder, "fluid_wall_state", &self.step_group, particles);
+        self.pass(encoder, "fluid_rates", &self.step_group, particles);
+        if !self.bodies.is_empty() {
+            self.pass(encoder, "fluid_body_sums", &self.step_group, (self.bodies.len() as u32, 1));
+        }
+    }
+
+    fn submit_pass(&self, entry: &'static str, groups: (u32, u32)) {
+        let mut encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(entry) });
+        self.pass(&mut encoder, entry, &self.step_group, groups);
+        self.gpu.queue.submit([encoder.finish()]);
+    }
+
+    /// Writes the motion table the next submission reads.
+    fn write_motions(&self, table: &[[f32; 4]]) {
+        if !table.is_empty() {
+            self.gpu.queue.write_buffer(&self.buffers.motions, 0, bytemuck::cast_slice(table));
+        }
+    }
+
+    /// Reads the device's sums of the fluid's loads on the bodies and gives each body its
+    /// accelerations.
+    fn load_bodies(&mut self) {
+        let parts = read_back(&self.gpu, |_| {}, &[(&self.buffers.body_sums, 32 * self.bodies.len() as u64)]);
+        let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&parts[0]);
+        let d3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+        let s = &self.settings;
+        for (k, (state, body)) in self.bodies.iter_mut().zip(&s.floating).enumerate() {
+            state.load(body, d3(sums[2 * k]), d3(sums[2 * k + 1]), s.gravity, s.dimension);
+        }
+    }
+
+    /// The motion table for the half step from `t0` to `t0 + half`, in device coordinates
+    /// (positions relative to the domain's centre): per moving wall, then per floating body, the
+    /// move, the velocity at the end and the acceleration at the start, each as three rows of an
+    /// affine map fitted exactly (the motions are rigid) from the answers at the centre and a
+    /// metre along each axis; then each body's centre. A body's move is `moves`' (before its loads
+    /// are known, its move and velocity rows are zero: the evaluation reads only its
+    /// acceleration and centre).
+    fn motion_table(&self, t0: f64, half: f64, moves: Option<&[BodyMove]>) -> Vec<[f32; 4]> {
         let c = self.centre;
         let affine = |f: &dyn Fn(DVec3) -> DVec3| {
             let origin = f(c);
             let columns = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| f(c + e) - origin);
             [0, 1, 2].map(|r| [columns[0][r] as f32, columns[1][r] as f32, columns[2][r] as f32, origin[r] as f32])
         };
-        let mut table = Vec::with_capacity(SPH_MOTION_WORDS as usize * self.settings.moving_walls.len());
+        let mut table = Vec::with_capacity(body_centre_row(&self.settings) as usize + self.bodies.len());
         for wall in &self.settings.moving_walls {
             let t1 = t0 + half;
             table.extend(affine(&|x| wall.advance(x, t0, t1) - c));
             table.extend(affine(&|x| wall.velocity_at(x, t1)));
             table.extend(affine(&|x| wall.acceleration_at(x, t0)));
         }
+        for (k, body) in self.bodies.iter().enumerate() {
+            match moves.map(|m| m[k]) {
+                Some(m) => {
+                    table.extend(affine(&|x| x + m.carry(x - m.from).0 - c));
+                    table.extend(affine(&|x| m.state.velocity_at(x - m.to)));
+                }
+                None => table.extend([[0.0; 4]; 6]),
+            }
+            table.extend(affine(&|x| body.acceleration_at(x - body.centre)));
+        }
+        table.extend(self.bodies.iter().map(|b| v4(b.centre - c, 0.0)));
         table
     }
 
-    /// The device's particles in its (sorted) order, in f64; wall particles carry their last
-    /// extrapolated density.
-    pub fn particles(&self) -> FluidParticles {
+    /// Everything the host reads of the device after an advance, in one read-back (one
+    /// submission, one mapping): the particles, their pressures and the time-step limits.
+    pub fn read(&self) -> FluidReadBack {
         let b = &self.buffers;
         let bytes = 16 * self.n as u64;
-        let parts = read_back(&self.gpu, |_| {}, &[(&b.pos, bytes), (&b.vel, bytes), (&b.tags, bytes)]);
-        let pos: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&parts[0]);
-        let vel: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&parts[1]);
+        let parts = read_back(&self.gpu, |_| {}, &[(&b.pos, bytes), (&b.vel, bytes), (&b.tags, bytes), (&b.state, bytes), (&b.rate, bytes)]);
+        let [pos, vel, state, rate]: [Vec<[f32; 4]>; 4] = [0, 1, 3, 4].map(|k| bytemuck::pod_collect_to_vec(&parts[k]));
         let tags: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&parts[2]);
         let d3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
         let mut p = FluidParticles::default();
@@ -522,48 +634,46 @@ impl GpuFluid {
             p.mass.push(pos[i][3] as f64);
             p.wall.push(tags[i][2] as u16);
         }
-        p
-    }
-
-    /// The pressure of each particle at the last evaluation (walls: extrapolated), in the
-    /// device's order.
-    pub fn pressures(&self) -> Vec<f64> {
-        let parts = read_back(&self.gpu, |_| {}, &[(&self.buffers.state, 16 * self.n as u64)]);
-        let state: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&parts[0]);
-        state.iter().map(|s| s[0] as f64).collect()
-    }
-
-    /// The time-step limits of the fluid's last evaluation (its largest speed and acceleration),
-    /// and the fastest fluid particle's id and speed (the lowest id among equals).
-    pub fn time_step_limits(&self) -> (TimeStepLimits, Option<(u32, f64)>) {
-        let b = &self.buffers;
-        let bytes = 16 * self.n as u64;
-        let parts = read_back(&self.gpu, |_| {}, &[(&b.vel, bytes), (&b.rate, bytes), (&b.tags, bytes)]);
-        let vel: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&parts[0]);
-        let rate: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&parts[1]);
-        let tags: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&parts[2]);
-        let length = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64).length();
+        // The fluid's largest speed and acceleration give the limits; the fastest particle is
+        // the lowest id among equals.
         let (mut speed, mut acceleration, mut fastest) = (0.0f64, 0.0f64, None::<(u32, f64)>);
         for i in (0..self.n as usize).filter(|&i| tags[i][0] == SPH_FLUID) {
-            let v = length(vel[i]);
+            let v = d3(vel[i]).length();
             speed = speed.max(v);
-            acceleration = acceleration.max(length(rate[i]));
+            acceleration = acceleration.max(d3(rate[i]).length());
             if fastest.is_none_or(|(id, s)| v > s || (v == s && tags[i][1] < id)) {
                 fastest = Some((tags[i][1], v));
             }
         }
         let limits = TimeStepLimits::new(&self.settings, speed, acceleration.max(self.settings.external_acceleration().length()));
-        (limits, fastest)
+        FluidReadBack { particles: p, pressures: state.iter().map(|s| s[0] as f64).collect(), limits, fastest }
+    }
+
+    /// The device's particles in its (sorted) order, in f64; wall particles carry their last
+    /// extrapolated density.
+    pub fn particles(&self) -> FluidParticles {
+        self.read().particles
+    }
+
+    /// The pressure of each particle at the last evaluation (walls: extrapolated), in the
+    /// device's order.
+    pub fn pressures(&self) -> Vec<f64> {
+        self.read().pressures
     }
 
     /// The fluid's state for a checkpoint: the device's arrays in their order.
     pub fn snapshot(&self) -> FluidSnapshot {
+        self.snapshot_of(self.particles())
+    }
+
+    /// The snapshot of the fluid whose particles, read back, are `particles`.
+    pub fn snapshot_of(&self, particles: FluidParticles) -> FluidSnapshot {
         FluidSnapshot {
             time: self.time,
             steps: self.steps,
-            particles: self.particles(),
+            particles,
             list_positions: None,
-            bodies: Vec::new(),
+            bodies: self.bodies.clone(),
             buffers: BufferBooks::default(),
             next_id: self.next_id,
         }
@@ -579,7 +689,11 @@ impl GpuFluid {
         if [p.id.len(), p.kind.len(), p.velocity.len(), p.density.len(), p.mass.len(), p.wall.len()].iter().any(|&len| len != p.len()) {
             return Err("the fluid snapshot's arrays differ in length".into());
         }
+        if snapshot.bodies.len() != self.bodies.len() {
+            return Err(format!("the fluid snapshot holds {} floating bodies; the GPU fluid has {}", snapshot.bodies.len(), self.bodies.len()));
+        }
         self.upload(p);
+        self.bodies.clone_from(&snapshot.bodies);
         self.next_id = self.next_id.max(snapshot.next_id);
         self.time = snapshot.time;
         self.steps = snapshot.steps;

@@ -48,7 +48,7 @@ pub use buffers::{
     BYTES_PER_CELL, BYTES_PER_PARTICLE, bytes_per_particle, device_bytes, history_bytes_per_particle, memory_bytes, wall_bytes_per_particle,
 };
 pub use context::{AdapterDescription, GpuError, available, gpu};
-pub use fluid::{FLUID_BYTES_PER_PARTICLE, FluidParams, GpuFluid, fluid_device_bytes, fluid_gpu_refusal, fluid_params};
+pub use fluid::{FLUID_BYTES_PER_PARTICLE, FluidParams, FluidReadBack, GpuFluid, fluid_device_bytes, fluid_gpu_refusal, fluid_params};
 pub use kernels::{ShaderCompileStats, shader_compile_stats};
 pub use upload::Grid;
 

@@ -209,7 +209,7 @@ impl BodyState {
 /// How a floating body carries its particles over a drift: from centre `from` to centre `to`,
 /// turned by `turn` about the centre, ending with `state`'s velocities.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct BodyMove {
+pub struct BodyMove {
     pub from: DVec3,
     pub to: DVec3,
     pub turn: DQuat,

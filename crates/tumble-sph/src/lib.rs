@@ -28,7 +28,7 @@ mod setup;
 
 pub use buffers::{BufferBooks, BufferBox, Inflow, Outflow};
 pub use eos::{GAMMA, Tait};
-pub use floating::{BodyShape, BodyState, FloatingBody};
+pub use floating::{BodyMove, BodyShape, BodyState, FloatingBody};
 pub use kernel::{Dimension, WendlandC2};
 pub use limits::{FluidFault, TimeStepLimits};
 pub use neighbours::{SKIN, rebuild_distance};
