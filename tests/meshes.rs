@@ -753,16 +753,7 @@ motion = {{ rotate = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 1.0, 0.0], rpm = 2
     );
     let compiled = compile(&parse_scene(&text).unwrap()).unwrap_or_else(|e| panic!("{e}"));
     let fluid = compiled.fluid.as_ref().unwrap();
-    let bars: Vec<tumble_geom::Prism> = compiled
-        .plan
-        .model
-        .walls
-        .iter()
-        .filter_map(|w| match &w.shape {
-            tumble_geom::SurfaceShape::Prism(p) => Some((**p).clone()),
-            _ => None,
-        })
-        .collect();
+    let bars: Vec<tumble_geom::Prism> = compiled.plan.model.lifter_bars().cloned().collect();
     // No water starts inside a bar, nor within half a spacing of one.
     for (i, &x) in fluid.position.iter().enumerate() {
         if fluid.kind[i] == tumble_sph::ParticleKind::Fluid {

@@ -186,15 +186,7 @@ fn the_moving_geometry_step_limit_is_applied_and_reported() {
 fn lifters_are_convex_bars_on_the_shell() {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ball_mill.toml")).unwrap();
     let plan = compile(&parse_scene(&text).unwrap()).unwrap().plan;
-    let bars: Vec<_> = plan
-        .model
-        .walls
-        .iter()
-        .filter_map(|w| match &w.shape {
-            tumble_geom::SurfaceShape::Prism(p) => Some(p),
-            _ => None,
-        })
-        .collect();
+    let bars: Vec<_> = plan.model.lifter_bars().collect();
     assert_eq!(bars.len(), 8);
     assert_eq!(plan.model.wall_groups[1].name, "lifters");
     assert_eq!(plan.model.drums.len(), 1);
@@ -204,7 +196,7 @@ fn lifters_are_convex_bars_on_the_shell() {
         let radial = DVec3::new(p.centre.x, p.centre.y, 0.0).normalize();
         // A ball just touching the middle of the top face, 0.1 mm deep.
         let centre = DVec3::new(0.0, 0.0, 0.075) + radial * (0.41 - 0.0249);
-        let c = tumble_geom::SurfaceShape::Prism((*p).clone()).sphere_contact(centre, 0.025).expect("touches the top face");
+        let c = tumble_geom::SurfaceShape::Prism(Box::new((*p).clone())).sphere_contact(centre, 0.025).expect("touches the top face");
         assert!((c.overlap - 1e-4).abs() < 1e-9 && (c.normal + radial).length() < 1e-9, "{c:?}");
     }
     // Trapezoidal bars: the base widens by 2 h tan(face angle).

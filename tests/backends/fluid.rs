@@ -241,6 +241,18 @@ fn run_scene(dir: &std::path::Path, scene: &str, out: &str, duration: &str, back
     tumble(&["run", scene, "--quiet", "--backend", backend, "--duration", duration, "--checkpoint-interval", "0.02", "--out", out.to_str().unwrap()]);
 }
 
+/// `scene` on the GPU for `duration` into `dir/gpu`, and again to `half`, checkpointed and
+/// resumed to `duration`, into `dir/halves`: `files` of the two runs are byte-identical.
+fn gpu_run_resumes_identically(dir: &std::path::Path, scene: &str, half: &str, duration: &str, files: &[&str]) {
+    run_scene(dir, scene, "gpu", duration, "gpu");
+    run_scene(dir, scene, "halves", half, "gpu");
+    tumble(&["resume", dir.join("halves").to_str().unwrap(), "--quiet", "--duration", duration]);
+    for file in files {
+        let (a, b) = (std::fs::read(dir.join("gpu").join(file)).unwrap(), std::fs::read(dir.join("halves").join(file)).unwrap());
+        assert!(a == b, "{file} differs after the resume");
+    }
+}
+
 /// The last value of a CSV column.
 fn last_value(path: &std::path::Path, column: &str) -> f64 {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -254,16 +266,10 @@ fn last_value(path: &std::path::Path, column: &str) -> f64 {
 pub fn a_gpu_fluid_scene_resumes_bit_identically() {
     let dir = scratch("resume");
     let scene = shipped_scene(&dir, "dam_break.toml", "spacing = 0.0025", "spacing = 0.005");
-    run_scene(&dir, &scene, "whole", "0.06", "gpu");
-    run_scene(&dir, &scene, "halves", "0.04", "gpu");
-    tumble(&["resume", dir.join("halves").to_str().unwrap(), "--quiet", "--duration", "0.06"]);
     let files = ["fluid.csv", "probe_front.csv", "probe_column.csv", "probe_floor.csv", "snapshots/fluid_000003.vtp"];
-    for file in files {
-        let (a, b) = (std::fs::read(dir.join("whole").join(file)).unwrap(), std::fs::read(dir.join("halves").join(file)).unwrap());
-        assert!(a == b, "{file} differs after the resume");
-    }
+    gpu_run_resumes_identically(&dir, &scene, "0.04", "0.06", &files);
     run_scene(&dir, &scene, "cpu", "0.06", "cpu");
-    let (gpu, cpu) = (last_value(&dir.join("whole/probe_front.csv"), "front"), last_value(&dir.join("cpu/probe_front.csv"), "front"));
+    let (gpu, cpu) = (last_value(&dir.join("gpu/probe_front.csv"), "front"), last_value(&dir.join("cpu/probe_front.csv"), "front"));
     println!("front at 0.06 s: GPU {gpu:.6} m, CPU {cpu:.6} m");
     assert!((gpu - cpu).abs() < 0.1 * 0.005, "fronts {gpu} and {cpu} differ");
     let _ = std::fs::remove_dir_all(&dir);
@@ -276,15 +282,7 @@ pub fn a_gpu_fluid_scene_resumes_bit_identically() {
 pub fn a_turning_drum_on_the_gpu_drags_the_water_as_on_the_cpu() {
     let dir = scratch("drum");
     let scene = shipped_scene(&dir, "drum_water.toml", "spacing = 0.0025", "spacing = 0.005");
-    run_scene(&dir, &scene, "gpu", "0.2", "gpu");
-    run_scene(&dir, &scene, "halves", "0.1", "gpu");
-    tumble(&["resume", dir.join("halves").to_str().unwrap(), "--quiet", "--duration", "0.2"]);
-    for file in ["fluid.csv", "probe_bottom.csv", "probe_deep.csv"] {
-        assert!(
-            std::fs::read(dir.join("gpu").join(file)).unwrap() == std::fs::read(dir.join("halves").join(file)).unwrap(),
-            "{file} differs after the resume"
-        );
-    }
+    gpu_run_resumes_identically(&dir, &scene, "0.1", "0.2", &["fluid.csv", "probe_bottom.csv", "probe_deep.csv"]);
     run_scene(&dir, &scene, "cpu", "0.2", "cpu");
     let read = |out: &str, file: &str, column: &str| last_value(&dir.join(out).join(file), column);
     let (vg, vc) = (read("gpu", "probe_bottom.csv", "velocity_x"), read("cpu", "probe_bottom.csv", "velocity_x"));
@@ -313,15 +311,7 @@ fn column(path: &std::path::Path, column: &str) -> Vec<f64> {
 pub fn a_floating_box_on_the_gpu_moves_as_on_the_cpu() {
     let dir = scratch("floating");
     let scene = shipped_scene(&dir, "floating_box.toml", "spacing = 0.005", "spacing = 0.01");
-    run_scene(&dir, &scene, "gpu", "0.4", "gpu");
-    run_scene(&dir, &scene, "halves", "0.2", "gpu");
-    tumble(&["resume", dir.join("halves").to_str().unwrap(), "--quiet", "--duration", "0.4"]);
-    for file in ["fluid.csv", "floating_box.csv", "probe_left.csv"] {
-        assert!(
-            std::fs::read(dir.join("gpu").join(file)).unwrap() == std::fs::read(dir.join("halves").join(file)).unwrap(),
-            "{file} differs after the resume"
-        );
-    }
+    gpu_run_resumes_identically(&dir, &scene, "0.2", "0.4", &["fluid.csv", "floating_box.csv", "probe_left.csv"]);
     run_scene(&dir, &scene, "cpu", "0.4", "cpu");
     let read = |out: &str, name: &str| column(&dir.join(out).join("floating_box.csv"), name);
     let (zg, zc, vg, vc) = (read("gpu", "z"), read("cpu", "z"), read("gpu", "velocity_z"), read("cpu", "velocity_z"));

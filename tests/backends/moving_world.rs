@@ -164,16 +164,7 @@ pub fn lifters_are_one_contact_per_bar_as_on_the_cpu() {
     // Spheres pressed into four lifters of the mill, in a face, an edge and a corner region
     // and with the centre inside the bar: the GPU's sphere–prism contact gives the CPU's force
     // at t = 0 on each.
-    let prisms: Vec<tumble_geom::Prism> = scene(SMALL_MILL)
-        .plan
-        .model
-        .walls
-        .iter()
-        .filter_map(|w| match &w.shape {
-            tumble_geom::SurfaceShape::Prism(p) => Some((**p).clone()),
-            _ => None,
-        })
-        .collect();
+    let prisms: Vec<tumble_geom::Prism> = scene(SMALL_MILL).plan.model.lifter_bars().cloned().collect();
     let r = 0.005;
     let face = &prisms[0].faces[0];
     let centre = |q: &tumble_geom::Quad| q.corners.iter().copied().sum::<DVec3>() / 4.0;

@@ -147,16 +147,7 @@ pub fn turning_lifters_sweep_into_cubes_as_on_the_cpu() {
     // 8 ms the bars (posed each step as hull shapes) have turned into them and struck each one
     // in its own face, edge or corner region: velocities and the forces of the contacts still
     // open agree with the CPU's to f32 rounding.
-    let bars: Vec<glam::DVec3> = scene(SMALL_CUBE_DRUM)
-        .plan
-        .model
-        .walls
-        .iter()
-        .filter_map(|w| match &w.shape {
-            tumble_geom::SurfaceShape::Prism(p) => Some(p.centre),
-            _ => None,
-        })
-        .collect();
+    let bars: Vec<glam::DVec3> = scene(SMALL_CUBE_DRUM).plan.model.lifter_bars().map(|p| p.centre).collect();
     let (r, lead) = (0.042, 0.0085);
     let sites: Vec<String> = bars
         .iter()

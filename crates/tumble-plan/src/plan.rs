@@ -319,6 +319,14 @@ impl PhysicsModel {
         self.history && self.pairs.iter().any(|p| p.rolling > 0.0 && p.rolling_model == RollingModel::Epsd2)
     }
 
+    /// The lifter bars among the walls, in wall order, at their t = 0 pose.
+    pub fn lifter_bars(&self) -> impl Iterator<Item = &tumble_geom::Prism> {
+        self.walls.iter().filter_map(|w| match &w.shape {
+            SurfaceShape::Prism(p) => Some(&**p),
+            _ => None,
+        })
+    }
+
     /// Contact parameters of materials `a` and `b`.
     #[inline]
     pub fn pair(&self, a: u16, b: u16) -> &PairParams {

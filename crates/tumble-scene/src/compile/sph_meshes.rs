@@ -64,7 +64,13 @@ fn lattice_point([i, j, k]: [i64; 3], dp: f64, dimension: Dimension) -> DVec3 {
 /// Wall `k`'s mesh as dummy particles: every lattice point behind its surface (against the
 /// normals) no deeper than the wall layers' thickness, inside the fluid's grid. The fluid is on
 /// the side the normals point to: outward for a body standing in it, inward for a container.
-pub(super) fn add_mesh_wall(scene: &Scene, k: usize, m: &MeshSection, settings: &FluidSettings, particles: &mut FluidParticles) -> Result<FluidMesh, SceneError> {
+pub(super) fn add_mesh_wall(
+    scene: &Scene,
+    k: usize,
+    m: &MeshSection,
+    settings: &FluidSettings,
+    particles: &mut FluidParticles,
+) -> Result<FluidMesh, SceneError> {
     let field = format!("walls[{k}].mesh");
     let (wall, _) = placed_mesh(scene, &field, m, 2.0 * settings.h, 0)?;
     add_layers(&field, wall, settings, particles)
@@ -122,7 +128,10 @@ fn add_layers(field: &str, wall: MeshWall, settings: &FluidSettings, particles: 
         .collect();
     if points.is_empty() {
         let why = if dimension == Dimension::Two { "; a 2D fluid lies in the plane y = 0, which the mesh must cross" } else { "" };
-        return Err(SceneError::field(field, format!("gives the fluid no wall particles: no lattice point lies behind its surface inside the fluid's grid{why}")));
+        return Err(SceneError::field(
+            field,
+            format!("gives the fluid no wall particles: no lattice point lies behind its surface inside the fluid's grid{why}"),
+        ));
     }
     push_walls(particles, settings, points, DVec3::ZERO);
     let closed = !wall.body.mesh.two_sided;

@@ -16,6 +16,11 @@
 //! moment at each evaluation, the host reads them back and integrates the body in f64 as
 //! tumble-sph does, then writes its move.
 
+mod motion;
+mod read;
+
+pub use read::FluidReadBack;
+
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Instant;
@@ -25,13 +30,12 @@ use glam::DVec3;
 use tumble_shaders::{
     FLUID_MODULES, MODULES, Module, SCAN_BLOCK, SPH_DIFFUSE, SPH_FLUID, SPH_LAMINAR, SPH_MOTION_WORDS, SPH_TENSILE, SPH_WALL, SPH_XSPH,
 };
-use tumble_sph::{BodyMove, BodyState, BufferBooks, FluidParticles, FluidSettings, FluidSnapshot, ParticleKind, PassConstants, SKIN, Tait, TimeStepLimits, Viscosity};
+use tumble_sph::{BodyState, BufferBooks, FluidParticles, FluidSettings, FluidSnapshot, ParticleKind, PassConstants, SKIN, Tait, Viscosity};
 use wgpu::util::DeviceExt;
 
 use crate::buffers::zeroed;
 use crate::context::{Gpu, GpuError, gpu};
 use crate::kernels::layout_entry;
-use crate::readback::read_back;
 use crate::upload::{MAX_GROUPS_X, ScanParams, WORKGROUP, dispatch};
 
 /// The fluid's step parameters, field for field sph_common.wgsl's `FluidParams`.
@@ -229,20 +233,6 @@ fn bind<'a>(gpu: &Gpu, module: &Module, layout: &wgpu::BindGroupLayout, buffer: 
         })
         .collect();
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(module.name), layout, entries: &entries })
-}
-
-/// What [`GpuFluid::read`] brings back in one read-back.
-#[derive(Clone, Debug)]
-pub struct FluidReadBack {
-    /// The particles in the device's (sorted) order, in f64; wall particles carry their last
-    /// extrapolated density.
-    pub particles: FluidParticles,
-    /// Each particle's pressure at the last evaluation (walls: extrapolated), in that order.
-    pub pressures: Vec<f64>,
-    /// The time-step limits at the fluid's largest speed and acceleration of the last evaluation.
-    pub limits: TimeStepLimits,
-    /// The fastest fluid particle's id and speed (the lowest id among equals).
-    pub fastest: Option<(u32, f64)>,
 }
 
 /// An SPH fluid stepped on the GPU in f32.
@@ -509,156 +499,6 @@ impl GpuFluid {
             left -= batch;
         }
         self.steps += steps;
-    }
-
-    /// One step with floating bodies. As tumble-sph does, the host integrates the bodies in f64
-    /// between the evaluations, from the forces and moments the device sums: two read-backs a
-    /// step, where a fluid without bodies submits many steps at once.
-    fn step_with_bodies(&mut self, dt: f64) {
-        let half = 0.5 * dt;
-        let t0 = self.time;
-        let particles = dispatch(self.n, WORKGROUP);
-        // The evaluation at the step's start, with the bodies' accelerations of their last loads.
-        self.write_motions(&self.motion_table(t0, half, None));
-        let mut encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fluid step") });
-        self.record_sort(&mut encoder);
-        self.record_evaluation(&mut encoder);
-        self.gpu.queue.submit([encoder.finish()]);
-        self.load_bodies();
-        let start = self.bodies.clone();
-        let moves: Vec<BodyMove> = self.bodies.iter().map(|b| BodyMove::first_half(b, half)).collect();
-        self.write_motions(&self.motion_table(t0, half, Some(&moves)));
-        self.submit_pass("fluid_first_half", particles);
-        self.bodies = moves.iter().map(|m| m.state).collect();
-        // The evaluation at the middle, then the second half.
-        self.write_motions(&self.motion_table(t0 + half, half, None));
-        let mut encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fluid step") });
-        self.record_evaluation(&mut encoder);
-        self.gpu.queue.submit([encoder.finish()]);
-        self.load_bodies();
-        let moves: Vec<BodyMove> = start.iter().zip(&self.bodies).map(|(s, m)| BodyMove::second_half(s, m, dt)).collect();
-        self.write_motions(&self.motion_table(t0 + half, half, Some(&moves)));
-        self.submit_pass("fluid_second_half", particles);
-        self.bodies = moves.iter().map(|m| m.state).collect();
-        self.time += dt;
-    }
-
-    /// The walls' states and the rates, and with floating bodies the fluid's loads on them.
-    fn record_evaluation(&self, encoder: &mut wgpu::CommandEncoder) {
-        let particles = dispatch(self.n, WORKGROUP);
-        self.pass(encoder, "fluid_wall_state", &self.step_group, particles);
-        self.pass(encoder, "fluid_rates", &self.step_group, particles);
-        if !self.bodies.is_empty() {
-            self.pass(encoder, "fluid_body_sums", &self.step_group, (self.bodies.len() as u32, 1));
-        }
-    }
-
-    fn submit_pass(&self, entry: &'static str, groups: (u32, u32)) {
-        let mut encoder = self.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(entry) });
-        self.pass(&mut encoder, entry, &self.step_group, groups);
-        self.gpu.queue.submit([encoder.finish()]);
-    }
-
-    /// Writes the motion table the next submission reads.
-    fn write_motions(&self, table: &[[f32; 4]]) {
-        if !table.is_empty() {
-            self.gpu.queue.write_buffer(&self.buffers.motions, 0, bytemuck::cast_slice(table));
-        }
-    }
-
-    /// Reads the device's sums of the fluid's loads on the bodies and gives each body its
-    /// accelerations.
-    fn load_bodies(&mut self) {
-        let parts = read_back(&self.gpu, |_| {}, &[(&self.buffers.body_sums, 32 * self.bodies.len() as u64)]);
-        let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&parts[0]);
-        let d3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
-        let s = &self.settings;
-        for (k, (state, body)) in self.bodies.iter_mut().zip(&s.floating).enumerate() {
-            state.load(body, d3(sums[2 * k]), d3(sums[2 * k + 1]), s.gravity, s.dimension);
-        }
-    }
-
-    /// The motion table for the half step from `t0` to `t0 + half`, in device coordinates
-    /// (positions relative to the domain's centre): per moving wall, then per floating body, the
-    /// move, the velocity at the end and the acceleration at the start, each as three rows of an
-    /// affine map fitted exactly (the motions are rigid) from the answers at the centre and a
-    /// metre along each axis; then each body's centre. A body's move is `moves`' (before its loads
-    /// are known, its move and velocity rows are zero: the evaluation reads only its
-    /// acceleration and centre).
-    fn motion_table(&self, t0: f64, half: f64, moves: Option<&[BodyMove]>) -> Vec<[f32; 4]> {
-        let c = self.centre;
-        let affine = |f: &dyn Fn(DVec3) -> DVec3| {
-            let origin = f(c);
-            let columns = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| f(c + e) - origin);
-            [0, 1, 2].map(|r| [columns[0][r] as f32, columns[1][r] as f32, columns[2][r] as f32, origin[r] as f32])
-        };
-        let mut table = Vec::with_capacity(body_centre_row(&self.settings) as usize + self.bodies.len());
-        for wall in &self.settings.moving_walls {
-            let t1 = t0 + half;
-            table.extend(affine(&|x| wall.advance(x, t0, t1) - c));
-            table.extend(affine(&|x| wall.velocity_at(x, t1)));
-            table.extend(affine(&|x| wall.acceleration_at(x, t0)));
-        }
-        for (k, body) in self.bodies.iter().enumerate() {
-            match moves.map(|m| m[k]) {
-                Some(m) => {
-                    table.extend(affine(&|x| x + m.carry(x - m.from).0 - c));
-                    table.extend(affine(&|x| m.state.velocity_at(x - m.to)));
-                }
-                None => table.extend([[0.0; 4]; 6]),
-            }
-            table.extend(affine(&|x| body.acceleration_at(x - body.centre)));
-        }
-        table.extend(self.bodies.iter().map(|b| v4(b.centre - c, 0.0)));
-        table
-    }
-
-    /// Everything the host reads of the device after an advance, in one read-back (one
-    /// submission, one mapping): the particles, their pressures and the time-step limits.
-    pub fn read(&self) -> FluidReadBack {
-        let b = &self.buffers;
-        let bytes = 16 * self.n as u64;
-        let parts = read_back(&self.gpu, |_| {}, &[(&b.pos, bytes), (&b.vel, bytes), (&b.tags, bytes), (&b.state, bytes), (&b.rate, bytes)]);
-        let [pos, vel, state, rate]: [Vec<[f32; 4]>; 4] = [0, 1, 3, 4].map(|k| bytemuck::pod_collect_to_vec(&parts[k]));
-        let tags: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&parts[2]);
-        let d3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
-        let mut p = FluidParticles::default();
-        for i in 0..self.n as usize {
-            p.id.push(tags[i][1]);
-            p.kind.push(if tags[i][0] == SPH_FLUID { ParticleKind::Fluid } else { ParticleKind::Wall });
-            // Exactly the f32 coordinate plus the centre, so a restore gives back the same bits
-            // whenever the centre is exact (it is for domains given in decimals of a few digits).
-            p.position.push(d3(pos[i]) + self.centre);
-            p.velocity.push(d3(vel[i]));
-            p.density.push(vel[i][3] as f64);
-            p.mass.push(pos[i][3] as f64);
-            p.wall.push(tags[i][2] as u16);
-        }
-        // The fluid's largest speed and acceleration give the limits; the fastest particle is
-        // the lowest id among equals.
-        let (mut speed, mut acceleration, mut fastest) = (0.0f64, 0.0f64, None::<(u32, f64)>);
-        for i in (0..self.n as usize).filter(|&i| tags[i][0] == SPH_FLUID) {
-            let v = d3(vel[i]).length();
-            speed = speed.max(v);
-            acceleration = acceleration.max(d3(rate[i]).length());
-            if fastest.is_none_or(|(id, s)| v > s || (v == s && tags[i][1] < id)) {
-                fastest = Some((tags[i][1], v));
-            }
-        }
-        let limits = TimeStepLimits::new(&self.settings, speed, acceleration.max(self.settings.external_acceleration().length()));
-        FluidReadBack { particles: p, pressures: state.iter().map(|s| s[0] as f64).collect(), limits, fastest }
-    }
-
-    /// The device's particles in its (sorted) order, in f64; wall particles carry their last
-    /// extrapolated density.
-    pub fn particles(&self) -> FluidParticles {
-        self.read().particles
-    }
-
-    /// The pressure of each particle at the last evaluation (walls: extrapolated), in the
-    /// device's order.
-    pub fn pressures(&self) -> Vec<f64> {
-        self.read().pressures
     }
 
     /// The fluid's state for a checkpoint: the device's arrays in their order.
