@@ -206,10 +206,15 @@ fn describe_sph(s: &mut String, p: &crate::SphPlan) {
         let b = &inflow.buffer;
         let _ = writeln!(
             s,
-            "fluid inflow {k}: box {} to {} m, fluid enters at {} m/s through its face at {} = {} m; its particles take the fluid's pressure continued across that face",
+            "fluid inflow {k}: box {} to {} m, fluid enters at {} m/s{}{} through its face at {} = {} m; its particles take the fluid's pressure continued across that face",
             b.region.min,
             b.region.max,
             inflow.velocity(),
+            match inflow.profile {
+                tumble_sph::InflowProfile::Uniform => "",
+                tumble_sph::InflowProfile::Parabolic => " on average, in a parabolic profile",
+            },
+            if inflow.timing.ramp > 0.0 { format!(", ramped up over {} s", inflow.timing.ramp) } else { String::new() },
             ["x", "y", "z"][b.axis],
             if b.sign > 0.0 { b.region.max[b.axis] } else { b.region.min[b.axis] }
         );

@@ -6,7 +6,7 @@
 //! on the fluid as wall particles do. Particles change sides only when the arrays are re-sorted,
 //! in one pass in array order, so the exchange does not depend on the number of threads.
 
-use tumble_geom::DVec3;
+use tumble_geom::{DVec3, Timing};
 
 use crate::particles::{Aabb, FluidParticles, ParticleKind};
 use crate::settings::{FluidSettings, WallRole};
@@ -51,18 +51,75 @@ impl BufferBox {
     }
 }
 
-/// An inflow buffer: particles at `velocity` (along the box's flow) enter the fluid through
-/// the box's open face.
+/// An inflow buffer: particles moving along the box's flow enter the fluid through the box's
+/// open face, at `speed` on average over the face once `timing` has ramped it up, spread over the
+/// face as `profile` says.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Inflow {
     pub buffer: BufferBox,
-    /// The inflow speed, m/s (> 0).
+    /// The mean inflow speed at full rate, m/s (> 0).
     pub speed: f64,
+    pub profile: InflowProfile,
+    /// How the speed starts: from 0 at t = 0 up to full over `timing.ramp` (all at once with
+    /// [`Timing::ALWAYS`]).
+    pub timing: Timing,
+}
+
+/// How the inflow speed varies across the open face.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum InflowProfile {
+    /// The same everywhere (plug flow).
+    #[default]
+    Uniform,
+    /// Poiseuille's parabola across each axis of the face, zero at the box's sides: u = 6 U s (1 − s)
+    /// across one axis (a 2D channel; peak 1.5 U), the product of two such across both (a
+    /// rectangular duct in 3D; peak 2.25 U), so the mean over the face is U.
+    Parabolic,
 }
 
 impl Inflow {
+    /// A plug inflow at `speed` from the start.
+    pub fn uniform(buffer: BufferBox, speed: f64) -> Self {
+        Inflow { buffer, speed, profile: InflowProfile::Uniform, timing: Timing::ALWAYS }
+    }
+
+    /// The mean velocity over the face at full rate.
     pub fn velocity(&self) -> DVec3 {
         self.speed * self.buffer.direction()
+    }
+
+    /// The share of the mean speed at `x` on the face (1 for plug flow).
+    pub fn shape(&self, x: DVec3, plane: bool) -> f64 {
+        match self.profile {
+            InflowProfile::Uniform => 1.0,
+            InflowProfile::Parabolic => (0..3)
+                .filter(|&k| k != self.buffer.axis && !(plane && k == 1))
+                .map(|k| {
+                    let (lo, hi) = (self.buffer.region.min[k], self.buffer.region.max[k]);
+                    let s = ((x[k] - lo) / (hi - lo)).clamp(0.0, 1.0);
+                    6.0 * s * (1.0 - s)
+                })
+                .product(),
+        }
+    }
+
+    /// The largest speed over the face at full rate.
+    pub fn peak_speed(&self, plane: bool) -> f64 {
+        let across = if plane { 1 } else { 2 };
+        match self.profile {
+            InflowProfile::Uniform => self.speed,
+            InflowProfile::Parabolic => self.speed * 1.5f64.powi(across),
+        }
+    }
+
+    /// The velocity of the inflow's particle at `x` at time `t`.
+    pub fn velocity_at(&self, x: DVec3, t: f64, plane: bool) -> DVec3 {
+        self.timing.rate(t) * self.shape(x, plane) * self.velocity()
+    }
+
+    /// How far the inflow's particle at `x` moves from `t0` to `t1`: exactly, through the ramp.
+    pub fn travel(&self, x: DVec3, t0: f64, t1: f64, plane: bool) -> DVec3 {
+        (self.timing.elapsed(t1) - self.timing.elapsed(t0)) * self.shape(x, plane) * self.velocity()
     }
 }
 
@@ -104,7 +161,8 @@ pub(crate) fn exchange(settings: &FluidSettings, p: &mut FluidParticles, next_id
                 let inflow = &settings.inflows[k];
                 if inflow.buffer.past_exit(x) >= 0.0 {
                     let behind = x - inflow.buffer.depth() * inflow.buffer.direction();
-                    p.push_with_id(*next_id, ParticleKind::Wall, behind, inflow.velocity(), p.density[i], p.mass[i]);
+                    // The same place across the face at the same time: the same velocity.
+                    p.push_with_id(*next_id, ParticleKind::Wall, behind, p.velocity[i], p.density[i], p.mass[i]);
                     *p.wall.last_mut().expect("just pushed") = p.wall[i];
                     *next_id += 1;
                     p.kind[i] = ParticleKind::Fluid;

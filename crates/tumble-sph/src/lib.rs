@@ -26,7 +26,7 @@ mod rates;
 mod settings;
 mod setup;
 
-pub use buffers::{BufferBooks, BufferBox, Inflow, Outflow};
+pub use buffers::{BufferBooks, BufferBox, Inflow, InflowProfile, Outflow};
 pub use eos::{GAMMA, Tait};
 pub use floating::{BodyMove, BodyShape, BodyState, FloatingBody};
 pub use kernel::{Dimension, WendlandC2};

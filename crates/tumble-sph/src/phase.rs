@@ -69,7 +69,13 @@ fn drift(
                     *v = velocity;
                     step
                 }
-                (ParticleKind::Wall, WallRole::Fixed | WallRole::Inflow(_) | WallRole::Outflow(_)) => half * *v,
+                (ParticleKind::Wall, WallRole::Inflow(k)) => {
+                    let inflow = &settings.inflows[k];
+                    let plane = settings.dimension == crate::Dimension::Two;
+                    *v = inflow.velocity_at(*x, t0 + half, plane);
+                    inflow.travel(*x, t0, t0 + half, plane)
+                }
+                (ParticleKind::Wall, WallRole::Fixed | WallRole::Outflow(_)) => half * *v,
             };
             *x = grid.wrap(*x + step);
             (i, step.length())
@@ -170,7 +176,7 @@ impl FluidPhase {
                     let body = &settings.floating[k].start;
                     particles.velocity[i] = body.velocity_at(x - body.centre);
                 }
-                WallRole::Inflow(k) => particles.velocity[i] = settings.inflows[k].velocity(),
+                WallRole::Inflow(k) => particles.velocity[i] = settings.inflows[k].velocity_at(x, 0.0, settings.dimension == crate::Dimension::Two),
                 WallRole::Fixed | WallRole::Outflow(_) => {}
             }
         }

@@ -163,10 +163,10 @@ pub(super) fn sph(scene: &Scene, domain: &PeriodicBox, gravity: DVec3, compiled:
             .push("sph: laminar viscosity without density diffusion lets pressure noise grow in violent flows (docs/sph.md, \"Stability\")".into());
     }
     for (k, inflow) in settings.inflows.iter().enumerate() {
-        if inflow.speed > expected_speed * (1.0 + 1e-12) {
+        let peak = inflow.peak_speed(dimension == Dimension::Two);
+        if peak > expected_speed * (1.0 + 1e-12) {
             warnings.push(format!(
-                "sph: inflows[{k}] brings fluid in at {:.4} m/s, above the expected speed {expected_speed:.4} m/s the sound speed and time step were chosen for; raise sph.expected_speed",
-                inflow.speed
+                "sph: inflows[{k}] brings fluid in at up to {peak:.4} m/s, above the expected speed {expected_speed:.4} m/s the sound speed and time step were chosen for; raise sph.expected_speed"
             ));
         }
     }

@@ -6,8 +6,8 @@ use super::sph::plane_box;
 use crate::SceneError;
 use crate::schema::*;
 use glam::DVec3;
-use tumble_geom::PeriodicBox;
-use tumble_sph::{Aabb, BufferBox, Dimension, FluidParticles, FluidSettings, Inflow, Outflow, ParticleKind, add_inflow};
+use tumble_geom::{PeriodicBox, Timing};
+use tumble_sph::{Aabb, BufferBox, Dimension, FluidParticles, FluidSettings, Inflow, InflowProfile, Outflow, ParticleKind, add_inflow};
 
 /// The buffers into `settings`, the inflows' particles added and the fluid inside them cleared.
 pub(super) fn add_buffers(
@@ -21,7 +21,15 @@ pub(super) fn add_buffers(
         let velocity = finite3(&f("velocity"), b.velocity)?;
         let (axis, sign) = along_axis(&f("velocity"), velocity, settings.dimension)?;
         let buffer = buffer_box(&f("box"), &b.box_, axis, sign, settings, domain)?;
-        settings.inflows.push(Inflow { buffer, speed: velocity[axis].abs() });
+        if !(b.ramp.is_finite() && b.ramp >= 0.0) {
+            return Err(SceneError::field(f("ramp"), format!("must be a duration in seconds, 0 or more, got {}", b.ramp)));
+        }
+        let profile = match b.profile {
+            SphInflowProfile::Uniform => InflowProfile::Uniform,
+            SphInflowProfile::Parabolic => InflowProfile::Parabolic,
+        };
+        let timing = Timing { start: 0.0, ramp: b.ramp, stop: f64::INFINITY };
+        settings.inflows.push(Inflow { buffer, speed: velocity[axis].abs(), profile, timing });
     }
     for (k, b) in s.outflows.iter().enumerate() {
         let f = |x: &str| format!("sph.outflows[{k}].{x}");

@@ -60,8 +60,23 @@ pub struct SphSection {
 pub struct SphInflowSection {
     #[serde(rename = "box")]
     pub box_: SphBoxSection,
-    /// m/s, along x, y or z.
+    /// m/s, along x, y or z: the mean over the open face.
     pub velocity: V3,
+    /// How the speed varies across the face.
+    #[serde(default)]
+    pub profile: SphInflowProfile,
+    /// Seconds over which the speed rises from 0 to full (0: full from the start).
+    #[serde(default)]
+    pub ramp: f64,
+}
+
+/// An inflow's profile across its open face.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum SphInflowProfile {
+    #[default]
+    Uniform,
+    Parabolic,
 }
 
 /// An outflow buffer: fluid entering the box through the face opposite `direction` leaves the
