@@ -275,7 +275,7 @@ impl GpuSimulation {
             left -= batch;
             batches += 1;
             // Every 16 batches (256 steps) and at the end: a small readback that waits for the device.
-            if self.plan.model.history && (batches % 16 == 0 || left == 0) {
+            if self.plan.model.history && (batches.is_multiple_of(16) || left == 0) {
                 self.check_history();
             }
         }

@@ -186,7 +186,7 @@ impl GpuSimulation {
             wall_torque,
             servo_offset: Vec::new(),
             drums,
-            state: with_state.then(|| std::borrow::Cow::Owned(s)),
+            state: with_state.then_some(std::borrow::Cow::Owned(s)),
         }
     }
 

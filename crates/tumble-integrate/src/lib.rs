@@ -169,7 +169,7 @@ pub fn free_rotation(q: DQuat, inv_inertia: DVec3, omega: DVec3, dt: f64) -> (DQ
         // The flow of L_k²/2I_k: the body turns about its axis k by φ, L in the body frame by −φ.
         let phi = l_body[k] * inv_inertia[k] * h * dt;
         let turn = DQuat::from_axis_angle(axes[k], phi);
-        q = q * turn;
+        q *= turn;
         l_body = turn.inverse() * l_body;
     }
     let q = q.normalize();

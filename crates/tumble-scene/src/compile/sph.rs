@@ -395,7 +395,7 @@ fn add_walls(
             walls.meshes.extend(super::sph_meshes::add_lifters(k, &bars, settings, particles)?);
             // The bars turn with their drum: its motion, as the particles' lifters take it.
             if let Some(Wall { motion: Some(motion), timing, .. }) = bars.first().copied() {
-                if two_d && motion_leaves_plane(&motion) {
+                if two_d && motion_leaves_plane(motion) {
                     return Err(SceneError::field(f("on"), "a 2D fluid moves in the x–z plane: its drum must turn about y"));
                 }
                 add_moving(&mut walls, particles, first, k, MovingWall { motion: *motion, timing: *timing });
