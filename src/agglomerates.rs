@@ -223,40 +223,50 @@ pub fn agglomerates(positions: &[DVec3], radii: &[f64], periodic: Option<&Period
     stats_of(&agglomerate_list(positions, radii, periodic), positions.len())
 }
 
-/// The header of agglomerates.csv for up to `particles` particles.
-pub fn csv_header(particles: usize) -> String {
-    let mut h = String::from(
-        "t,particles,agglomerates,mean_size,weighted_mean_size,max_size,mean_void_fraction,multi_agglomerates,mean_void_fraction_multi,wrapping",
-    );
+/// agglomerates.csv's columns after `t`, for a run that starts with `particles` particles:
+/// the statistics, then the size histogram's bins (sizes 1, 2–3, 4–7, …).
+pub fn csv_columns(particles: usize) -> Vec<String> {
+    let mut c: Vec<String> = [
+        "particles",
+        "agglomerates",
+        "mean_size",
+        "weighted_mean_size",
+        "max_size",
+        "mean_void_fraction",
+        "multi_agglomerates",
+        "mean_void_fraction_multi",
+        "wrapping",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
     for k in 0..histogram_bins(particles) {
         let (lo, hi) = (1usize << k, (1usize << (k + 1)) - 1);
-        if lo == hi {
-            h += &format!(",size_{lo}");
-        } else {
-            h += &format!(",size_{lo}_{hi}");
-        }
+        c.push(if lo == hi { format!("size_{lo}") } else { format!("size_{lo}_{hi}") });
     }
-    h
+    c
 }
 
-/// One row of agglomerates.csv (bins beyond the header's are never produced: sizes ≤ particles).
-pub fn csv_row(t: f64, s: &AgglomerateStats, bins: usize) -> String {
-    let mut row = format!(
-        "{t},{},{},{},{},{},{},{},{},{}",
-        s.particles,
-        s.count,
+/// agglomerates.csv's header line.
+pub fn csv_header(particles: usize) -> String {
+    format!("t,{}", csv_columns(particles).join(","))
+}
+
+/// agglomerates.csv's line after `t` (bins beyond the header's are never produced: sizes ≤ particles).
+pub fn csv_values(s: &AgglomerateStats, bins: usize) -> Vec<f64> {
+    let mut v = vec![
+        s.particles as f64,
+        s.count as f64,
         s.mean_size,
         s.weighted_mean_size,
-        s.max_size,
+        s.max_size as f64,
         s.mean_void_fraction,
-        s.multi_count,
+        s.multi_count as f64,
         s.mean_void_fraction_multi,
-        s.wrapping
-    );
-    for k in 0..bins {
-        row += &format!(",{}", s.histogram.get(k).copied().unwrap_or(0));
-    }
-    row
+        s.wrapping as f64,
+    ];
+    v.extend((0..bins).map(|k| s.histogram.get(k).copied().unwrap_or(0) as f64));
+    v
 }
 
 #[cfg(test)]

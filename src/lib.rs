@@ -15,6 +15,7 @@
 pub mod agglomerates;
 pub mod checkpoint;
 pub mod cli;
+pub mod dem;
 pub mod feeder;
 mod flow;
 mod monitor;
@@ -38,4 +39,7 @@ pub use resume::resume_run;
 pub use run::{CheckpointReport, RunError, RunOptions, RunSummary, load_recorded, load_scene, run_compiled, run_recorded, run_scene_file};
 pub use simulation::Simulation;
 pub use tumble_scene::{CompiledScene, Plan, Scene, SceneError, compile, parse_scene, read_scene};
-pub use tumble_state::{Backend, DrumProfile, Fault, Frame, Observables, Phase, PhasePoints, PhaseTable, Snapshot, SnapshotError, State, TrackRow};
+pub use tumble_state::{
+    Backend, DrumProfile, Fault, Frame, Observables, OutputRequest, Phase, PhaseOutput, PhasePoints, PhaseStop, PhaseTable, Snapshot, SnapshotError,
+    State, TrackRow,
+};

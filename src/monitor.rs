@@ -2,27 +2,9 @@
 //! cause, a Δt that works (docs/cli.md, "The instability monitor").
 
 use crate::Observables;
-use std::fmt;
 use tumble_scene::{Plan, PolyhedronContact};
 
-/// Why a run was stopped.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Instability {
-    pub step: u64,
-    pub time: f64,
-    pub cause: String,
-    /// What to change: a Δt, or why Δt will not help and what will.
-    pub remedy: String,
-    pub dt: f64,
-    /// The Δt to rerun at: the plan's default when the step is the cause, else the step that ran.
-    pub suggested_dt: f64,
-}
-
-impl fmt::Display for Instability {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "simulation unstable at step {} (t = {:.6e} s): {}; {}", self.step, self.time, self.cause, self.remedy)
-    }
-}
+pub use tumble_state::Instability;
 
 /// Overlap at t = 0 above which a later blow-up is put down to the starting state: at the plan's
 /// default Δt contacts between moving particles stay within a few per cent of the radius.

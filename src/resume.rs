@@ -71,15 +71,11 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
     // particles, so a seeded GPU run is set up seeded again (its seed must still be there).
     let (mut sim, _) = set_up(backend, compiled, options.threads, backend == BackendName::Gpu)?;
     sim.restore(&snapshot).map_err(|e| refuse(format!("{shown}: {e}")))?;
-    sim.set_feeder_books(books.feeder.clone());
-    if books.phases.len() != sim.phases().len() {
-        return Err(refuse(format!(
-            "{shown}: the checkpoint holds {} phases beside the particles, the scene {}",
-            books.phases.len(),
-            sim.phases().len()
-        )));
+    let phases = sim.all_phases().count();
+    if books.phases.len() != phases {
+        return Err(refuse(format!("{shown}: the checkpoint holds {} phases (the particles' included), the scene {phases}", books.phases.len())));
     }
-    for (phase, bytes) in sim.phases_mut().iter_mut().zip(&books.phases) {
+    for (phase, bytes) in sim.all_phases_mut().zip(&books.phases) {
         phase.restore(bytes).map_err(|e| refuse(format!("{shown}: {e}")))?;
     }
     let total = sim.plan().run.steps;
@@ -93,7 +89,7 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
     }
     check_files(dir, &books).map_err(refuse)?;
     io(dir, checkpoint::remove_unfinished(dir))?;
-    let outputs = io(dir, Outputs::open(dir, sim.plan(), books.initial_particles, Some(&books)))?;
+    let outputs = io(dir, Outputs::open(dir, &sim, Some(&books)))?;
     io(dir, crate::outdir::write_atomic(&dir.join("summary.json"), &running_json(&sim, &plan_text)))?;
     let checkpoint_every = checkpoint_every(sim.plan(), record.checkpoint_interval);
     let mut run = Run::new(sim, dir.to_path_buf(), options, books, outputs, Some(record), plan_text, Some(cp.step), checkpoint_every);

@@ -4,8 +4,8 @@
 
 use crate::Simulation;
 use crate::checkpoint::SceneRecord;
-use crate::monitor::{Instability, Monitor};
-use crate::run_loop::{Books, ExtraRows, Outputs, Run};
+use crate::monitor::Instability;
+use crate::run_loop::{Books, Outputs, Run};
 use crate::summary::running_json;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -13,7 +13,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use tumble_scene::schema::{BackendName, DtSpec};
 use tumble_scene::{CompiledScene, Plan, SceneError, compile, parse_scene, read_scene_text};
-use tumble_state::State;
+use tumble_state::{OutputRequest, PhaseStop, State};
 
 /// Options of `tumble run`.
 #[derive(Clone, Debug)]
@@ -203,38 +203,13 @@ pub fn run_recorded(compiled: CompiledScene, scene: Option<SceneRecord>, options
     let (sim, seed_warnings) = set_up(backend, compiled, options.threads, true)?;
     crate::outdir::prepare(&out_dir, options.overwrite).map_err(RunError::OutputFolder)?;
     io(&out_dir, crate::outdir::write_atomic(&out_dir.join("summary.json"), &running_json(&sim, &plan_text)))?;
-    let initial_particles = sim.particles();
-    let mut outputs = io(&out_dir, Outputs::open(&out_dir, sim.plan(), initial_particles, None))?;
-    let mut extra = ExtraRows::new(sim.plan());
-    let mut last_agglomerates = None;
-    let (initial, monitor_range) = {
-        let frame = sim.frame(true);
-        let state = frame.state.as_deref().expect("asked for the state");
-        let monitor_range = potential_range(sim.plan(), state);
-        let fluid = sim.plan().model.fluid.is_some();
-        io(&out_dir, outputs.obs.row(&frame.observables, fluid, sim.removed(), &extra.row(&sim, &frame)))?;
-        io(&out_dir, outputs.tracks.rows(0.0, &frame.tracks))?;
-        for phase in sim.phases() {
-            io(&out_dir, outputs.phases.row(0.0, &phase.tables()))?;
-        }
-        if let Some(w) = outputs.agglo.as_mut() {
-            let a = agglomerates_of(sim.plan(), state);
-            io(&out_dir, w.row(0.0, &a))?;
-            last_agglomerates = Some(a);
-        }
-        if let Some(w) = outputs.snapshots.as_mut() {
-            io(&out_dir, w.write(0, &sim, sim.time(), state))?;
-        }
-        (frame.observables, monitor_range)
-    };
-    let monitor = Monitor::new(sim.plan(), &initial, monitor_range);
-    // The starting state is checked before step 1.
-    let stopped = monitor.check(0, &initial).err().map(Stop::Unstable);
-    let books =
-        Books { initial_particles, monitor, extra, last_agglomerates, files: Vec::new(), series: Vec::new(), feeder: None, phases: Vec::new() };
+    let outputs = io(&out_dir, Outputs::open(&out_dir, &sim, None))?;
     let checkpoint_every = checkpoint_every(sim.plan(), options.checkpoint_interval.or(scene.as_ref().and_then(|s| s.checkpoint_interval)));
-    let mut run = Run::new(sim, out_dir, options, books, outputs, scene, plan_text, None, checkpoint_every);
+    let series = sim.plan().run.snapshot_every.is_some();
+    let mut run = Run::new(sim, out_dir, options, Books::default(), outputs, scene, plan_text, None, checkpoint_every);
     run.warnings = seed_warnings;
+    // The starting state is written, then checked before step 1.
+    let stopped = run.rows(OutputRequest { step: 0, row: true, series, start: true })?;
     // A checkpoint at step 0 makes any run with checkpoints resumable, however early it is killed.
     run.go(stopped, true)
 }
@@ -278,6 +253,18 @@ pub(crate) enum Stop {
     Interrupted,
 }
 
+impl From<PhaseStop> for Stop {
+    fn from(why: PhaseStop) -> Self {
+        match why {
+            PhaseStop::Unstable(e) => Stop::Unstable(e),
+            PhaseStop::Capacity(e) => Stop::Capacity(e),
+            PhaseStop::Lost(e) => Stop::Lost(e),
+            PhaseStop::Ended(e) => Stop::Ended(e),
+            PhaseStop::Failed(e) => Stop::Phase(e),
+        }
+    }
+}
+
 /// The stop message when more particles have left the domain than the scene allows.
 pub(crate) fn too_many_lost(plan: &Plan, removed: usize, initial: usize, t: f64) -> Option<String> {
     let allowed = plan.run.max_lost_fraction * initial as f64;
@@ -301,7 +288,7 @@ pub(crate) fn lost_warning(removed: usize, initial: usize) -> Option<String> {
 }
 
 /// Σ m |g| × the domain's extent along g: the potential energy gravity can release.
-fn potential_range(plan: &Plan, s: &State) -> f64 {
+pub(crate) fn potential_range(plan: &Plan, s: &State) -> f64 {
     let g = plan.model.gravity;
     if g == glam::DVec3::ZERO {
         return 0.0;

@@ -1,26 +1,26 @@
-//! The backend-independent handle on a running simulation: one [`Backend`] object.
+//! The backend-independent handle on a running simulation: its phases on one clock, the DEM's
+//! particles (a [`Backend`] behind [`DemPhase`]) first, then the phases beside them (an SPH
+//! fluid).
 
-use crate::feeder::{Feeder, FeederBooks};
+use crate::dem::DemPhase;
+use crate::feeder::FeederBooks;
 use glam::DVec3;
 use std::borrow::Cow;
 use tumble_cpu::CpuSimulation;
 use tumble_gpu::{GpuError, GpuSimulation};
 use tumble_scene::schema::BackendName;
 use tumble_scene::{CompiledScene, Plan};
-use tumble_state::{AdapterInfo, Backend, DrumProfile, Fault, Frame, Observables, Phase, Snapshot, SnapshotError, State, TrackRow};
+use tumble_state::{AdapterInfo, Backend, DrumProfile, Fault, Frame, Observables, Phase, PhaseStop, Snapshot, SnapshotError, State, TrackRow};
 
 /// A simulation on one backend: the CPU reference (f64), the GPU (f32), or any other
-/// [`Backend`].
+/// [`Backend`], with the phases beside its particles.
 pub struct Simulation {
-    backend: Box<dyn Backend>,
+    /// The DEM's particles; its backend keeps the run's clock.
+    dem: DemPhase,
     /// The phases beside the particles (an SPH fluid), on the same clock.
     phases: Vec<Box<dyn Phase>>,
-    /// Why a phase stopped (its fault, with a Δt that works); the run stops there.
-    phase_fault: Option<String>,
-    /// The plan's particle sources (None without any).
-    feeder: Option<Feeder>,
-    /// Why an insertion was refused (the backend's capacity); the run stops there.
-    feed_error: Option<String>,
+    /// Why a phase stopped the run at its last advance, if one did.
+    stop: Option<PhaseStop>,
 }
 
 impl Simulation {
@@ -77,9 +77,42 @@ impl Simulation {
         &mut self.phases
     }
 
-    /// Why a phase stopped, if one did.
+    /// Why a phase beside the particles stopped (its fault, with a Δt that works), if one did.
     pub fn phase_fault(&self) -> Option<&str> {
-        self.phase_fault.as_deref()
+        match &self.stop {
+            Some(PhaseStop::Failed(why)) => Some(why),
+            _ => None,
+        }
+    }
+
+    /// Why the last advance stopped short, if it did: a phase's fault, the particles' capacity.
+    pub fn stop(&self) -> Option<&PhaseStop> {
+        self.stop.as_ref()
+    }
+
+    /// Every phase, the particles first: what the run loop writes, checks and checkpoints.
+    pub fn all_phases(&self) -> impl Iterator<Item = &dyn Phase> {
+        std::iter::once(&self.dem as &dyn Phase).chain(self.phases.iter().map(|p| p.as_ref()))
+    }
+
+    /// Every phase, mutably, the particles first.
+    pub fn all_phases_mut(&mut self) -> impl Iterator<Item = &mut dyn Phase> {
+        std::iter::once(&mut self.dem as &mut dyn Phase).chain(self.phases.iter_mut().map(|p| p.as_mut() as &mut dyn Phase))
+    }
+
+    /// The DEM phase.
+    pub fn dem(&self) -> &DemPhase {
+        &self.dem
+    }
+
+    /// The DEM phase, mutably (restoring its books).
+    pub fn dem_mut(&mut self) -> &mut DemPhase {
+        &mut self.dem
+    }
+
+    /// The SPH fluid, when the scene has one.
+    pub fn fluid_phase(&self) -> Option<&crate::sph_phase::SphPhase> {
+        self.phases.iter().find_map(|p| p.as_any().downcast_ref())
     }
 
     /// Particles of every phase: the DEM's and each other phase's moving ones.
@@ -89,209 +122,182 @@ impl Simulation {
 
     /// Wraps any backend; the sources' events due at its current step run now.
     pub fn with_backend(backend: Box<dyn Backend>) -> Self {
-        let feeder = Feeder::new(backend.as_ref());
-        let mut sim = Simulation { backend, phases: Vec::new(), phase_fault: None, feeder, feed_error: None };
-        sim.feed();
-        sim
+        Simulation { dem: DemPhase::new(backend), phases: Vec::new(), stop: None }
     }
 
-    /// Runs the insertion events due now.
-    fn feed(&mut self) {
-        if let Some(f) = self.feeder.as_mut()
-            && self.feed_error.is_none()
-            && let Err(e) = f.feed(self.backend.as_mut())
-        {
-            self.feed_error = Some(e);
-        }
-    }
-
-    /// The sources' books (inserted counts and masses, generator states), for checkpoints.
+    /// The sources' books (inserted counts and masses, generator states).
     pub fn feeder_books(&self) -> Option<&FeederBooks> {
-        self.feeder.as_ref().map(Feeder::books)
-    }
-
-    /// Continues the sources from books a checkpoint kept.
-    pub fn set_feeder_books(&mut self, books: Option<FeederBooks>) {
-        if let (Some(f), Some(b)) = (self.feeder.as_mut(), books) {
-            f.set_books(b);
-        }
+        self.dem.feeder_books()
     }
 
     /// Per source: particles inserted so far and their mass.
     pub fn inserted(&self) -> Vec<(u64, f64)> {
-        self.feeder_books().map_or_else(Vec::new, |b| b.sources.iter().map(|s| (s.inserted, s.mass)).collect())
+        self.dem.inserted()
     }
 
     /// Kinetic and potential energy the sources have brought in so far, J.
     pub fn inserted_energy(&self) -> f64 {
-        self.feeder_books().map_or(0.0, |b| b.sources.iter().map(|s| s.energy).sum())
+        self.dem.inserted_energy()
     }
 
     /// Per outlet: particles deleted so far and their mass.
     pub fn outlet_tallies(&self) -> Vec<tumble_state::OutletTally> {
-        if self.plan().model.outlets.is_empty() { Vec::new() } else { self.backend.outlet_tallies() }
+        crate::dem::rows::outlet_tallies(self.backend())
     }
 
     /// Why a source could not insert (the backend's fixed capacity ran out), if it could not.
     pub fn feed_error(&self) -> Option<&str> {
-        self.feed_error.as_deref()
+        self.dem.feed_error()
     }
 
     /// The backend, for what this handle does not forward.
     pub fn backend(&self) -> &dyn Backend {
-        self.backend.as_ref()
+        self.dem.backend()
     }
 
     pub fn plan(&self) -> &Plan {
-        self.backend.plan()
+        self.dem.backend().plan()
     }
 
     pub fn backend_name(&self) -> &'static str {
-        self.backend.info().name
+        self.dem.backend().info().name
     }
 
     pub fn device_name(&self) -> String {
-        self.backend.info().device
+        self.dem.backend().info().device
     }
 
     /// The GPU adapter, on a GPU backend.
     pub fn adapter(&self) -> Option<AdapterInfo> {
-        self.backend.info().adapter
+        self.dem.backend().info().adapter
     }
 
     pub fn precision(&self) -> &'static str {
-        self.backend.info().precision
+        self.dem.backend().info().precision
     }
 
-    /// Advances `steps` steps, stopping at each source's insertion steps to insert.
+    /// Advances every phase `steps` steps (the particles stop at each source's insertion steps
+    /// to insert), or as far as the particles got when they stop short; [`Simulation::stop`]
+    /// says why a phase stopped.
     pub fn advance(&mut self, steps: u64) {
-        let end = self.steps() + steps;
-        while self.steps() < end && self.feed_error.is_none() {
-            let next = self.feeder.as_ref().and_then(|f| f.next_step(self.backend.plan())).filter(|&s| s > self.steps());
-            let stop = next.map_or(end, |s| s.min(end));
-            let before = self.steps();
-            self.backend.advance(stop - before);
-            let dt = self.plan().model.dt;
-            for p in &mut self.phases {
-                if let Err(e) = p.advance(self.backend.steps() - before, dt) {
-                    self.phase_fault = Some(format!("{}: {e}", p.name()));
-                    return;
-                }
-            }
-            if self.steps() != stop {
-                break;
-            }
-            self.feed();
-        }
+        let (before, dt) = (self.steps(), self.plan().model.dt);
+        let particles = self.dem.advance(steps, dt);
+        let taken = self.steps() - before;
+        // A fault of a phase beside the particles is reported before the particles' own.
+        self.stop = self
+            .phases
+            .iter_mut()
+            .find_map(|p| p.advance(taken, dt).err().map(|e| PhaseStop::Failed(format!("{}: {e}", p.name()))))
+            .or(particles.err());
     }
 
     /// Why the backend stopped short of the requested steps (a fixed capacity ran out), if it did.
     pub fn fault(&self) -> Option<Fault> {
-        self.backend.fault()
+        self.dem.backend().fault()
     }
 
     pub fn steps(&self) -> u64 {
-        self.backend.steps()
+        self.dem.backend().steps()
     }
 
     pub fn time(&self) -> f64 {
-        self.backend.time()
+        self.dem.backend().time()
     }
 
     pub fn particles(&self) -> usize {
-        self.backend.particles()
+        self.dem.backend().particles()
     }
 
     pub fn removed(&self) -> usize {
-        self.backend.removed()
+        self.dem.backend().removed()
     }
 
     /// Everything one output row needs, in one read-back on a device.
     pub fn frame(&self, with_state: bool) -> Frame<'_> {
-        self.backend.frame(with_state)
+        self.dem.backend().frame(with_state)
     }
 
     pub fn observables(&self) -> Observables {
-        self.backend.observables()
+        self.dem.backend().observables()
     }
 
     pub fn tracks(&self) -> Vec<TrackRow> {
-        self.backend.tracks()
+        self.dem.backend().tracks()
     }
 
     /// Every particle still in the domain (a device's are read back and widened to f64, in id order).
     pub fn state(&self) -> Cow<'_, State> {
-        self.backend.state()
+        self.dem.backend().state()
     }
 
     /// Power delivered to the particles by each wall group at the last force pass (zero for static walls).
     pub fn wall_power(&self) -> Vec<f64> {
-        self.backend.wall_power()
+        self.dem.backend().wall_power()
     }
 
     /// Work done on the particles by each wall group since t = 0.
     pub fn wall_work(&self) -> Vec<f64> {
-        self.backend.wall_work()
+        self.dem.backend().wall_work()
     }
 
     /// The charge profile of each drum of the plan.
     pub fn drum_profiles(&self) -> Vec<DrumProfile> {
-        self.backend.drum_profiles()
+        self.dem.backend().drum_profiles()
     }
 
     /// Per wall: the volume worn off each of its triangles since t = 0 (Archard; empty without wear).
     pub fn mesh_wear(&self) -> Vec<Vec<f64>> {
-        self.backend.mesh_wear()
+        self.dem.backend().mesh_wear()
     }
 
     /// The walls in their current pose.
     pub fn walls(&self) -> Cow<'_, [tumble_scene::Wall]> {
-        self.backend.walls()
+        self.dem.backend().walls()
     }
 
     /// Contact force on the particle with id `id` in the last force pass.
     pub fn contact_force(&self, id: u32) -> Option<DVec3> {
-        self.backend.contact_force(id)
+        self.dem.backend().contact_force(id)
     }
 
     /// Neighbour-list rebuilds (the CPU's Verlet list; the GPU bins every step).
     pub fn neighbour_builds(&self) -> Option<u64> {
-        self.backend.neighbour_builds()
+        self.dem.backend().neighbour_builds()
     }
 
     /// Memory this simulation's particle and grid arrays take, bytes (GPU: device memory), with its phases'.
     pub fn memory_bytes(&self) -> u64 {
-        self.backend.memory_bytes() + self.phases.iter().map(|p| p.memory_bytes()).sum::<u64>()
+        self.dem.memory_bytes() + self.phases.iter().map(|p| p.memory_bytes()).sum::<u64>()
     }
 
     /// Bytes per particle of this backend's state.
     pub fn bytes_per_particle(&self) -> u64 {
-        self.backend.bytes_per_particle()
+        self.dem.backend().bytes_per_particle()
     }
 
     /// Everything needed to continue this run bit-identically.
     pub fn snapshot(&self) -> Snapshot {
-        self.backend.snapshot()
+        self.dem.backend().snapshot()
     }
 
     /// Continues from a snapshot of the same scene written by this backend.
     pub fn restore(&mut self, snapshot: &Snapshot) -> Result<(), SnapshotError> {
-        self.backend.restore(snapshot)
+        self.dem.backend_mut().restore(snapshot)
     }
 
     /// A collective decision of the run (every part of a distributed backend answers the same).
     pub fn agree(&self, local: bool) -> bool {
-        self.backend.agree(local)
+        self.dem.backend().agree(local)
     }
 
     /// The concrete backend `B`, for tests and tools that need its internals.
     pub fn downcast<B: Backend>(&self) -> Option<&B> {
-        self.backend.as_any().downcast_ref::<B>()
+        self.dem.backend().as_any().downcast_ref::<B>()
     }
 
     /// The concrete backend `B`, mutably.
     pub fn downcast_mut<B: Backend>(&mut self) -> Option<&mut B> {
-        self.backend.as_any_mut().downcast_mut::<B>()
+        self.dem.backend_mut().as_any_mut().downcast_mut::<B>()
     }
 
     /// The CPU simulation, for tests and tools that need its internals.

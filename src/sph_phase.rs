@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 use tumble_scene::{Plan, SphPlan, SphProbe, SphProbeKind};
 use tumble_sph::{DensityDiffusion, FluidObservables, FluidParticles, FluidPhase, FluidSettings, FluidSnapshot, ParticleKind, Viscosity, WallRole};
-use tumble_state::{Phase, PhasePoints, PhaseTable};
+use tumble_state::{OutputRequest, Phase, PhaseOutput, PhasePoints, PhaseStop, PhaseTable, PolyData};
 
 /// A fluid phase and what the scene measures in it.
 pub struct SphPhase {
@@ -165,7 +165,7 @@ impl SphPhase {
             SphProbeKind::Gauge { from, top } => (&["height"], vec![p.water_height(from, top)]),
             SphProbeKind::Front(d) => (&["front"], vec![p.front(d)]),
         };
-        PhaseTable { file: format!("probe_{}.csv", probe.name), columns: columns.iter().map(|c| c.to_string()).collect(), values }
+        PhaseTable::line(format!("probe_{}.csv", probe.name), columns, values)
     }
 
     /// A floating body's row: where it is, how it is turned (the rotation vector from its start,
@@ -194,37 +194,13 @@ impl SphPhase {
             "torque_z",
         ];
         let vectors = [b.centre, turn, b.velocity, b.angular_velocity, b.fluid_force, b.fluid_torque];
-        PhaseTable {
-            file: format!("floating_{}.csv", self.floating[k]),
-            columns: columns.iter().map(|c| c.to_string()).collect(),
-            values: vectors.iter().flat_map(|v| v.to_array()).collect(),
-        }
+        PhaseTable::line(format!("floating_{}.csv", self.floating[k]), &columns, vectors.iter().flat_map(|v| v.to_array()).collect())
     }
 }
 
-impl Phase for SphPhase {
-    fn name(&self) -> &'static str {
-        "fluid"
-    }
-
-    fn advance(&mut self, steps: u64, dt: f64) -> Result<(), String> {
-        if let Some(device) = self.device.as_mut() {
-            device.fluid.advance(steps, dt);
-            return self.take_device_state(dt);
-        }
-        let phase = &mut self.phase;
-        self.pool.install(|| (0..steps).try_for_each(|_| phase.step(dt))).map_err(|e| e.to_string())
-    }
-
-    fn particles(&self) -> usize {
-        self.fluid_particles
-    }
-
-    fn memory_bytes(&self) -> u64 {
-        self.phase.memory_bytes()
-    }
-
-    fn tables(&self) -> Vec<PhaseTable> {
+impl SphPhase {
+    /// Its tables now: fluid.csv, then each probe's and floating body's.
+    pub fn tables(&self) -> Vec<PhaseTable> {
         let o = self.pool.install(|| self.phase.observables());
         let dt_limit = match &self.device {
             Some(device) => device.dt_limit,
@@ -258,7 +234,7 @@ impl Phase for SphPhase {
             o.largest_speed,
             dt_limit,
         ];
-        let mut fluid = PhaseTable { file: "fluid.csv".into(), columns: columns.iter().map(|c| c.to_string()).collect(), values };
+        let mut fluid = PhaseTable::line("fluid.csv", &columns, values);
         let s = self.phase.settings();
         if !(s.inflows.is_empty() && s.outflows.is_empty()) {
             // The fluid's mass changes by exactly mass_in − mass_out, its particles by particles_in − particles_out.
@@ -267,7 +243,7 @@ impl Phase for SphPhase {
             let counts = [("particles_in", b.inflow_particles as f64), ("particles_out", b.outflow_particles as f64)];
             for (name, value) in more.into_iter().chain(counts) {
                 fluid.columns.push(name.into());
-                fluid.values.push(value);
+                fluid.rows[0].push(value);
             }
         }
         std::iter::once(fluid)
@@ -276,6 +252,8 @@ impl Phase for SphPhase {
             .collect()
     }
 
+    /// The fluid's energy monitor at an output row: why it must stop, if it must (the cause, and
+    /// what would make it stable).
     fn check(&mut self) -> Result<(), String> {
         let o = self.pool.install(|| self.phase.observables());
         let (body_kinetic, body_potential) = bodies_energy(&self.phase);
@@ -304,7 +282,8 @@ impl Phase for SphPhase {
         ))
     }
 
-    fn points(&self) -> PhasePoints {
+    /// Its particles for a snapshot.
+    pub fn points(&self) -> PhasePoints {
         let p = self.phase.particles();
         let eos = self.phase.equation_of_state();
         let walls = self.phase.pressure();
@@ -335,6 +314,45 @@ impl Phase for SphPhase {
             ],
         }
     }
+}
+
+impl Phase for SphPhase {
+    fn name(&self) -> &'static str {
+        "fluid"
+    }
+
+    fn advance(&mut self, steps: u64, dt: f64) -> Result<(), PhaseStop> {
+        if let Some(device) = self.device.as_mut() {
+            device.fluid.advance(steps, dt);
+            return self.take_device_state(dt).map_err(PhaseStop::Failed);
+        }
+        let phase = &mut self.phase;
+        self.pool.install(|| (0..steps).try_for_each(|_| phase.step(dt))).map_err(|e| PhaseStop::Failed(e.to_string()))
+    }
+
+    fn particles(&self) -> usize {
+        self.fluid_particles
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        self.phase.memory_bytes()
+    }
+
+    fn output(&mut self, request: OutputRequest) -> Result<PhaseOutput, PhaseStop> {
+        // The starting state is written as it is.
+        if request.row && !request.start {
+            self.check().map_err(PhaseStop::Failed)?;
+        }
+        let tables = if request.row { self.tables() } else { Vec::new() };
+        let series: Vec<(String, PolyData)> = if request.series { vec![("fluid".into(), self.points().poly_data())] } else { Vec::new() };
+        Ok(PhaseOutput { tables, series, stop: None })
+    }
+
+    fn summary(&self) -> Vec<(String, f64)> {
+        let tables = self.tables();
+        let Some(fluid) = tables.first() else { return Vec::new() };
+        fluid.columns.iter().cloned().zip(fluid.rows[0].iter().copied()).collect()
+    }
 
     fn snapshot(&self) -> Vec<u8> {
         // On the GPU, the device's arrays in its order, so that it continues bit-identically.
@@ -356,6 +374,10 @@ impl Phase for SphPhase {
         }
         self.energy = section.energy;
         Ok(())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 

@@ -77,11 +77,7 @@ pub(crate) fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, st
     }
     for phase in sim.phases() {
         // Each phase's particles, memory and final row (its first table), under its name.
-        let last: serde_json::Map<String, serde_json::Value> = phase
-            .tables()
-            .first()
-            .map(|t| t.columns.iter().zip(&t.values).map(|(c, &v)| (c.clone(), finite_or_null(v))).collect())
-            .unwrap_or_default();
+        let last: serde_json::Map<String, serde_json::Value> = phase.summary().into_iter().map(|(c, v)| (c, finite_or_null(v))).collect();
         value[phase.name()] = serde_json::json!({ "particles": phase.particles(), "memory_bytes": phase.memory_bytes(), "final": last });
     }
     if let Some(c) = &s.checkpoints {

@@ -630,9 +630,8 @@ fn water_at_rest_in_a_mesh_tank_reads_the_analytic_tanks_pressure() {
         let mut sim = Simulation::new(compile(&parse_scene(&text).unwrap()).unwrap(), 1);
         let steps = sim.plan().run.steps;
         sim.advance(steps);
-        let tables = sim.phases()[0].tables();
-        let probe = tables.iter().find(|t| t.file == "probe_deep.csv").unwrap();
-        probe.values[probe.columns.iter().position(|c| c == "pressure").unwrap()]
+        let tables = sim.fluid_phase().unwrap().tables();
+        tables.iter().find(|t| t.file == "probe_deep.csv").unwrap().value("pressure").unwrap()
     };
     let hydrostatic = 1000.0 * 9.81 * 0.08;
     for motion in ["", "motion = { oscillate = { direction = [1.0, 0.0, 0.0], amplitude = 0.005, frequency = 2.0 } }"] {
@@ -766,7 +765,7 @@ motion = {{ rotate = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 1.0, 0.0], rpm = 2
     let mut sim = Simulation::new(compiled, 1);
     let steps = sim.plan().run.steps;
     sim.advance(steps);
-    let points = sim.phases()[0].points();
+    let points = sim.fluid_phase().unwrap().points();
     let of = |name: &str| &points.scalars.iter().find(|s| s.0 == name).unwrap().1;
     let kind = &points.integers.iter().find(|s| s.0 == "kind").unwrap().1;
     let velocity = &points.vectors.iter().find(|s| s.0 == "velocity").unwrap().1;

@@ -1,13 +1,13 @@
-//! ParaView snapshots: `snapshots/particles_NNNNNN.vtp` (VTK XML PolyData, in the scene's
-//! `output.snapshot_format`: appended binary by default, see encoding.rs) and `particles.pvd`,
-//! the time series that opens them all; `walls.vtp` when every wall is static, else
-//! `snapshots/walls_NNNNNN.vtp` at each snapshot and `walls.pvd`; with `output.contacts`,
-//! `snapshots/contacts_NNNNNN.vtp` and `contacts.pvd` (contacts.rs).
+//! ParaView snapshots: each phase's series as `snapshots/<series>_NNNNNN.vtp` (VTK XML
+//! PolyData, in the scene's `output.snapshot_format`: appended binary by default, see
+//! encoding.rs) and `<series>.pvd`, the time series that opens them all. The particles give
+//! `particles`, `bodies` (polyhedra), `walls` (when one moves; else `walls.vtp` once) and, with
+//! `output.contacts`, `contacts` (contacts.rs); the fluid gives `fluid`.
 
 pub mod contacts;
 pub mod encoding;
 
-use crate::{Simulation, State};
+use crate::State;
 pub use encoding::{Array, Cells, PolyData, Values, encode};
 use std::fmt::Write as _;
 use std::io;
@@ -18,7 +18,6 @@ use tumble_scene::schema::SnapshotFormat;
 pub struct SnapshotWriter {
     out_dir: PathBuf,
     format: SnapshotFormat,
-    wall_series: bool,
     /// (series name, its entries): particles, bodies, walls, contacts.
     series: Vec<(String, Vec<(f64, String)>)>,
 }
@@ -36,7 +35,7 @@ fn pvd(entries: &[(f64, String)]) -> String {
 }
 
 /// The walls go in a series, one file per snapshot, when one moves (a servo too) or a mesh carries loads.
-fn wall_series(plan: &tumble_scene::Plan) -> bool {
+pub(crate) fn wall_series(plan: &tumble_scene::Plan) -> bool {
     let servo = |w: &tumble_scene::Wall| plan.model.wall_groups[w.group as usize].servo.is_some();
     plan.model.walls.iter().any(|w| w.motion.is_some() || servo(w) || matches!(w.shape, tumble_geom::SurfaceShape::Mesh(_)))
 }
@@ -45,7 +44,7 @@ fn wall_series(plan: &tumble_scene::Plan) -> bool {
 /// out, its `wall` cell array naming each one's wall) as cell data: `wear_volume` (m³ since
 /// t = 0) and `wear_depth` (m: the volume over the triangle's area), zero on polygons of walls
 /// without wear; nothing when no wall wears.
-fn add_wear(data: &mut PolyData, walls: &[tumble_scene::Wall], wear: &[Vec<f64>]) {
+pub(crate) fn add_wear(data: &mut PolyData, walls: &[tumble_scene::Wall], wear: &[Vec<f64>]) {
     if wear.iter().all(Vec::is_empty) {
         return;
     }
@@ -69,20 +68,19 @@ fn add_wear(data: &mut PolyData, walls: &[tumble_scene::Wall], wear: &[Vec<f64>]
 }
 
 impl SnapshotWriter {
-    /// Creates snapshots/ and, when the scene has walls and none moves, `walls.vtp`.
-    pub fn create(out_dir: &Path, plan: &tumble_scene::Plan) -> io::Result<Self> {
+    /// Creates snapshots/ and the pieces written once (`fixed`: file in the output folder and
+    /// piece; the static walls' `walls.vtp`).
+    pub fn create(out_dir: &Path, format: SnapshotFormat, fixed: &[(String, PolyData)]) -> io::Result<Self> {
         std::fs::create_dir_all(out_dir.join("snapshots"))?;
-        let format = plan.run.snapshot_format;
-        let wall_series = wall_series(plan);
-        if !plan.model.walls.is_empty() && !wall_series {
-            std::fs::write(out_dir.join("walls.vtp"), encode(&walls_vtp(plan, &plan.model.walls, None), format))?;
+        for (file, data) in fixed {
+            std::fs::write(out_dir.join(file), encode(data, format))?;
         }
-        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format, wall_series, series: Vec::new() })
+        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format, series: Vec::new() })
     }
 
     /// Continues the series of a resumed run: the .pvd files list `series` again, and snapshot
     /// files written after the checkpoint (the resumed run writes them anew) are removed.
-    pub fn reopen(out_dir: &Path, plan: &tumble_scene::Plan, series: SeriesIndex) -> io::Result<Self> {
+    pub fn reopen(out_dir: &Path, format: SnapshotFormat, series: SeriesIndex) -> io::Result<Self> {
         std::fs::create_dir_all(out_dir.join("snapshots"))?;
         let kept: std::collections::HashSet<&str> = series.iter().flat_map(|(_, e)| e.iter().map(|(_, f)| f.as_str())).collect();
         for e in std::fs::read_dir(out_dir.join("snapshots"))? {
@@ -94,8 +92,7 @@ impl SnapshotWriter {
         for (name, entries) in &series {
             std::fs::write(out_dir.join(format!("{name}.pvd")), pvd(entries))?;
         }
-        let wall_series = wall_series(plan);
-        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format: plan.run.snapshot_format, wall_series, series })
+        Ok(SnapshotWriter { out_dir: out_dir.to_path_buf(), format, series })
     }
 
     /// Every series' entries so far.
@@ -104,7 +101,7 @@ impl SnapshotWriter {
     }
 
     /// Writes `data` as `snapshots/<series>_<index>.vtp` and rewrites `<series>.pvd`.
-    fn add(&mut self, series: &str, index: usize, time: f64, data: &PolyData) -> io::Result<()> {
+    pub fn add(&mut self, series: &str, index: usize, time: f64, data: &PolyData) -> io::Result<()> {
         let name = format!("snapshots/{series}_{index:06}.vtp");
         std::fs::write(self.out_dir.join(&name), encode(data, self.format))?;
         let k = match self.series.iter().position(|(s, _)| *s == series) {
@@ -116,48 +113,6 @@ impl SnapshotWriter {
         };
         self.series[k].1.push((time, name));
         std::fs::write(self.out_dir.join(format!("{series}.pvd")), pvd(&self.series[k].1))
-    }
-
-    /// Writes snapshot `index` of `state` (the run's particles at `time`) and rewrites the .pvd files.
-    pub fn write(&mut self, index: usize, sim: &Simulation, time: f64, state: &State) -> io::Result<()> {
-        let plan = sim.plan();
-        // A scene of fluid alone has no particle series.
-        let fluid_alone = !sim.phases().is_empty() && plan.model.sources.is_empty() && state.is_empty();
-        if !fluid_alone {
-            self.add("particles", index, time, &particles_vtp(state, plan.model.gravity))?;
-        }
-        if plan.model.polyhedra {
-            self.add("bodies", index, time, &bodies_vtp(plan, state))?;
-        }
-        if self.wall_series {
-            let walls = sim.walls();
-            let loads = tumble_cpu::network::mesh_loads(&plan.model, state, &walls);
-            let mut data = walls_vtp(plan, &walls, Some(&loads));
-            add_wear(&mut data, &walls, &sim.mesh_wear());
-            self.add("walls", index, time, &data)?;
-        }
-        if plan.run.contacts {
-            self.add("contacts", index, time, &contacts::contacts_vtp(plan, state, &sim.walls()))?;
-        }
-        for phase in sim.phases() {
-            self.add(phase.name(), index, time, &phase_vtp(&phase.points()))?;
-        }
-        Ok(())
-    }
-}
-
-/// A phase's particles (an SPH fluid's fluid and wall particles) as VTK XML PolyData: one vertex
-/// per particle with the phase's fields as point data.
-pub fn phase_vtp(p: &tumble_state::PhasePoints) -> PolyData {
-    let mut point_data: Vec<Array> = p.scalars.iter().map(|(name, v)| Array::f64(name, 1, v.clone())).collect();
-    point_data.extend(p.vectors.iter().map(|(name, v)| Array::f64(name, 3, v.iter().flat_map(|x| x.to_array()).collect())));
-    point_data.extend(p.integers.iter().map(|(name, v)| Array::i32(name, v.clone())));
-    PolyData {
-        points: p.positions.iter().flat_map(|x| x.to_array()).collect(),
-        verts: Cells::of((0..p.positions.len()).map(|k| [k])),
-        point_data,
-        point_attributes: (p.scalars.first().map(|(n, _)| n.to_string()), p.vectors.first().map(|(n, _)| n.to_string())),
-        ..Default::default()
     }
 }
 

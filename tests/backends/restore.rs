@@ -110,13 +110,13 @@ pub fn arrays_grown_in_chunks_end_where_one_reservation_ends() {
     println!("{events} insertion events up to step {middle}: {readbacks} read-backs");
     assert!(readbacks <= 2 * events + 1, "{readbacks} read-backs for {events} insertion events");
     let snapshot = grown.snapshot();
-    let books = grown.feeder_books().cloned();
+    let books = tumble::Phase::snapshot(grown.dem());
     grown.advance(total - middle);
     reserved.advance(total);
     let mut continued = tumble::Simulation::on(BackendName::Gpu, reserved_scene, 1).unwrap();
     continued.restore(&snapshot).unwrap();
     assert_eq!(gpu_of(&mut continued).slots(), snapshot.device.as_ref().unwrap().counter("slots").unwrap() as u32, "the restore resized the arrays");
-    continued.set_feeder_books(books);
+    tumble::Phase::restore(continued.dem_mut(), &books).unwrap();
     continued.advance(total - middle);
     let inserted = grown.inserted();
     let reserved_bytes = gpu_of(&mut reserved).memory_bytes();

@@ -317,10 +317,10 @@ fn small_mill(backend: Backend) -> Vec<Measured> {
 fn fluid_run(backend: Backend, text: &str) -> HashMap<(String, String), f64> {
     let (sim, _) = run_with_outputs(backend, compiled(text));
     assert!(sim.phase_fault().is_none(), "{:?}", sim.phase_fault());
-    let fluid = sim.phases().iter().find(|p| p.name() == "fluid").expect("a fluid phase");
+    let fluid = sim.fluid_phase().expect("a fluid phase");
     let mut values = HashMap::new();
     for table in fluid.tables() {
-        for (column, value) in table.columns.iter().zip(&table.values) {
+        for (column, value) in table.columns.iter().zip(&table.rows[0]) {
             values.insert((table.file.clone(), column.clone()), *value);
         }
     }

@@ -4,8 +4,9 @@
 //! structure-of-arrays form ([`State`], contact springs keyed by partner in
 //! [`HistorySlots`]), the observables of an output row ([`Observables`],
 //! [`TrackRow`], [`DrumProfile`]), faults ([`Fault`]) and the [`Snapshot`] a
-//! run continues from bit-identically. The [`Backend`] trait is the seam the
-//! run loop holds.
+//! run continues from bit-identically. The run loop holds every phase (the
+//! DEM's particles, an SPH fluid) through the [`Phase`] trait; [`Backend`] is the
+//! seam between the DEM phase and the code that steps its particles.
 //!
 //! ```
 //! use tumble_state::{Snapshot, SnapshotError};
@@ -18,6 +19,7 @@ mod fault;
 mod history;
 mod observables;
 mod phase;
+mod poly_data;
 mod snapshot;
 mod state;
 
@@ -26,7 +28,8 @@ pub use contact_sum::ContactSum;
 pub use fault::Fault;
 pub use history::{HistoryOverflow, HistorySlots, MESH_KEY, RollingHalf, Spring, TangentialHalf, WALL_KEY};
 pub use observables::{DrumFrame, DrumProfile, Observables, TrackRow, drum_profiles, no_drum_profile, quantile_rank, tracks};
-pub use phase::{Phase, PhasePoints, PhaseTable};
+pub use phase::{Instability, OutputRequest, Phase, PhaseOutput, PhasePoints, PhaseStop, PhaseTable};
+pub use poly_data::{Array, Cells, PolyData, Values};
 pub use snapshot::{
     DeviceImage, NeighbourState, NeighbourStateRef, OutletTally, SNAPSHOT_VERSION, ServoState, Snapshot, SnapshotError, SnapshotRef, WallState,
 };

@@ -146,7 +146,8 @@ pub fn sources_insert_on_schedule_and_outlets_delete_at_the_projectile_step(back
     assert_eq!(sim.particles() as u64 + sim.removed() as u64 + expect_box + expect_wall, 1 + last.iter().sum::<u64>());
 }
 
-/// The two streams stopped between insertion events, snapshotted with the sources' books, and
+/// The two streams stopped between insertion events, snapshotted with the particles' books (the
+/// sources' among them), and
 /// continued in a new simulation: its final state (on the GPU the device image too) is the
 /// uninterrupted run's, inserted and deleted particles included. The GPU's arrays grow 8 slots
 /// at a time, so both runs grow several times and the restore first resizes the new run's.
@@ -157,11 +158,11 @@ pub fn a_run_with_sources_continued_from_a_snapshot_is_bit_identical(backend: Ba
     let mut straight = Simulation::on(backend, scene.clone(), 2).unwrap();
     straight.advance(middle);
     let snapshot = straight.snapshot();
-    let books = straight.feeder_books().cloned();
+    let books = tumble::Phase::snapshot(straight.dem());
     straight.advance(total - middle);
     let mut continued = Simulation::on(backend, scene, 1).unwrap();
     continued.restore(&snapshot).unwrap();
-    continued.set_feeder_books(books);
+    tumble::Phase::restore(continued.dem_mut(), &books).unwrap();
     continued.advance(total - middle);
     let (a, b) = (straight.snapshot(), continued.snapshot());
     println!(
