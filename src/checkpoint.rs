@@ -35,7 +35,7 @@ pub struct SceneRecord {
     pub dt: Option<f64>,
     /// `--checkpoint-interval` of the command that started or last resumed the run.
     pub checkpoint_interval: Option<f64>,
-    /// The other files the scene reads (mesh walls), with the CRC-32 of their bytes then: a
+    /// The other files the scene reads (meshes), with the CRC-32 of their bytes then: a
     /// resumed run must see the same geometry.
     pub inputs: Vec<(PathBuf, u32)>,
 }
@@ -51,15 +51,23 @@ impl SceneRecord {
     }
 }
 
-/// The files besides itself that a scene (its text, read from `path`) reads: its mesh walls'
-/// files, with the CRC-32 of their bytes; files that cannot be read are left to the compiler.
+/// The files besides itself that a scene (its text, read from `path`) reads: its mesh walls',
+/// mesh sources' and fluid mesh regions' files, with the CRC-32 of their bytes; files that
+/// cannot be read are left to the compiler.
 pub fn scene_inputs(text: &str, path: &Path) -> Vec<(PathBuf, u32)> {
     let Ok(scene) = tumble_scene::parse_scene(text) else { return Vec::new() };
     let folder = path.parent().unwrap_or(Path::new(""));
+    let sources = scene.sources.iter().filter_map(|s| match &s.region {
+        tumble_scene::schema::SourceRegion::Mesh(m) => Some(m),
+        _ => None,
+    });
+    let fluid = scene.sph.iter().flat_map(|f| f.regions.iter().filter_map(|r| r.mesh.as_ref()));
     scene
         .walls
         .iter()
         .filter_map(|w| w.mesh.as_ref())
+        .chain(sources)
+        .chain(fluid)
         .filter_map(|m| {
             let file = std::fs::canonicalize(folder.join(&m.file)).ok()?;
             let bytes = std::fs::read(&file).ok()?;
@@ -298,6 +306,49 @@ pub fn newest(out_dir: &Path) -> Result<(PathBuf, Checkpoint), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A resumed run checks every mesh its scene reads: a wall's, a source region's and a fluid
+    /// region's.
+    #[test]
+    fn the_record_holds_every_mesh_the_scene_reads() {
+        let dir = std::env::temp_dir().join(format!("tumble-inputs-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for name in ["wall", "source", "fluid"] {
+            std::fs::write(dir.join(format!("{name}.obj")), format!("# {name}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")).unwrap();
+        }
+        let text = r#"
+name = "inputs"
+[run]
+duration = 0.1
+[domain]
+min = [0.0, 0.0, 0.0]
+max = [1.0, 1.0, 1.0]
+[[materials]]
+name = "m"
+density = 1000.0
+[contact]
+normal = { model = "linear", stiffness = 1000.0 }
+restitution = 0.5
+[[walls]]
+mesh = { file = "wall.obj" }
+[[sources]]
+material = "m"
+shape = { sphere = { diameter = 0.01 } }
+region = { mesh = { file = "source.obj" } }
+total = { particles = 1 }
+[sph]
+spacing = 0.01
+density = 1000.0
+viscosity = 1.0e-3
+expected_speed = 1.0
+[[sph.regions]]
+mesh = { file = "fluid.obj" }
+"#;
+        let inputs = scene_inputs(text, &dir.join("scene.toml"));
+        let names: Vec<String> = inputs.iter().map(|(p, _)| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(names, ["wall.obj", "source.obj", "fluid.obj"]);
+    }
 
     fn sample(step: u64) -> Checkpoint {
         let scene = crate::compile(&crate::parse_scene(SCENE).unwrap()).unwrap();

@@ -174,7 +174,7 @@ fn place(plan: &Plan, source: &Source, books: &mut SourceBooks, space: &mut Spac
             Some(p) => p.into(),
             None => source.draw_body(&mut rng, &plan.model.shapes),
         };
-        let spot = (0..POSITION_TRIES).map(|_| source.region.sample(&mut rng, body.radius)).find(|&x| space.fits(x, body.radius));
+        let spot = (0..POSITION_TRIES).filter_map(|_| source.region.sample(&mut rng, body.radius)).find(|&x| space.fits(x, body.radius));
         let Some(x) = spot else {
             books.pending = Some(body.into());
             books.deferred += 1;

@@ -36,7 +36,7 @@ pub fn resume_run(dir: &Path, options: &RunOptions) -> Result<RunSummary, RunErr
     }
     if let Some(why) = record.changed_input() {
         return Err(refuse(format!(
-            "{why} since the run in {} started (a mesh wall of its scene), and a run continues only the geometry it started with; restore the file, or start a new run with tumble run",
+            "{why} since the run in {} started (a mesh of its scene), and a run continues only the geometry it started with; restore the file, or start a new run with tumble run",
             dir.display()
         )));
     }

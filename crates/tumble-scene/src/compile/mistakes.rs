@@ -92,11 +92,11 @@ fn sources_without_room(model: &PhysicsModel, warnings: &mut Vec<String>) {
         let (mut outside, mut blocked) = (0, vec![0usize; walls.len()]);
         let room = (0..PLACES_TRIED).any(|_| {
             let r = s.draw_body(&mut rng, &model.shapes).radius;
-            let x = s.region.sample(&mut rng, r);
-            if !model.domain.contains(x) {
+            // A mesh too thin for the body has no place inside: that counts as outside.
+            let Some(x) = s.region.sample(&mut rng, r).filter(|&x| model.domain.contains(x)) else {
                 outside += 1;
                 return false;
-            }
+            };
             match walls.iter().position(|w| w.sphere_contact(x, r).is_some()) {
                 Some(w) => {
                     blocked[w] += 1;

@@ -49,6 +49,9 @@ pub enum SourceRegion {
     /// A rectangle particles enter through (a factory): `{ point, normal, width, height }`; the
     /// particles' centres lie in the rectangle.
     Plane(SourcePlane),
+    /// The inside of a closed mesh (STL or OBJ, placed as a mesh wall is): `{ file, scale,
+    /// translate, rotate }`; either orientation of its normals.
+    Mesh(MeshSection),
 }
 
 #[derive(Clone, Debug, Deserialize)]
