@@ -388,8 +388,8 @@ fn add_walls(
             }
             add_wall_cylinder(particles, settings, &c, DVec3::ZERO);
             walls.cylinders.push(c);
-        } else if let Some(m) = &w.mesh {
-            walls.meshes.push(super::sph_meshes::add_mesh_wall(scene, k, m, settings, particles)?);
+        } else if w.mesh.is_some() {
+            walls.meshes.push(super::sph_meshes::add_mesh_wall(k, compiled, settings, particles)?);
         } else if w.lifters.is_some() {
             let bars: Vec<&Wall> = compiled.iter().filter(|c| c.group as usize == k).collect();
             walls.meshes.extend(super::sph_meshes::add_lifters(k, &bars, settings, particles)?);

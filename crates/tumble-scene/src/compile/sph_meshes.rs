@@ -61,19 +61,22 @@ fn lattice_point([i, j, k]: [i64; 3], dp: f64, dimension: Dimension) -> DVec3 {
     DVec3::new((i as f64 + 0.5) * dp, y, (k as f64 + 0.5) * dp)
 }
 
-/// Wall `k`'s mesh as dummy particles: every lattice point behind its surface (against the
-/// normals) no deeper than the wall layers' thickness, inside the fluid's grid. The fluid is on
-/// the side the normals point to: outward for a body standing in it, inward for a container.
-pub(super) fn add_mesh_wall(
-    scene: &Scene,
-    k: usize,
-    m: &MeshSection,
-    settings: &FluidSettings,
-    particles: &mut FluidParticles,
-) -> Result<FluidMesh, SceneError> {
-    let field = format!("walls[{k}].mesh");
-    let (wall, _) = placed_mesh(scene, &field, m, 2.0 * settings.h, 0)?;
-    add_layers(&field, wall, settings, particles)
+/// Wall `k`'s mesh (as the particles' walls compiled it, among `walls`) as dummy particles:
+/// every lattice point behind its surface (against the normals) no deeper than the wall layers'
+/// thickness, inside the fluid's grid. The fluid is on the side the normals point to: outward
+/// for a body standing in it, inward for a container.
+pub(super) fn add_mesh_wall(k: usize, walls: &[Wall], settings: &FluidSettings, particles: &mut FluidParticles) -> Result<FluidMesh, SceneError> {
+    let compiled = walls
+        .iter()
+        .find_map(|c| match &c.shape {
+            SurfaceShape::Mesh(m) if c.group as usize == k => Some(m),
+            _ => None,
+        })
+        .expect("the particles' walls compile every mesh wall");
+    // Binned again on the fluid's scale, in the same pose.
+    let binned = MeshWall::new(compiled.body.mesh.clone(), 2.0 * settings.h, 0);
+    let wall = MeshWall { body: binned.body, rotation: compiled.rotation, translation: compiled.translation };
+    add_layers(&format!("walls[{k}].mesh"), wall, settings, particles)
 }
 
 /// Wall `k`'s lifter bars (its compiled prisms) as closed meshes of dummy particles.
