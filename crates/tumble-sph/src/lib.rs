@@ -13,6 +13,7 @@
 
 mod buffers;
 pub mod cases;
+pub mod coupling;
 mod eos;
 mod floating;
 mod kernel;
