@@ -231,6 +231,8 @@ fn a_source_fills_the_inside_of_a_closed_mesh() {
         1,
     );
     std::fs::remove_file(&file).unwrap();
+    let plan = sim.plan().describe(0);
+    assert!(plan.contains("source       feed (closed mesh of 12 triangles, 1.0000e-3 m³):"), "{plan}");
     let s = sim.state();
     assert_eq!(s.len(), 300, "the whole total fits at once (10 % of the cube's volume)");
     let back = glam::DQuat::from_rotation_z(-30f64.to_radians());

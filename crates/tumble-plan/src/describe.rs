@@ -23,9 +23,16 @@ impl Plan {
                 Some(crate::Total::Kg(m)) => format!(" up to {m} kg"),
                 None => String::new(),
             };
+            let region = match &src.region {
+                crate::InsertRegion::Box { .. } => "box".to_string(),
+                crate::InsertRegion::Cylinder { .. } => "cylinder".to_string(),
+                crate::InsertRegion::Plane { .. } => "plane".to_string(),
+                crate::InsertRegion::Mesh { mesh, .. } => format!("closed mesh of {} triangles", mesh.body.mesh.triangles.len()),
+            };
+            let volume = if src.region.volume() > 0.0 { format!(", {:.4e} m³", src.region.volume()) } else { String::new() };
             let _ = writeln!(
                 s,
-                "source       {}: {rate}{total}, every {} steps ({:.4e} s) from t = {:.4e} s to {:.4e} s; mean particle {:.4e} kg; at most {} particles",
+                "source       {} ({region}{volume}): {rate}{total}, every {} steps ({:.4e} s) from t = {:.4e} s to {:.4e} s; mean particle {:.4e} kg; at most {} particles",
                 src.name,
                 src.every,
                 src.every as f64 * model.dt,
