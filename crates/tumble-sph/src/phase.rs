@@ -426,6 +426,20 @@ impl FluidPhase {
         Ok(())
     }
 
+    /// Each particle's acceleration from the fluid alone at the last evaluation (pressure,
+    /// viscous and wall terms; gravity and the body force taken out), in the particles' order:
+    /// the θ the particles' coupling interpolates. Zero for wall particles and before a step.
+    pub fn fluid_acceleration(&self) -> Vec<DVec3> {
+        let external = self.settings.external_acceleration();
+        let p = &self.particles;
+        (0..p.len())
+            .map(|i| match (p.kind[i], self.rates.acceleration.get(i)) {
+                (ParticleKind::Fluid, Some(&a)) => a - external,
+                _ => DVec3::ZERO,
+            })
+            .collect()
+    }
+
     /// The fluid's sums, in the particles' (deterministic) cell order.
     pub fn observables(&self) -> FluidObservables {
         let p = &self.particles;
