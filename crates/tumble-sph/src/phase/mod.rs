@@ -123,6 +123,10 @@ pub struct FluidPhase {
     lists_due: bool,
     time: f64,
     steps: u64,
+    /// Forces on particles by id (the coupled solids' reaction), held over each step until
+    /// replaced; empty without coupling. Not in the snapshot: the coupling sets them from the
+    /// state before every step.
+    coupled: Vec<DVec3>,
 }
 
 impl FluidPhase {
@@ -205,6 +209,7 @@ impl FluidPhase {
             lists_due: false,
             time: 0.0,
             steps: 0,
+            coupled: Vec::new(),
         })
     }
 
@@ -349,6 +354,19 @@ impl FluidPhase {
             self.lists_due = false;
         }
         let half = 0.5 * dt;
+        // The coupled forces as accelerations, in this step's order (fluid particles only).
+        let p = &self.particles;
+        let coupled: Vec<DVec3> = match self.coupled.is_empty() {
+            true => Vec::new(),
+            false => (0..p.len())
+                .map(|i| match (p.kind[i], self.coupled.get(p.id[i] as usize)) {
+                    (ParticleKind::Fluid, Some(f)) => *f / p.mass[i],
+                    _ => DVec3::ZERO,
+                })
+                .collect(),
+        };
+        // Without coupling the rates stand as they are (adding zero could turn a −0 into +0).
+        let with_coupled = |i: usize, a: DVec3| coupled.get(i).map_or(a, |&c| a + c);
         let walls = WallsAt { settings: &self.settings, bodies: &self.bodies, time: self.time };
         prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs, walls);
         evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
@@ -362,7 +380,7 @@ impl FluidPhase {
         let walls = WallMoves { settings: &self.settings, t0: self.time, bodies: &moves };
         let (_, first_move) = drift(&self.grid, &mut self.particles, &walls, half, |i, v, rho| {
             let advect = *v + rates.xsph[i];
-            *v += half * rates.acceleration[i];
+            *v += half * with_coupled(i, rates.acceleration[i]);
             *rho += half * rates.density_rate[i];
             advect
         });
@@ -376,7 +394,7 @@ impl FluidPhase {
         let (v0, rho0) = (&self.start_velocity, &self.start_density);
         let walls = WallMoves { settings: &self.settings, t0: self.time + half, bodies: &moves };
         let (fastest, second_move) = drift(&self.grid, &mut self.particles, &walls, half, |i, v, rho| {
-            *v = v0[i] + dt * rates.acceleration[i];
+            *v = v0[i] + dt * with_coupled(i, rates.acceleration[i]);
             let eps = -dt * rates.density_rate[i] / *rho;
             *rho = rho0[i] * (2.0 - eps) / (2.0 + eps);
             *v + rates.xsph[i]
@@ -426,6 +444,22 @@ impl FluidPhase {
         Ok(())
     }
 
+    /// Forces on the particles, in their order as [`FluidPhase::particles`] gives it now (the
+    /// coupled solids' reaction), held over the following steps until set again; an empty
+    /// slice removes them.
+    pub fn set_coupled_forces(&mut self, forces: &[DVec3]) {
+        self.coupled.clear();
+        if forces.is_empty() {
+            return;
+        }
+        let p = &self.particles;
+        let ids = p.id.iter().map(|&i| i as usize + 1).max().unwrap_or(0);
+        self.coupled.resize(ids, DVec3::ZERO);
+        for (i, f) in forces.iter().enumerate() {
+            self.coupled[p.id[i] as usize] = *f;
+        }
+    }
+
     /// Each particle's acceleration from the fluid alone at the last evaluation (pressure,
     /// viscous and wall terms; gravity and the body force taken out), in the particles' order:
     /// the θ the particles' coupling interpolates. Zero for wall particles and before a step.
@@ -470,137 +504,4 @@ fn members(p: &FluidParticles, settings: &FluidSettings) -> Vec<u32> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::cases::ColumnInTank;
-    use crate::settings::MovingWall;
-
-    /// Every pair within 2h at the end of every step is in the lists the next step reads, for a
-    /// collapsing column whose lists are kept over several steps; and they are kept (the run
-    /// rebuilt them fewer times than it stepped).
-    #[test]
-    fn the_neighbour_lists_never_miss_a_pair() {
-        let mut phase = ColumnInTank::plane(0.3, 0.1, 0.2, 16).build();
-        let dt = TimeStepLimits::planned(phase.settings()).dt();
-        let reach2 = 4.0 * phase.settings().h * phase.settings().h;
-        let mut builds = 0;
-        for _ in 0..400 {
-            phase.step(dt).unwrap();
-            if phase.lists_due {
-                builds += 1;
-                continue;
-            }
-            let p = &phase.particles;
-            for a in 0..p.len() {
-                for b in 0..p.len() {
-                    if a == b || p.kind[a] == ParticleKind::Wall && p.kind[b] == ParticleKind::Wall {
-                        continue;
-                    }
-                    if phase.grid.separation(p.position[a], p.position[b]).length_squared() < reach2 {
-                        let listed = if p.kind[a] == ParticleKind::Fluid || p.kind[b] == ParticleKind::Fluid {
-                            phase.grid.neighbours(a).contains(&(b as u32))
-                        } else {
-                            true
-                        };
-                        assert!(listed, "step {}: pair {a}-{b} within 2h is not listed", phase.steps);
-                    }
-                }
-            }
-        }
-        assert!(builds > 0 && builds < 200, "{builds} rebuilds in 400 steps");
-    }
-
-    /// The pair passes give the same bits in 256-bit lanes (AVX2) as in 128-bit ones, in 2D and
-    /// 3D, with every switch of the method on: no fused multiply–add or reordering creeps in.
-    #[test]
-    fn wide_and_narrow_lanes_give_the_same_bits() {
-        let variants = [
-            (Viscosity::Artificial { alpha: 0.02 }, crate::DensityDiffusion::Fourtakas { delta: 0.1 }, true, 0.5),
-            (Viscosity::Laminar, crate::DensityDiffusion::MolteniColagrossi { delta: 0.1 }, false, 0.0),
-        ];
-        for three_d in [false, true] {
-            for (viscosity, diffusion, tensile, xsph) in variants {
-                let mut case = ColumnInTank::plane(0.3, 0.1, 0.2, 12);
-                if three_d {
-                    case.dimension = crate::Dimension::Three;
-                    case.depth = 0.05;
-                }
-                (case.viscosity, case.diffusion, case.tensile_correction) = (viscosity, diffusion, tensile);
-                let column = case.build();
-                let settings = FluidSettings { xsph, ..column.settings().clone() };
-                let mut wide = FluidPhase::new(settings.clone(), column.particles().clone()).unwrap();
-                let mut narrow = FluidPhase::new(settings, column.particles().clone()).unwrap();
-                narrow.method.wide_lanes = false;
-                let dt = TimeStepLimits::planned(wide.settings()).dt();
-                for _ in 0..60 {
-                    wide.step(dt).unwrap();
-                    narrow.step(dt).unwrap();
-                }
-                assert!(wide.particles == narrow.particles, "3D: {three_d}, {viscosity:?}");
-                assert!(wide.particles.velocity.iter().any(|v| v.length() > 0.01), "the column has not moved");
-            }
-        }
-    }
-
-    /// A drum turning with the water inside in solid-body rotation: the walls' extrapolated
-    /// pressure matches p = ρ ω² r²/2 at the wall particles within a few pascals, because the
-    /// wall's centripetal acceleration enters Adami's condition; left out, the wall particles one
-    /// to two spacings beyond the water would read ρ ω² R d ≈ 50–110 Pa low.
-    #[test]
-    fn a_turning_walls_acceleration_enters_its_pressure() {
-        use tumble_geom::{Cylinder, Motion, Timing};
-        let (radius, dp, omega, rho0) = (0.1, 0.005, 10.0, 1000.0);
-        let reach = radius + 4.0 * dp;
-        let settings = FluidSettings {
-            dimension: crate::Dimension::Two,
-            spacing: dp,
-            h: 1.5 * dp,
-            rho0,
-            mu: 1e-3,
-            sound_speed: 20.0,
-            viscosity: Viscosity::Artificial { alpha: 0.02 },
-            density_diffusion: crate::DensityDiffusion::None,
-            tensile_correction: false,
-            xsph: 0.0,
-            gravity: DVec3::ZERO,
-            body_force: DVec3::ZERO,
-            domain: tumble_geom::PeriodicBox { min: DVec3::new(-reach, 0.0, -reach), max: DVec3::new(reach, 0.0, reach), periodic: [false; 3] },
-            moving_walls: vec![MovingWall { motion: Motion::Rotate { point: DVec3::ZERO, axis: DVec3::Y, omega }, timing: Timing::ALWAYS }],
-            floating: Vec::new(),
-            inflows: Vec::new(),
-            outflows: Vec::new(),
-        };
-        let eos = Tait::new(rho0, settings.sound_speed);
-        let exact = |r: f64| 0.5 * rho0 * omega * omega * r * r;
-        let mut particles = FluidParticles::default();
-        let rings = (radius / dp).round() as usize;
-        for x in crate::cylinder_shell(&Cylinder::new(DVec3::ZERO, DVec3::Y, radius, 1.0, false), rings, dp, crate::Dimension::Two) {
-            let v = omega * DVec3::Y.cross(x);
-            particles.push(ParticleKind::Fluid, x, v, eos.density(exact(x.length())), rho0 * dp * dp);
-        }
-        let first_wall = particles.len();
-        crate::add_wall_cylinder(&mut particles, &settings, &Cylinder::new(DVec3::ZERO, DVec3::Y, radius, 1.0, true), DVec3::ZERO);
-        particles.assign_moving_wall(first_wall, 1);
-        let mut phase = FluidPhase::new(settings, particles).unwrap();
-        let settings = phase.settings.clone();
-        let walls = WallsAt { settings: &settings, bodies: &[], time: 0.0 };
-        crate::rates::prepare(&phase.method, &phase.grid, &mut phase.particles, &mut phase.inputs, walls);
-        let p = &phase.particles;
-        let mut worst: f64 = 0.0;
-        let mut checked = 0;
-        for i in 0..p.len() {
-            let r = p.position[i].length();
-            if p.kind[i] == ParticleKind::Wall && r < radius + 2.0 * dp {
-                worst = worst.max((phase.inputs.pressure[i] - exact(r)).abs());
-                checked += 1;
-            }
-        }
-        println!("{checked} wall particles: largest error {worst:.2} Pa of the wall pressure");
-        assert!(checked > 100, "{checked} wall particles checked");
-        assert!(
-            worst < 15.0,
-            "the wall pressure is {worst:.1} Pa off rho omega² r²/2 (rho omega² R dp = {:.0} Pa)",
-            rho0 * omega * omega * radius * dp
-        );
-    }
-}
+mod tests;
