@@ -67,6 +67,16 @@ pub struct FeederBooks {
     next_id: u32,
 }
 
+/// Per source of `books` (none without sources): particles inserted so far and their mass.
+pub fn inserted(books: Option<&FeederBooks>) -> Vec<(u64, f64)> {
+    books.map_or_else(Vec::new, |b| b.sources.iter().map(|s| (s.inserted, s.mass)).collect())
+}
+
+/// Kinetic and potential energy the sources of `books` have brought in so far, J.
+pub fn inserted_energy(books: Option<&FeederBooks>) -> f64 {
+    books.map_or(0.0, |b| b.sources.iter().map(|s| s.energy).sum())
+}
+
 /// The sources of a plan at run time.
 pub struct Feeder {
     books: FeederBooks,

@@ -28,7 +28,8 @@ pub struct DemPhase {
     rows_need_state: bool,
 }
 
-/// What the run keeps of the DEM besides its backend's state: its checkpoint section.
+/// What the run keeps of the DEM besides its backend's state and its sources' books (the
+/// checkpoint section holds both).
 #[derive(Serialize, Deserialize)]
 struct DemBooks {
     /// Particles at the run's start.
@@ -37,18 +38,6 @@ struct DemBooks {
     monitor: Option<Monitor>,
     extra: ExtraRows,
     last_agglomerates: Option<AgglomerateStats>,
-    /// The sources' books (None without sources).
-    feeder: Option<FeederBooks>,
-}
-
-/// [`DemBooks`] borrowed, encoded as it is.
-#[derive(Serialize)]
-struct DemBooksRef<'a> {
-    initial_particles: usize,
-    monitor: &'a Option<Monitor>,
-    extra: &'a ExtraRows,
-    last_agglomerates: &'a Option<AgglomerateStats>,
-    feeder: Option<&'a FeederBooks>,
 }
 
 impl DemPhase {
@@ -56,7 +45,7 @@ impl DemPhase {
     pub fn new(backend: Box<dyn Backend>) -> Self {
         let plan = backend.plan();
         let rows_need_state = !plan.model.flow_planes.is_empty() || plan.run.agglomerates;
-        let books = DemBooks { initial_particles: 0, monitor: None, extra: ExtraRows::new(plan), last_agglomerates: None, feeder: None };
+        let books = DemBooks { initial_particles: 0, monitor: None, extra: ExtraRows::new(plan), last_agglomerates: None };
         let feeder = Feeder::new(backend.as_ref());
         let mut dem = DemPhase { backend, feeder, feed_error: None, books, rows_need_state };
         dem.feed();
@@ -97,12 +86,12 @@ impl DemPhase {
 
     /// Per source: particles inserted so far and their mass.
     pub fn inserted(&self) -> Vec<(u64, f64)> {
-        self.feeder_books().map_or_else(Vec::new, |b| b.sources.iter().map(|s| (s.inserted, s.mass)).collect())
+        crate::feeder::inserted(self.feeder_books())
     }
 
     /// Kinetic and potential energy the sources have brought in so far, J.
     pub fn inserted_energy(&self) -> f64 {
-        self.feeder_books().map_or(0.0, |b| b.sources.iter().map(|s| s.energy).sum())
+        crate::feeder::inserted_energy(self.feeder_books())
     }
 
     /// Particles at the run's start (known from its first row).
@@ -219,20 +208,13 @@ impl Phase for DemPhase {
     }
 
     fn snapshot(&self) -> Vec<u8> {
-        let b = &self.books;
-        let books = DemBooksRef {
-            initial_particles: b.initial_particles,
-            monitor: &b.monitor,
-            extra: &b.extra,
-            last_agglomerates: &b.last_agglomerates,
-            feeder: self.feeder_books(),
-        };
-        postcard::to_stdvec(&books).expect("the books always encode")
+        postcard::to_stdvec(&(&self.books, self.feeder_books())).expect("the books always encode")
     }
 
     fn restore(&mut self, bytes: &[u8]) -> Result<(), String> {
-        let books: DemBooks = postcard::from_bytes(bytes).map_err(|e| format!("the particles' books cannot be decoded: {e}"))?;
-        if let (Some(f), Some(b)) = (self.feeder.as_mut(), books.feeder.clone()) {
+        let (books, feeder): (DemBooks, Option<FeederBooks>) =
+            postcard::from_bytes(bytes).map_err(|e| format!("the particles' books cannot be decoded: {e}"))?;
+        if let (Some(f), Some(b)) = (self.feeder.as_mut(), feeder) {
             f.set_books(b);
         }
         self.books = books;
@@ -255,10 +237,9 @@ fn row_tables(
     out: &mut PhaseOutput,
 ) -> Result<(), PhaseStop> {
     let (o, plan) = (&frame.observables, backend.plan());
-    let inserted: Vec<(u64, f64)> = feeder.map_or_else(Vec::new, |b| b.sources.iter().map(|s| (s.inserted, s.mass)).collect());
+    let inserted = crate::feeder::inserted(feeder);
     if !start && let Some(monitor) = &books.monitor {
-        let energy = feeder.map_or(0.0, |b| b.sources.iter().map(|s| s.energy).sum());
-        monitor.check_with_inserted(backend.steps(), o, energy).map_err(PhaseStop::Unstable)?;
+        monitor.check_with_inserted(backend.steps(), o, crate::feeder::inserted_energy(feeder)).map_err(PhaseStop::Unstable)?;
     }
     let inserted_count: usize = inserted.iter().map(|s| s.0 as usize).sum();
     let extra = books.extra.row(backend, inserted, frame);
