@@ -54,6 +54,20 @@ pub(crate) fn placed_mesh(scene: &Scene, field: &str, m: &MeshSection, cell: f64
     Ok((MeshWall::new(mesh, cell, first_key), warnings))
 }
 
+/// The closed mesh of section `field` whose inside `what` fills (`the fluid`, `a source`),
+/// read and placed as [`placed_mesh`] does; one with open edges is refused.
+pub(crate) fn closed_mesh(scene: &Scene, field: &str, m: &MeshSection, cell: f64, what: &str) -> Result<MeshWall, SceneError> {
+    let (wall, _) = placed_mesh(scene, field, m, cell, 0)?;
+    let open = wall.body.mesh.across.iter().flatten().filter(|&&t| t == tumble_geom::OPEN).count();
+    if open > 0 {
+        return Err(SceneError::field(
+            field,
+            format!("{what} fills the inside of a closed mesh; this one has {open} open edges (close the surface in the CAD file)"),
+        ));
+    }
+    Ok(wall)
+}
+
 /// The point of a mesh nearest to `x`, and its distance.
 pub(crate) fn nearest_distance(m: &MeshWall, x: DVec3) -> f64 {
     (0..m.body.mesh.triangles.len()).map(|t| (tumble_geom::closest_point_on_triangle(x, m.corners(t)).0 - x).length()).fold(f64::INFINITY, f64::min)

@@ -213,15 +213,8 @@ fn region(scene: &Scene, s: &SourceSection, at: &impl Fn(&str) -> String, domain
         SourceRegion::Mesh(m) => {
             let field = at("region.mesh");
             // The binning only speeds up the distance search: 16 cells along the domain.
-            let (mesh, _) = crate::mesh_walls::placed_mesh(scene, &field, m, domain.extent().max_element() / 16.0, 0)?;
+            let mesh = crate::mesh_walls::closed_mesh(scene, &field, m, domain.extent().max_element() / 16.0, "a source")?;
             let (lo, hi) = mesh.bounds();
-            let open = mesh.body.mesh.across.iter().flatten().filter(|&&t| t == tumble_geom::OPEN).count();
-            if open > 0 {
-                return Err(SceneError::field(
-                    field,
-                    format!("a source fills the inside of a closed mesh; this one has {open} open edges (close the surface in the CAD file)"),
-                ));
-            }
             inside(field, lo, hi)?;
             let inside = if mesh.enclosed_volume() > 0.0 { -1.0 } else { 1.0 };
             InsertRegion::Mesh { mesh: std::sync::Arc::new(mesh), inside }

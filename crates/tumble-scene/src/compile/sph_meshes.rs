@@ -9,13 +9,13 @@
 
 use super::sph::check_total;
 use crate::SceneError;
-use crate::mesh_walls::placed_mesh;
+use crate::mesh_walls::closed_mesh;
 use crate::plan::Wall;
 use crate::schema::{MeshSection, Scene};
 use glam::DVec3;
 use std::collections::HashSet;
 use std::ops::RangeInclusive;
-use tumble_geom::{MeshWall, OPEN, SurfaceShape, TriangleMesh};
+use tumble_geom::{MeshWall, SurfaceShape, TriangleMesh};
 use tumble_sph::{Aabb, Dimension, FluidParticles, FluidSettings, add_fluid_points, push_walls, wall_layers};
 
 /// A mesh the fluid keeps off: a closed one (a body or a container) has a fluid side and a solid
@@ -156,14 +156,7 @@ pub(super) fn fill_mesh_region(
     particles: &mut FluidParticles,
 ) -> Result<usize, SceneError> {
     let field = format!("sph.regions[{k}].mesh");
-    let (wall, _) = placed_mesh(scene, &field, m, 2.0 * settings.h, 0)?;
-    let open = wall.body.mesh.across.iter().flatten().filter(|&&t| t == OPEN).count();
-    if open > 0 {
-        return Err(SceneError::field(
-            field,
-            format!("the fluid fills the inside of a closed mesh; this one has {open} open edges (close the surface in the CAD file)"),
-        ));
-    }
+    let wall = closed_mesh(scene, &field, m, 2.0 * settings.h, "the fluid")?;
     let (dp, dimension) = (settings.spacing, settings.dimension);
     let (mut lo, mut hi) = wall.bounds();
     (lo, hi) = (lo.max(domain.min), hi.min(domain.max));
