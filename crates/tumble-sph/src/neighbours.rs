@@ -19,6 +19,17 @@ pub fn rebuild_distance(h: f64) -> f64 {
     0.5 * (SKIN - 1.0) * h
 }
 
+/// `domain` with a flat axis (the y of a 2D run) widened to one cell of `cell`.
+pub(crate) fn padded(domain: PeriodicBox, cell: f64) -> PeriodicBox {
+    let mut padded = domain;
+    for k in 0..3 {
+        if padded.max[k] - padded.min[k] < cell {
+            padded.max[k] = padded.min[k] + cell;
+        }
+    }
+    padded
+}
+
 #[derive(Clone, Debug)]
 pub struct FluidGrid {
     grid: CellGrid,
@@ -68,15 +79,8 @@ impl FluidGrid {
                 return Err(format!("the fluid's domain is inverted along {}", ["x", "y", "z"][k]));
             }
         }
-        // A flat axis (the y of a 2D run) gets one cell.
-        let mut padded = domain;
-        for k in 0..3 {
-            if padded.max[k] - padded.min[k] < cell {
-                padded.max[k] = padded.min[k] + cell;
-            }
-        }
         Ok(FluidGrid {
-            grid: CellGrid::new(&padded, cell),
+            grid: CellGrid::new(&padded(domain, cell), cell),
             cells: Vec::new(),
             fluid_before: Vec::new(),
             list_start: Vec::new(),

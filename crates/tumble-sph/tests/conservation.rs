@@ -5,32 +5,14 @@
 mod common;
 
 use common::*;
-use tumble_geom::{DVec3, PeriodicBox};
+use tumble_geom::DVec3;
 use tumble_sph::*;
 
 /// A fully periodic 3D box of fluid stirred by a deterministic pseudo-random velocity field.
 fn stirred_box(tensile: bool, viscosity: Viscosity) -> FluidPhase {
     let dp = 0.01;
     let side = 10.0 * dp;
-    let settings = FluidSettings {
-        dimension: Dimension::Three,
-        spacing: dp,
-        h: 1.5 * dp,
-        rho0: 1000.0,
-        mu: 1e-3,
-        sound_speed: 10.0,
-        viscosity,
-        density_diffusion: DensityDiffusion::Fourtakas { delta: 0.1 },
-        tensile_correction: tensile,
-        xsph: 0.3,
-        gravity: DVec3::ZERO,
-        body_force: DVec3::ZERO,
-        domain: PeriodicBox { min: DVec3::ZERO, max: DVec3::splat(side), periodic: [true; 3] },
-        moving_walls: Vec::new(),
-        floating: Vec::new(),
-        inflows: Vec::new(),
-        outflows: Vec::new(),
-    };
+    let settings = periodic_water(dp, side, viscosity, tensile, 0.3);
     let mut particles = FluidParticles::default();
     add_fluid_block(&mut particles, &settings, Aabb::new(DVec3::ZERO, DVec3::splat(side)), DVec3::ZERO);
     let mut state = 0x9e37_79b9_7f4a_7c15u64;

@@ -78,26 +78,8 @@ fn settles(per_height: usize) {
 fn spheres_and_water_in_a_periodic_box_conserve_their_momentum() {
     let dp = 0.01;
     let side = 10.0 * dp;
-    let domain = tumble_geom::PeriodicBox { min: DVec3::ZERO, max: DVec3::splat(side), periodic: [true; 3] };
-    let settings = FluidSettings {
-        dimension: Dimension::Three,
-        spacing: dp,
-        h: 1.5 * dp,
-        rho0: 1000.0,
-        mu: 1e-3,
-        sound_speed: 10.0,
-        viscosity: Viscosity::Laminar,
-        density_diffusion: DensityDiffusion::Fourtakas { delta: 0.1 },
-        tensile_correction: false,
-        xsph: 0.0,
-        gravity: DVec3::ZERO,
-        body_force: DVec3::ZERO,
-        domain,
-        moving_walls: Vec::new(),
-        floating: Vec::new(),
-        inflows: Vec::new(),
-        outflows: Vec::new(),
-    };
+    let settings = periodic_water(dp, side, Viscosity::Laminar, false, 0.0);
+    let domain = settings.domain;
     let mut particles = FluidParticles::default();
     add_fluid_block(&mut particles, &settings, Aabb::new(DVec3::ZERO, DVec3::splat(side)), DVec3::ZERO);
     let mut phase = FluidPhase::new(settings.clone(), particles).unwrap();

@@ -62,13 +62,7 @@ pub struct Coupling {
 
 /// A grid over `domain` with cells of at least `cell`, a flat axis padded to one cell.
 fn grid(domain: &PeriodicBox, cell: f64, positions: &[DVec3]) -> CellGrid {
-    let mut padded = *domain;
-    for k in 0..3 {
-        if padded.max[k] - padded.min[k] < cell {
-            padded.max[k] = padded.min[k] + cell;
-        }
-    }
-    let mut g = CellGrid::new(&padded, cell);
+    let mut g = CellGrid::new(&crate::neighbours::padded(*domain, cell), cell);
     g.build(positions);
     g
 }

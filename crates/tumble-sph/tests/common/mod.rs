@@ -53,3 +53,27 @@ pub fn restored_and_stepped(snapshot: &FluidPhase, steps: usize, dt: f64, make: 
     }
     phase
 }
+
+/// Water (ρ₀ = 1000 kg/m³, μ = 1e-3 Pa s, c = 10 m/s, h = 1.5 Δp, Fourtakas's δ-SPH with δ = 0.1)
+/// in a fully periodic cube of side `side` from the origin, without gravity.
+pub fn periodic_water(spacing: f64, side: f64, viscosity: Viscosity, tensile_correction: bool, xsph: f64) -> FluidSettings {
+    FluidSettings {
+        dimension: Dimension::Three,
+        spacing,
+        h: 1.5 * spacing,
+        rho0: 1000.0,
+        mu: 1e-3,
+        sound_speed: 10.0,
+        viscosity,
+        density_diffusion: DensityDiffusion::Fourtakas { delta: 0.1 },
+        tensile_correction,
+        xsph,
+        gravity: tumble_geom::DVec3::ZERO,
+        body_force: tumble_geom::DVec3::ZERO,
+        domain: tumble_geom::PeriodicBox { min: tumble_geom::DVec3::ZERO, max: tumble_geom::DVec3::splat(side), periodic: [true; 3] },
+        moving_walls: Vec::new(),
+        floating: Vec::new(),
+        inflows: Vec::new(),
+        outflows: Vec::new(),
+    }
+}
