@@ -2,8 +2,10 @@
 //! particles (a [`Backend`] behind [`DemPhase`]) first, then the phases beside them (an SPH
 //! fluid).
 
+use crate::coupler::Coupler;
 use crate::dem::DemPhase;
 use crate::feeder::FeederBooks;
+use crate::sph_phase::SphPhase;
 use glam::DVec3;
 use std::borrow::Cow;
 use tumble_cpu::CpuSimulation;
@@ -19,6 +21,8 @@ pub struct Simulation {
     dem: DemPhase,
     /// The phases beside the particles (an SPH fluid), on the same clock.
     phases: Vec<Box<dyn Phase>>,
+    /// How the particles and the fluid act on each other, when they do.
+    coupler: Option<Coupler>,
     /// Why a phase stopped the run at its last advance, if one did.
     stop: Option<PhaseStop>,
 }
@@ -61,10 +65,25 @@ impl Simulation {
         })
     }
 
-    /// Adds phases beside the particles, stepped on the same clock.
+    /// Adds phases beside the particles, stepped on the same clock; a fluid among them is
+    /// coupled to the particles when the plan says so.
     pub fn with_phases(mut self, phases: Vec<Box<dyn Phase>>) -> Self {
         self.phases.extend(phases);
+        if self.coupler.is_none() && self.fluid_phase().is_some() {
+            self.coupler = Coupler::of(self.plan()).expect("compile checked the coupling");
+            // The fluid starts filling only the space the particles leave.
+            let Simulation { dem, phases, coupler, .. } = &mut self;
+            if let Some(coupler) = coupler.as_mut() {
+                let fluid = phases.iter_mut().find_map(|p| p.as_any_mut().downcast_mut::<SphPhase>()).expect("a fluid");
+                fluid.couple(&mut coupler.with(&dem.backend().state()));
+            }
+        }
         self
+    }
+
+    /// The coupling of the particles and the fluid, when they act on each other.
+    pub fn coupler(&self) -> Option<&Coupler> {
+        self.coupler.as_ref()
     }
 
     /// The phases beside the particles.
@@ -92,12 +111,14 @@ impl Simulation {
 
     /// Every phase, the particles first: what the run loop writes, checks and checkpoints.
     pub fn all_phases(&self) -> impl Iterator<Item = &dyn Phase> {
-        std::iter::once(&self.dem as &dyn Phase).chain(self.phases.iter().map(|p| p.as_ref()))
+        std::iter::once(&self.dem as &dyn Phase).chain(self.phases.iter().map(|p| p.as_ref())).chain(self.coupler.iter().map(|c| c as &dyn Phase))
     }
 
     /// Every phase, mutably, the particles first.
     pub fn all_phases_mut(&mut self) -> impl Iterator<Item = &mut dyn Phase> {
-        std::iter::once(&mut self.dem as &mut dyn Phase).chain(self.phases.iter_mut().map(|p| p.as_mut() as &mut dyn Phase))
+        std::iter::once(&mut self.dem as &mut dyn Phase)
+            .chain(self.phases.iter_mut().map(|p| p.as_mut() as &mut dyn Phase))
+            .chain(self.coupler.iter_mut().map(|c| c as &mut dyn Phase))
     }
 
     /// The DEM phase.
@@ -122,7 +143,7 @@ impl Simulation {
 
     /// Wraps any backend; the sources' events due at its current step run now.
     pub fn with_backend(backend: Box<dyn Backend>) -> Self {
-        Simulation { dem: DemPhase::new(backend), phases: Vec::new(), stop: None }
+        Simulation { dem: DemPhase::new(backend), phases: Vec::new(), coupler: None, stop: None }
     }
 
     /// The sources' books (inserted counts and masses, generator states).
@@ -180,6 +201,10 @@ impl Simulation {
     /// to insert), or as far as the particles got when they stop short; [`Simulation::stop`]
     /// says why a phase stopped.
     pub fn advance(&mut self, steps: u64) {
+        if self.coupler.is_some() {
+            self.stop = self.advance_coupled(steps).err();
+            return;
+        }
         let (before, dt) = (self.steps(), self.plan().model.dt);
         let particles = self.dem.advance(steps, dt);
         let taken = self.steps() - before;
@@ -189,6 +214,37 @@ impl Simulation {
             .iter_mut()
             .find_map(|p| p.advance(taken, dt).err().map(|e| PhaseStop::Failed(format!("{}: {e}", p.name()))))
             .or(particles.err());
+    }
+
+    /// Advances a coupled run `steps` of the particles' steps: at the start of each fluid step
+    /// (every `substeps` of theirs) the fluid steps first, evaluating the coupling on the
+    /// particles as they are, and the particles then take their sub-steps to the same time
+    /// holding the fluid's forces of that evaluation.
+    fn advance_coupled(&mut self, steps: u64) -> Result<(), PhaseStop> {
+        let dt = self.plan().model.dt;
+        let end = self.steps() + steps;
+        let Simulation { dem, phases, coupler, .. } = self;
+        let coupler = coupler.as_mut().expect("a coupled run");
+        let n = coupler.substeps();
+        let fluid = phases.iter_mut().find_map(|p| p.as_any_mut().downcast_mut::<SphPhase>()).expect("a coupled run has a fluid");
+        while dem.backend().steps() < end {
+            let now = dem.backend().steps();
+            if now % n == 0 {
+                let solids = dem.backend().state();
+                fluid.advance_coupled(n as f64 * dt, &mut coupler.with(&solids)).map_err(|e| match e {
+                    PhaseStop::Failed(why) => PhaseStop::Failed(format!("fluid: {why}")),
+                    other => other,
+                })?;
+                drop(solids);
+                dem.backend_mut().set_external_forces(coupler.forces()).map_err(PhaseStop::Failed)?;
+            }
+            let next = (now / n + 1) * n;
+            dem.advance(next.min(end) - now, dt)?;
+            if dem.backend().steps() < next.min(end) {
+                break;
+            }
+        }
+        Ok(())
     }
 
     /// Why the backend stopped short of the requested steps (a fixed capacity ran out), if it did.
@@ -328,6 +384,9 @@ fn phases(scene: &mut CompiledScene, threads: usize) -> Vec<Box<dyn Phase>> {
 /// The phases of a compiled scene on the GPU; refuses a fluid with what the GPU does not run yet.
 fn gpu_phases(scene: &mut CompiledScene) -> Result<Vec<Box<dyn Phase>>, GpuError> {
     let Some(sph) = &scene.plan.sph else { return Ok(Vec::new()) };
+    if sph.coupling.is_some() {
+        return Err(GpuError::Feature("the particles and the fluid act on each other on the CPU backend only so far; use --backend cpu".into()));
+    }
     if let Some(why) = tumble_gpu::fluid_gpu_refusal(&sph.settings) {
         return Err(GpuError::Feature(why));
     }

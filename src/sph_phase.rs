@@ -94,12 +94,16 @@ impl SphPhase {
             scale: (o.kinetic_energy + o.elastic_energy + body_kinetic).max(0.01 * releasable.abs()),
         };
         let monitor = &plan.run.monitor;
-        // A body force or a moving wall does work on the fluid, and buffers bring energy in and
-        // take it out: its energy may grow, so it is not watched.
+        // A body force or a moving wall does work on the fluid, buffers bring energy in and
+        // take it out, and coupled particles push it: its energy may grow, so it is not watched.
         let f = &sph.settings;
-        let energy_growth =
-            (monitor.enabled && f.body_force == glam::DVec3::ZERO && f.moving_walls.is_empty() && f.inflows.is_empty() && f.outflows.is_empty())
-                .then_some(monitor.energy_growth);
+        let energy_growth = (monitor.enabled
+            && f.body_force == glam::DVec3::ZERO
+            && f.moving_walls.is_empty()
+            && f.inflows.is_empty()
+            && f.outflows.is_empty()
+            && sph.coupling.is_none())
+        .then_some(monitor.energy_growth);
         let device = if gpu {
             let fluid = tumble_gpu::GpuFluid::new(phase.settings(), phase.particles()).map_err(|e| e.to_string())?;
             let dt_limit = phase.time_step_limits().dt();
@@ -146,6 +150,21 @@ impl SphPhase {
             );
         }
         Ok(())
+    }
+
+    /// One step of `dt` coupled to `solids` (on the CPU; see [`FluidPhase::step_coupled`]).
+    pub fn advance_coupled(&mut self, dt: f64, solids: &mut dyn tumble_sph::CoupledSolids) -> Result<(), PhaseStop> {
+        if self.device.is_some() {
+            return Err(PhaseStop::Failed("the fluid couples to the particles on the CPU backend only so far".into()));
+        }
+        let phase = &mut self.phase;
+        self.pool.install(|| phase.step_coupled(dt, solids)).map_err(|e| PhaseStop::Failed(e.to_string()))
+    }
+
+    /// Starts the fluid beside solids (see [`FluidPhase::couple`]).
+    pub fn couple(&mut self, solids: &mut dyn tumble_sph::CoupledSolids) {
+        let fraction = solids.fraction(self.phase.particles());
+        self.phase.couple(fraction);
     }
 
     /// The fluid itself, for tests and tools.
@@ -293,11 +312,11 @@ impl SphPhase {
         let mut order: Vec<usize> = (0..p.len()).collect();
         order.sort_by_key(|&i| p.id[i]);
         let pressure = |i: usize| match (p.kind[i], device_pressure) {
-            (ParticleKind::Fluid, _) => eos.pressure(p.density[i]),
+            (ParticleKind::Fluid, _) => eos.pressure(self.phase.intrinsic_density(i)),
             (ParticleKind::Wall, Some(by_id)) => by_id[p.id[i] as usize],
             (ParticleKind::Wall, None) => walls.get(i).copied().unwrap_or(0.0),
         };
-        PhasePoints {
+        let mut points = PhasePoints {
             positions: order.iter().map(|&i| p.position[i]).collect(),
             scalars: vec![
                 ("pressure", order.iter().map(|&i| pressure(i)).collect()),
@@ -312,7 +331,12 @@ impl SphPhase {
                 ("kind", order.iter().map(|&i| kind_number(p, i, settings)).collect()),
                 ("id", order.iter().map(|&i| p.id[i] as i32).collect()),
             ],
+        };
+        let fraction = self.phase.fraction();
+        if !fraction.is_empty() {
+            points.scalars.push(("fluid_fraction", order.iter().map(|&i| fraction[i]).collect()));
         }
+        points
     }
 }
 
@@ -377,6 +401,10 @@ impl Phase for SphPhase {
     }
 
     fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
         self
     }
 }

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use tumble_testkit::run_files::assert_same_files;
+use tumble_testkit::run_files::assert_thread_independent_and_resumable;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -375,31 +375,7 @@ fn fluid_runs_are_thread_independent_and_resume_bit_identically() {
     let text = text.replace("spacing = 0.0025", "spacing = 0.005");
     let scene = dir.join("dam.toml");
     std::fs::write(&scene, text).unwrap();
-    let scene = scene.to_str().unwrap();
-    let run = |out: &Path, duration: &str, threads: &str| {
-        let o = tumble(&[
-            "run",
-            scene,
-            "--quiet",
-            "--duration",
-            duration,
-            "--threads",
-            threads,
-            "--checkpoint-interval",
-            "0.02",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    };
-    let (one, two, halves) = (dir.join("one"), dir.join("two"), dir.join("halves"));
-    run(&one, "0.1", "1");
-    run(&two, "0.1", "2");
-    assert_same_files(&one, &two);
-    run(&halves, "0.05", "2");
-    let o = tumble(&["resume", halves.to_str().unwrap(), "--quiet", "--duration", "0.1", "--threads", "1"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_same_files(&one, &halves);
+    let one = assert_thread_independent_and_resumable(Path::new(env!("CARGO_BIN_EXE_tumble")), root(), &scene, &dir, ["0.05", "0.1", "0.02"]);
     assert!(one.join("snapshots/fluid_000005.vtp").is_file() && one.join("probe_front.csv").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -503,20 +479,7 @@ fn floating_body_runs_are_thread_independent_and_resume_bit_identically() {
     let text = std::fs::read_to_string(root().join("scenes/floating_box.toml")).unwrap().replace("spacing = 0.005", "spacing = 0.01");
     let scene = dir.join("floating.toml");
     std::fs::write(&scene, text.replace("0.25], max = [0.33, 0.0, 0.33]", "0.16], max = [0.33, 0.0, 0.24]")).unwrap();
-    let scene = scene.to_str().unwrap();
-    let run = |out: &Path, duration: &str, threads: &str| {
-        let args = ["run", scene, "--quiet", "--duration", duration, "--threads", threads, "--checkpoint-interval", "0.05", "--out"];
-        let o = tumble(&[&args[..], &[out.to_str().unwrap()]].concat());
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    };
-    let (one, two, halves) = (dir.join("one"), dir.join("two"), dir.join("halves"));
-    run(&one, "0.2", "1");
-    run(&two, "0.2", "2");
-    assert_same_files(&one, &two);
-    run(&halves, "0.1", "2");
-    let o = tumble(&["resume", halves.to_str().unwrap(), "--quiet", "--duration", "0.2", "--threads", "1"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_same_files(&one, &halves);
+    let one = assert_thread_independent_and_resumable(Path::new(env!("CARGO_BIN_EXE_tumble")), root(), &scene, &dir, ["0.1", "0.2", "0.05"]);
     let z = column(&one.join("floating_box.csv"), "z");
     assert!(z[z.len() - 1] != z[0], "the box never moved");
     let _ = std::fs::remove_dir_all(&dir);
@@ -562,20 +525,7 @@ fn the_shipped_channel_keeps_its_mass_books_at_every_row_and_develops_poiseuille
 fn buffer_runs_are_thread_independent_and_resume_bit_identically() {
     let dir = tmp("channel-resume");
     let scene = root().join("scenes/channel_inflow.toml");
-    let scene = scene.to_str().unwrap();
-    let run = |out: &Path, duration: &str, threads: &str| {
-        let args = ["run", scene, "--quiet", "--duration", duration, "--threads", threads, "--checkpoint-interval", "0.1", "--out"];
-        let o = tumble(&[&args[..], &[out.to_str().unwrap()]].concat());
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    };
-    let (one, two, halves) = (dir.join("one"), dir.join("two"), dir.join("halves"));
-    run(&one, "0.4", "1");
-    run(&two, "0.4", "2");
-    assert_same_files(&one, &two);
-    run(&halves, "0.2", "2");
-    let o = tumble(&["resume", halves.to_str().unwrap(), "--quiet", "--duration", "0.4", "--threads", "1"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_same_files(&one, &halves);
+    let one = assert_thread_independent_and_resumable(Path::new(env!("CARGO_BIN_EXE_tumble")), root(), &scene, &dir, ["0.2", "0.4", "0.1"]);
     let count_in = column(&one.join("fluid.csv"), "particles_in");
     assert!(count_in[count_in.len() - 1] > 0.0, "nothing came in");
     let _ = std::fs::remove_dir_all(&dir);

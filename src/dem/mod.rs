@@ -110,7 +110,16 @@ impl DemPhase {
         let mut series = Vec::new();
         // A scene of fluid alone has no particle series.
         if !(beside_fluid && plan.model.sources.is_empty() && state.is_empty()) {
-            series.push(("particles".to_string(), vtk::particles_vtp(state, plan.model.gravity)));
+            let mut data = vtk::particles_vtp(state, plan.model.gravity);
+            let held = self.backend.external_forces();
+            if plan.coupling().is_some() {
+                // The coupled fluid's force on each particle (in id order, as the points are).
+                let mut ids = state.id.clone();
+                ids.sort_unstable();
+                let force = ids.iter().flat_map(|&id| held.get(id as usize).copied().unwrap_or_default().to_array()).collect();
+                data.point_data.push(tumble_state::Array::f64("fluid_force", 3, force));
+            }
+            series.push(("particles".to_string(), data));
         }
         if plan.model.polyhedra {
             series.push(("bodies".to_string(), vtk::bodies_vtp(plan, state)));
@@ -222,6 +231,10 @@ impl Phase for DemPhase {
     }
 
     fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
         self
     }
 }

@@ -30,6 +30,7 @@ impl CpuSimulation {
             last_resort: r.last_resort,
             fault: r.fault,
             rng: Vec::new(),
+            external: self.external.clone(),
             device: None,
         }
     }
@@ -65,6 +66,7 @@ impl CpuSimulation {
             last_resort: self.last_resort,
             fault: self.history_overflow.map(Fault::from),
             rng: &[],
+            external: &self.external,
             device: None,
         }
     }
@@ -110,6 +112,7 @@ impl CpuSimulation {
         if self.wearing {
             self.wear.clone_from(&snap.walls.wear);
         }
+        self.external.clone_from(&snap.external);
         self.neighbours.invalidate();
         if let Some(list) = &snap.neighbours {
             if list.valid && list.reference.len() == n {
@@ -211,6 +214,15 @@ impl Backend for CpuSimulation {
 
     fn bytes_per_particle(&self) -> u64 {
         self.plan.tuning.bytes_per_particle as u64
+    }
+
+    fn set_external_forces(&mut self, forces: &[DVec3]) -> Result<(), String> {
+        CpuSimulation::set_external_forces(self, forces);
+        Ok(())
+    }
+
+    fn external_forces(&self) -> &[DVec3] {
+        CpuSimulation::external_forces(self)
     }
 
     fn snapshot(&self) -> Snapshot {

@@ -99,6 +99,8 @@ pub struct CpuSimulation {
     wear: Vec<Vec<f64>>,
     /// Per wall candidate (parallel to the list's wall entries): the wear its contacts booked.
     candidate_worn: Vec<forces::Worn>,
+    /// Forces held on the particles, by id (a coupled fluid's; empty without them).
+    external: Vec<DVec3>,
 }
 
 impl CpuSimulation {
@@ -160,6 +162,7 @@ impl CpuSimulation {
             wearing,
             wear,
             candidate_worn: Vec::new(),
+            external: Vec::new(),
         };
         sim.broad_phase();
         sim.initial_forces();
@@ -203,6 +206,28 @@ impl CpuSimulation {
         self.neighbours.invalidate();
         self.sums.clear();
         self.pair_out.clear();
+    }
+
+    /// Holds `forces` (N, by particle id) on the particles from the next step on (see
+    /// [`tumble_state::Backend::set_external_forces`]): the last pass's accelerations take the
+    /// change now, so Verlet's first half kick already sees the new forces.
+    pub fn set_external_forces(&mut self, forces: &[DVec3]) {
+        let s = &mut self.state;
+        let old = &self.external;
+        for i in 0..s.len() {
+            let id = s.id[i] as usize;
+            let change = forces.get(id).copied().unwrap_or(DVec3::ZERO) - old.get(id).copied().unwrap_or(DVec3::ZERO);
+            if s.inv_mass[i] != 0.0 && change != DVec3::ZERO {
+                s.acc[i] += change * s.inv_mass[i];
+            }
+        }
+        self.external.clear();
+        self.external.extend_from_slice(forces);
+    }
+
+    /// The forces held on the particles, by id (empty without them).
+    pub fn external_forces(&self) -> &[DVec3] {
+        &self.external
     }
 
     /// Advances `steps` steps, or fewer when a particle runs out of history slots

@@ -310,6 +310,7 @@ impl CpuSimulation {
         let sums = &self.sums;
         let (pos, inv_mass, drag) = (&s.pos, &s.inv_mass, &s.drag);
         let fluid_work = &mut s.fluid_work;
+        let external = &self.external;
         self.pool.install(|| {
             s.acc.par_iter_mut().enumerate().for_each(|(i, a)| {
                 *a = if inv_mass[i] == 0.0 { DVec3::ZERO } else { sums[i].force * inv_mass[i] + body.gravity };
@@ -320,6 +321,18 @@ impl CpuSimulation {
                         let ad = body.drag_acc(pos[i], vel[i], drag[i]);
                         *a += ad;
                         *w += ad.dot(vel[i]) / inv_mass[i] * dt;
+                    }
+                });
+            }
+            if !external.is_empty() {
+                // Held forces (a coupled fluid's), with their work booked as the fluid's.
+                let id = &s.id;
+                s.acc.par_iter_mut().zip(fluid_work.par_iter_mut()).enumerate().for_each(|(i, (a, w))| {
+                    if let Some(&f) = external.get(id[i] as usize)
+                        && inv_mass[i] != 0.0
+                    {
+                        *a += f * inv_mass[i];
+                        *w += f.dot(vel[i]) * dt;
                     }
                 });
             }

@@ -65,6 +65,7 @@ impl GpuSimulation {
             last_resort: self.last_resort,
             fault: self.history_overflow().map(Fault::from),
             rng: Vec::new(),
+            external: Vec::new(),
             device: Some(device),
         }
     }

@@ -64,6 +64,7 @@ impl Plan {
         let _ = writeln!(s, "dt           {:.6e} s ({} steps to t = {} s)", model.dt, run.steps, run.duration);
         if let Some(fluid) = &self.sph {
             describe_sph(&mut s, fluid);
+            describe_coupling(&mut s, fluid, model.dt);
         }
         if !dem {
             for w in &report.warnings {
@@ -133,6 +134,22 @@ impl Plan {
         }
         s
     }
+}
+
+/// Whether the particles and the fluid act on each other, and how.
+fn describe_coupling(s: &mut String, p: &crate::SphPlan, dt: f64) {
+    let Some(c) = &p.coupling else { return };
+    let drag = match c.drag {
+        tumble_sph::coupling::DragLaw::Gidaspow => "Gidaspow (Ergun below a fluid fraction of 0.8, Wen & Yu above)",
+        tumble_sph::coupling::DragLaw::DiFelice => "Di Felice",
+    };
+    let _ = writeln!(
+        s,
+        "coupling     on, as the scene has particles and a 3D fluid: unresolved SPH–DEM (Robinson et al. 2014, He et al. 2018), drag {drag}, buoyancy from the fluid's pressure; the fluid steps {:.6e} s, {} particle steps, holding the particles' fluid forces over them (at most {:.4e} s, a quarter of the particles' shortest drag relaxation time rho_p d²/(225 mu), or the fluid's dt)",
+        dt * c.substeps as f64,
+        c.substeps,
+        c.drag_limit
+    );
 }
 
 /// The fluid's lines: its particles, method, time-step limits and probes.

@@ -21,8 +21,8 @@ mod timescales;
 
 pub use particles::InitialParticles;
 pub use plan::{
-    CompiledScene, Drag, Drum, Feature, FlowPlane, Fluid, Material, Motion, PairParams, PhysicsModel, Plan, PlanReport, PolyhedronContact,
-    RunSettings, Servo, SphPlan, SphProbe, SphProbeKind, Timing, Tuning, WALL_ADVANCE_FRACTION, Wall, WallGroup, WallStepLimit,
+    CompiledScene, CouplingPlan, Drag, Drum, Feature, FlowPlane, Fluid, Material, Motion, PairParams, PhysicsModel, Plan, PlanReport,
+    PolyhedronContact, RunSettings, Servo, SphPlan, SphProbe, SphProbeKind, Timing, Tuning, WALL_ADVANCE_FRACTION, Wall, WallGroup, WallStepLimit,
 };
 pub use rng::Rng;
 pub use run_options::{BackendName, EndWhenSection, MonitorSection, SnapshotFormat};

@@ -251,6 +251,19 @@ pub struct SphPlan {
     pub floating: Vec<String>,
     /// What `tumble plan` warns about the method's settings.
     pub warnings: Vec<String>,
+    /// How the particles and the fluid act on each other, when they do.
+    pub coupling: Option<CouplingPlan>,
+}
+
+/// The unresolved SPH–DEM coupling of a scene with particles and a 3D fluid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CouplingPlan {
+    pub drag: tumble_sph::coupling::DragLaw,
+    /// The particles' steps within each of the fluid's (the fluid steps `substeps` × Δt).
+    pub substeps: u64,
+    /// The longest fluid step over which the particles' drag may be held: a quarter of their
+    /// shortest drag relaxation time, s.
+    pub drag_limit: f64,
 }
 
 /// A measurement of the fluid written at every output row (probe_<name>.csv).
@@ -414,6 +427,12 @@ pub struct PlanReport {
 }
 
 impl Plan {
+    /// The coupling of the particles and the fluid, when the scene has both and they act on
+    /// each other.
+    pub fn coupling(&self) -> Option<&CouplingPlan> {
+        self.sph.as_ref().and_then(|s| s.coupling.as_ref())
+    }
+
     /// Memory estimate for `n` particles on the CPU backend, in bytes: an upper bound, with
     /// the cell grid as large as the domain (it spans the particles' bounding box).
     pub fn memory_bytes(&self, n: usize) -> usize {

@@ -38,7 +38,7 @@ pub use particles::{
     wall_shell,
 };
 pub use pass::PassConstants;
-pub use phase::{FluidObservables, FluidPhase, FluidSnapshot};
+pub use phase::{CoupledSolids, FluidObservables, FluidPhase, FluidSnapshot};
 pub use rates::Rates;
 pub use settings::{DensityDiffusion, FluidSettings, MovingWall, Viscosity, WallRole};
 pub use setup::{

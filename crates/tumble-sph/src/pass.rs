@@ -27,6 +27,8 @@ pub(crate) struct Neighbourhood<'a> {
     pub velocity: &'a [DVec3],
     pub viscous_velocity: &'a [DVec3],
     pub density: &'a [f64],
+    /// The density the diffusion evens out: the fluid's own ρ (the density itself uncoupled).
+    pub diffused: &'a [f64],
     pub mass: &'a [f64],
     pub pressure_term: &'a [f64],
     pub volume: &'a [f64],
@@ -116,6 +118,7 @@ pub(crate) struct Batch {
     v: [[f64; BATCH]; 3],
     vv: [[f64; BATCH]; 3],
     rho: [f64; BATCH],
+    rho_diffused: [f64; BATCH],
     m: [f64; BATCH],
     p_term: [f64; BATCH],
     volume: [f64; BATCH],
@@ -126,7 +129,21 @@ pub(crate) struct Batch {
 impl Batch {
     pub fn new() -> Self {
         let z = [0.0; BATCH];
-        Batch { len: 0, index: [0; BATCH], d: [z; 3], r2: z, v: [z; 3], vv: [z; 3], rho: z, m: z, p_term: z, volume: z, tensile: z, fluid: z }
+        Batch {
+            len: 0,
+            index: [0; BATCH],
+            d: [z; 3],
+            r2: z,
+            v: [z; 3],
+            vv: [z; 3],
+            rho: z,
+            rho_diffused: z,
+            m: z,
+            p_term: z,
+            volume: z,
+            tensile: z,
+            fluid: z,
+        }
     }
 }
 
@@ -145,6 +162,7 @@ pub(crate) fn particle_rates<const PLANE: bool, const LAMINAR: bool, const DIFFU
     let xa = n.position[a];
     let va = n.velocity[a];
     let rho_a = n.density[a];
+    let rho_da = n.diffused[a];
     let pa_term = n.pressure_term[a];
     let ra = n.tensile[a];
     let mut sums = Lanes::default();
@@ -180,6 +198,7 @@ pub(crate) fn particle_rates<const PLANE: bool, const LAMINAR: bool, const DIFFU
             batch.p_term[i] = n.pressure_term[b];
             if DIFFUSE {
                 batch.volume[i] = n.volume[b];
+                batch.rho_diffused[i] = n.diffused[b];
             }
             if TENSILE {
                 batch.tensile[i] = n.tensile[b];
@@ -196,6 +215,7 @@ pub(crate) fn particle_rates<const PLANE: bool, const LAMINAR: bool, const DIFFU
             }
             batch.r2[i] = 4.0 * k.support2;
             batch.rho[i] = rho_a;
+            batch.rho_diffused[i] = rho_da;
             batch.m[i] = 0.0;
             batch.p_term[i] = 0.0;
             batch.volume[i] = 0.0;
@@ -205,7 +225,7 @@ pub(crate) fn particle_rates<const PLANE: bool, const LAMINAR: bool, const DIFFU
         }
         let mut start = 0;
         while start < batch.len {
-            sums.add::<PLANE, LAMINAR, DIFFUSE, TENSILE, XSPH>(k, batch, start, [va.x, va.y, va.z], rho_a, pa_term, ra);
+            sums.add::<PLANE, LAMINAR, DIFFUSE, TENSILE, XSPH>(k, batch, start, [va.x, va.y, va.z], [rho_a, rho_da], pa_term, ra);
             start += LANES;
         }
     }
@@ -231,7 +251,7 @@ impl Lanes {
         b: &Batch,
         start: usize,
         va: [f64; 3],
-        rho_a: f64,
+        [rho_a, rho_da]: [f64; 2],
         pa_term: f64,
         ra: f64,
     ) {
@@ -281,7 +301,7 @@ impl Lanes {
                 self.acc[c][l] += a;
             }
             if DIFFUSE {
-                let mut drho_ab = rho_a - rho[l];
+                let mut drho_ab = rho_da - lanes(&b.rho_diffused, e)[l];
                 let mut hydrostatic = 0.0;
                 for &c in axes {
                     hydrostatic += k.hydrostatic[c] * d[c][l];

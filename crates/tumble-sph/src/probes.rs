@@ -33,7 +33,7 @@ fn interpolate(phase: &FluidPhase, x: DVec3) -> Interpolation {
         }
         let wv = kernel.value(r2.sqrt()) * p.mass[b] / p.density[b];
         s.fraction += wv;
-        s.pressure += wv * eos.pressure(p.density[b]);
+        s.pressure += wv * eos.pressure(phase.intrinsic_density(b));
         s.velocity += wv * p.velocity[b];
     });
     s

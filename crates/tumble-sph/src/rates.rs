@@ -107,6 +107,12 @@ pub(crate) struct PairInputs {
     /// Fluid particles within 2h of a buffer's face, whose density diffusion is left out (empty
     /// without buffers).
     pub diffusion_off: Vec<bool>,
+    /// Each particle's fluid fraction ε beside coupled solids (1 for walls; empty uncoupled): a
+    /// particle's density is then the superficial ε ρ, its pressure that of ρ.
+    pub fraction: Vec<f64>,
+    /// ρ = density / ε for the pressure, the walls' extrapolation and the density diffusion
+    /// (empty uncoupled).
+    pub intrinsic: Vec<f64>,
 }
 
 /// What an evaluation produces per particle (zero for walls).
@@ -164,12 +170,20 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
     inputs.pressure.resize(n, 0.0);
     inputs.viscous_velocity.resize(n, DVec3::ZERO);
     let kind = &p.kind;
-    inputs.pressure.par_iter_mut().zip(p.density.par_iter()).zip(kind.par_iter()).for_each(|((pr, &rho), &k)| {
+    if inputs.fraction.is_empty() {
+        inputs.intrinsic.clear();
+    } else {
+        let fraction = &inputs.fraction;
+        inputs.intrinsic.resize(n, 0.0);
+        inputs.intrinsic.par_iter_mut().zip(p.density.par_iter()).enumerate().for_each(|(i, (r, &rho))| *r = rho / fraction[i]);
+    }
+    let intrinsic = if inputs.intrinsic.is_empty() { &p.density } else { &inputs.intrinsic };
+    inputs.pressure.par_iter_mut().zip(intrinsic.par_iter()).zip(kind.par_iter()).for_each(|((pr, &rho), &k)| {
         if k == ParticleKind::Fluid {
             *pr = method.eos.pressure(rho);
         }
     });
-    let states = wall_states(method, grid, p, &inputs.pressure, walls);
+    let states = wall_states(method, grid, p, intrinsic, &inputs.pressure, walls);
     let (settings, wall) = (walls.settings, &p.wall);
     inputs
         .pressure
@@ -191,6 +205,11 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
                 *vv = *velocity;
             }
         });
+    // A wall particle's density is its own (its fraction is 1).
+    if !inputs.intrinsic.is_empty() {
+        let density = &p.density;
+        inputs.intrinsic.par_iter_mut().enumerate().filter(|(i, _)| kind[*i] == ParticleKind::Wall).for_each(|(i, r)| *r = density[i]);
+    }
     // What the pass reads of each neighbour, computed once per particle instead of once per pair.
     inputs.pressure_term.resize(n, 0.0);
     inputs.volume.resize(n, 0.0);
@@ -229,10 +248,11 @@ pub(crate) fn prepare(method: &Method, grid: &FluidGrid, p: &mut FluidParticles,
 }
 
 /// Each wall particle's extrapolated pressure, density and viscous velocity (zeros for fluid).
-fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: &[f64], walls: WallsAt) -> Vec<(f64, f64, DVec3)> {
+/// `density` is the fluid's own ρ (the superficial density over ε beside coupled solids).
+fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, density: &[f64], pressure: &[f64], walls: WallsAt) -> Vec<(f64, f64, DVec3)> {
     let constants = PassConstants::new(method, 0.0, false);
     let (plane, wide) = (method.dimension == Dimension::Two, method.wide_lanes);
-    let (position, velocity, density) = (&p.position, &p.velocity, &p.density);
+    let (position, velocity) = (&p.position, &p.velocity);
     (0..p.len())
         .into_par_iter()
         .map_init(
@@ -245,8 +265,8 @@ fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: 
                 let separation = |x, y| grid.separation(x, y);
                 let sums = match (plane, wide) {
                     // SAFETY: `wide_lanes` is set only where the processor has AVX2 (`Method::new`).
-                    (true, true) => unsafe { wall_sums_avx2::<true>(&constants, p, pressure, grid, w, list, batch) },
-                    (false, true) => unsafe { wall_sums_avx2::<false>(&constants, p, pressure, grid, w, list, batch) },
+                    (true, true) => unsafe { wall_sums_avx2::<true>(&constants, p, density, pressure, grid, w, list, batch) },
+                    (false, true) => unsafe { wall_sums_avx2::<false>(&constants, p, density, pressure, grid, w, list, batch) },
                     (true, false) => wall_sums::<true>(&constants, position, velocity, density, pressure, separation, w, list, batch),
                     (false, false) => wall_sums::<false>(&constants, position, velocity, density, pressure, separation, w, list, batch),
                 };
@@ -286,16 +306,18 @@ fn wall_states(method: &Method, grid: &FluidGrid, p: &FluidParticles, pressure: 
 
 /// [`wall_sums`] compiled for AVX2; the processor must have it.
 #[cfg_attr(target_arch = "x86_64", target_feature(enable = "avx2"))]
+#[allow(clippy::too_many_arguments)]
 unsafe fn wall_sums_avx2<const PLANE: bool>(
     constants: &PassConstants,
     p: &FluidParticles,
+    density: &[f64],
     pressure: &[f64],
     grid: &FluidGrid,
     w: usize,
     list: &[u32],
     batch: &mut Batch,
 ) -> WallSums {
-    wall_sums::<PLANE>(constants, &p.position, &p.velocity, &p.density, pressure, |x, y| grid.separation(x, y), w, list, batch)
+    wall_sums::<PLANE>(constants, &p.position, &p.velocity, density, pressure, |x, y| grid.separation(x, y), w, list, batch)
 }
 
 /// Each fluid particle's rates, gathered over its neighbours:
@@ -361,7 +383,12 @@ fn evaluate_with<const PLANE: bool, const LAMINAR: bool, const DIFFUSE: bool, co
                 particle_rates::<PLANE, LAMINAR, DIFFUSE, TENSILE, XSPH>(&constants, &hood, |x, y| grid.separation(x, y), a, list, batch)
             };
             *acc_out = r.acceleration + method.external;
-            let diffusion = if inputs.diffusion_off.get(a) == Some(&true) { 0.0 } else { method.diffusion_scale * r.diffusion };
+            // Beside coupled solids the fluid's own density diffuses, into ε ρ's rate.
+            let diffusion = match (inputs.diffusion_off.get(a) == Some(&true), inputs.fraction.get(a)) {
+                (true, _) => 0.0,
+                (false, None) => method.diffusion_scale * r.diffusion,
+                (false, Some(&e)) => e * method.diffusion_scale * r.diffusion,
+            };
             *drho_out = r.continuity + diffusion;
             *xsph_out = method.xsph * r.xsph;
         },
@@ -417,6 +444,7 @@ fn neighbourhood<'a>(p: &'a FluidParticles, inputs: &'a PairInputs) -> Neighbour
         velocity: &p.velocity,
         viscous_velocity: &inputs.viscous_velocity,
         density: &p.density,
+        diffused: if inputs.intrinsic.is_empty() { &p.density } else { &inputs.intrinsic },
         mass: &p.mass,
         pressure_term: &inputs.pressure_term,
         volume: &inputs.volume,

@@ -114,6 +114,21 @@ pub trait Backend: Any {
     /// Bytes per particle of this backend's state.
     fn bytes_per_particle(&self) -> u64;
     /// Everything needed to continue this run bit-identically.
+    /// Holds `forces` (N, by particle id; an id beyond the slice gets none) on the particles
+    /// from the next step on, until set again: a coupled fluid's forces over the particles'
+    /// sub-steps. The accelerations of the last force pass take the change at once, so every
+    /// step's kicks see the same forces. Refused by a backend that cannot hold them.
+    fn set_external_forces(&mut self, forces: &[DVec3]) -> Result<(), String> {
+        let _ = forces;
+        Err(format!("the {} backend holds no forces on its particles yet", self.info().name))
+    }
+
+    /// The forces held on the particles by [`Backend::set_external_forces`], by id (empty
+    /// without them).
+    fn external_forces(&self) -> &[DVec3] {
+        &[]
+    }
+
     fn snapshot(&self) -> Snapshot;
     /// Streams [`Backend::snapshot`]'s bytes ([`Snapshot::to_bytes`]) into `w`; a backend whose
     /// arrays are on the host writes them without copying.

@@ -156,4 +156,5 @@ pub trait Phase {
     /// Continues from a section [`Phase::snapshot`] wrote for the same scene.
     fn restore(&mut self, bytes: &[u8]) -> Result<(), String>;
     fn as_any(&self) -> &dyn Any;
+    fn as_any_mut(&mut self) -> &mut dyn Any;
 }

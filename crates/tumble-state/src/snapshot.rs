@@ -7,8 +7,8 @@ use serde::{Deserialize, Serialize};
 
 /// The layout version written into every snapshot; a reader refuses any other.
 /// 4: contact springs carry the EPSD2 rolling torque and its energy; 5: outlet tallies;
-/// 6: servo walls' state and mesh wear.
-pub const SNAPSHOT_VERSION: u32 = 6;
+/// 6: servo walls' state and mesh wear; 7: forces held on the particles (a coupled fluid's).
+pub const SNAPSHOT_VERSION: u32 = 7;
 
 /// The first bytes of an encoded snapshot.
 const MAGIC: &[u8; 8] = b"TUMBLESN";
@@ -44,6 +44,8 @@ pub struct Snapshot {
     pub fault: Option<Fault>,
     /// Random-number state of models that draw at run time (none does yet: empty).
     pub rng: Vec<u64>,
+    /// Forces held on the particles by id (a coupled fluid's; empty without them).
+    pub external: Vec<DVec3>,
     /// A device backend's own memory, for a bit-identical continuation there (None on the CPU).
     pub device: Option<DeviceImage>,
 }
@@ -75,6 +77,7 @@ pub struct SnapshotRef<'a> {
     pub last_resort: Option<u64>,
     pub fault: Option<Fault>,
     pub rng: &'a [u64],
+    pub external: &'a [DVec3],
     pub device: Option<&'a DeviceImage>,
 }
 

@@ -85,8 +85,10 @@ impl State {
                     s.inv_inertia_body.push(inv);
                 }
             }
-            if let Some(f) = &plan.model.fluid {
+            if plan.model.fluid.is_some() || plan.coupling().is_some() {
                 s.fluid_work.push(0.0);
+            }
+            if let Some(f) = &plan.model.fluid {
                 s.drag.push(match f.drag {
                     Drag::Stokes { viscosity } => {
                         tumble_contact::stokes_relaxation_time(plan.model.materials[p.material[i] as usize].density, 2.0 * p.radius[i], viscosity)

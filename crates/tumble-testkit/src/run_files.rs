@@ -1,6 +1,7 @@
 //! A run's output folder as bytes, for tests that compare runs file by file.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
 
 /// Every file a run wrote (CSV, .pvd, snapshots; summary.json, checkpoints and hidden files
 /// aside), by path relative to `dir`, sorted.
@@ -28,4 +29,39 @@ pub fn assert_same_files(reference: &Path, dir: &Path) {
     for ((name, a), (_, b)) in want.iter().zip(&got) {
         assert!(a == b, "{shown}: {name} differs from the uninterrupted run's");
     }
+}
+
+/// Runs `scene` with the `tumble` executable `exe` (in the folder `cwd`) to `full` seconds on 1
+/// and on 2 threads, and to `half` on 2 threads then resumed to `full` on 1, checkpointing every
+/// `every` seconds, each run in a folder of `dir`; fails unless all three wrote the same files.
+/// Answers the first run's folder.
+pub fn assert_thread_independent_and_resumable(exe: &Path, cwd: &Path, scene: &Path, dir: &Path, [half, full, every]: [&str; 3]) -> PathBuf {
+    let tumble = |args: &[&str]| {
+        let o = Command::new(exe).args(args).current_dir(cwd).stdin(Stdio::null()).output().unwrap();
+        assert!(o.status.success(), "tumble {}: {}", args.join(" "), String::from_utf8_lossy(&o.stderr));
+    };
+    let scene = scene.to_str().unwrap();
+    let run = |out: &Path, duration: &str, threads: &str| {
+        tumble(&[
+            "run",
+            scene,
+            "--quiet",
+            "--duration",
+            duration,
+            "--threads",
+            threads,
+            "--checkpoint-interval",
+            every,
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let (one, two, halves) = (dir.join("one"), dir.join("two"), dir.join("halves"));
+    run(&one, full, "1");
+    run(&two, full, "2");
+    assert_same_files(&one, &two);
+    run(&halves, half, "2");
+    tumble(&["resume", halves.to_str().unwrap(), "--quiet", "--duration", full, "--threads", "1"]);
+    assert_same_files(&one, &halves);
+    one
 }

@@ -11,8 +11,10 @@ mod report;
 mod run;
 mod sph;
 mod sph_buffers;
+mod sph_coupling;
 mod sph_floating;
 mod sph_meshes;
+mod sph_probes;
 mod tuning;
 
 use crate::SceneError;
@@ -55,7 +57,7 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
     let lookup = |field: String, name: &str| table.lookup(scene, field, name);
     let (walls, wall_groups, drums, mesh_warnings) = crate::walls::compile_walls(scene, &lookup, &domain, mesh_cell)?;
     // The fluid's walls follow the compiled surfaces where the scene derives them (lifter bars).
-    let sph = sph::sph(scene, &domain, gravity, &walls)?;
+    let mut sph = sph::sph(scene, &domain, gravity, &walls)?;
     non_negative("run.start.max_overlap", scene.run.start.max_overlap)?;
     crate::start::check_starting_state(scene, &particles, &shapes, &walls, &wall_groups, &domain)?;
     let flow_planes = model::flow_planes(scene)?;
@@ -99,7 +101,8 @@ pub fn compile(scene: &Scene) -> Result<CompiledScene, SceneError> {
         polyhedron_contact,
     );
     let dt = run::step(scene, &timescales, wall_step_limit.as_ref(), sph.as_ref().map(|(p, _)| p))?;
-    let schedule = run::schedule(scene, dt)?;
+    let substeps = sph.as_mut().map_or(1, |(s, _)| sph_coupling::substeps(s, &kinds, &densities, dt));
+    let schedule = run::schedule(scene, dt, substeps)?;
     crate::sources::schedule_sources(scene, &mut sources, dt, schedule.steps, gravity, &shapes);
     let resort_interval = tuning::resort_interval(scene)?;
     let monitor = run::monitor(scene)?;

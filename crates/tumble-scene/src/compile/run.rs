@@ -115,7 +115,9 @@ pub const MAX_STEPS: f64 = 1e10;
 /// newest was written by a run whose files were damaged afterwards.
 pub const DEFAULT_CHECKPOINT_KEEP: usize = 3;
 
-pub(super) fn schedule(scene: &Scene, dt: f64) -> Result<Schedule, SceneError> {
+/// The run's step counts; with a coupled fluid each is a whole number of the fluid's steps of
+/// `substeps` × Δt, so that every row, snapshot and checkpoint finds both phases at one time.
+pub(super) fn schedule(scene: &Scene, dt: f64, substeps: u64) -> Result<Schedule, SceneError> {
     let run = &scene.run;
     let exact = run.duration / dt;
     if exact.is_nan() || exact > MAX_STEPS {
@@ -127,16 +129,18 @@ pub(super) fn schedule(scene: &Scene, dt: f64) -> Result<Schedule, SceneError> {
             ),
         ));
     }
-    let steps = (exact - 1e-9).ceil().max(1.0) as u64;
+    let whole = |steps: u64| steps.div_ceil(substeps) * substeps;
+    let steps = whole((exact - 1e-9).ceil().max(1.0) as u64);
+    let every = |interval: f64| ((interval / dt / substeps as f64).round() as u64).max(1) * substeps;
     let output_interval = run.output_interval.unwrap_or(run.duration / 100.0);
     positive("run.output_interval", output_interval)?;
-    let output_every = ((output_interval / dt).round() as u64).max(1);
+    let output_every = every(output_interval);
     let snapshot_every = match run.snapshot_interval {
-        Some(s) => Some(((positive("run.snapshot_interval", s)? / dt).round() as u64).max(1)),
+        Some(s) => Some(every(positive("run.snapshot_interval", s)?)),
         None => None,
     };
     let checkpoint_every = match run.checkpoint_interval {
-        Some(s) => Some(((positive("run.checkpoint_interval", s)? / dt).round() as u64).max(1)),
+        Some(s) => Some(every(positive("run.checkpoint_interval", s)?)),
         None => None,
     };
     let checkpoint_keep = match run.checkpoint_keep {

@@ -51,6 +51,29 @@ pub struct SphSection {
     /// Open boundaries where fluid leaves at a set pressure.
     #[serde(default)]
     pub outflows: Vec<SphOutflowSection>,
+    /// How the scene's particles and this fluid act on each other (a 3D fluid with particles).
+    #[serde(default)]
+    pub coupling: SphCouplingSection,
+}
+
+/// The unresolved SPH–DEM coupling (docs/sph.md, "Coupling the particles").
+#[derive(Clone, Copy, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphCouplingSection {
+    /// The drag correlation.
+    #[serde(default)]
+    pub drag: SphDragLaw,
+}
+
+/// A drag correlation of the coupling.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SphDragLaw {
+    /// Ergun below ε = 0.8, Wen & Yu above (Gidaspow 1994).
+    #[default]
+    Gidaspow,
+    /// Di Felice (1994).
+    DiFelice,
 }
 
 /// An inflow buffer: an axis-aligned box whose particles move at `velocity` (along one axis)

@@ -60,6 +60,16 @@ pub struct Coupling {
     fluid: DragFluid,
 }
 
+/// The least fluid fraction a fluid particle is given: the kernel's estimate dips below any
+/// real packing (a random close packing leaves 0.36) where h is not well above the solids'
+/// size, and the fluid's density is divided by it.
+pub const LEAST_FRACTION: f64 = 0.2;
+
+/// A sphere's volume.
+fn volume(radius: f64) -> f64 {
+    4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
+}
+
 /// A grid over `domain` with cells of at least `cell`, a flat axis padded to one cell.
 fn grid(domain: &PeriodicBox, cell: f64, positions: &[DVec3]) -> CellGrid {
     let mut g = CellGrid::new(&crate::neighbours::padded(*domain, cell), cell);
@@ -84,35 +94,55 @@ impl Coupling {
     /// The coupling between `fluid` (with `acceleration`, each fluid particle's fluid–fluid
     /// acceleration θ) and `solids`.
     pub fn evaluate(&self, fluid: &FluidParticles, acceleration: &[DVec3], solids: Solids) -> CouplingForces {
-        let support = self.kernel.support();
-        let n_fluid = fluid.len();
-        let n_solid = solids.position.len();
-        let fluid_grid = grid(&self.domain, support, &fluid.position);
-        let solid_grid = grid(&self.domain, support, solids.position);
-        let volume = |i: usize| 4.0 / 3.0 * std::f64::consts::PI * solids.radius[i].powi(3);
-        let w = |a: DVec3, b: DVec3| self.kernel.value(self.domain.minimum_image(a - b).length());
-        // Calls f(j) for each particle j of `g` near `x`, in slot order.
-        let near = |g: &CellGrid, x: DVec3, f: &mut dyn FnMut(usize)| {
-            let c = g.cell_coords(x);
-            let d = g.dims();
-            g.for_each_neighbour_run(c[0] + d[0] * (c[1] + d[1] * c[2]), |s0, s1| {
-                for &j in &g.order()[s0..s1] {
-                    f(j as usize);
-                }
-            });
-        };
-        // 1. The fluid fraction at each fluid particle.
-        let fraction: Vec<f64> = (0..n_fluid)
+        let fraction = self.fraction(fluid, solids);
+        self.forces(fluid, fraction, acceleration, solids)
+    }
+
+    /// Calls f(j) for each particle j of `g` near `x`, in slot order.
+    fn near(g: &CellGrid, x: DVec3, f: &mut dyn FnMut(usize)) {
+        let c = g.cell_coords(x);
+        let d = g.dims();
+        g.for_each_neighbour_run(c[0] + d[0] * (c[1] + d[1] * c[2]), |s0, s1| {
+            for &j in &g.order()[s0..s1] {
+                f(j as usize);
+            }
+        });
+    }
+
+    fn w(&self, a: DVec3, b: DVec3) -> f64 {
+        self.kernel.value(self.domain.minimum_image(a - b).length())
+    }
+
+    /// Pass 1: the fluid fraction at each fluid particle (1 for walls; at least
+    /// [`LEAST_FRACTION`]), in the particles' order.
+    pub fn fraction(&self, fluid: &FluidParticles, solids: Solids) -> Vec<f64> {
+        let solid_grid = grid(&self.domain, self.kernel.support(), solids.position);
+        (0..fluid.len())
             .into_par_iter()
             .map(|a| {
                 if fluid.kind[a] != ParticleKind::Fluid {
                     return 1.0;
                 }
                 let mut solid = 0.0;
-                near(&solid_grid, fluid.position[a], &mut |i| solid += volume(i) * w(fluid.position[a], solids.position[i]));
-                1.0 - solid
+                Self::near(&solid_grid, fluid.position[a], &mut |i| {
+                    solid += volume(solids.radius[i]) * self.w(fluid.position[a], solids.position[i])
+                });
+                (1.0 - solid).max(LEAST_FRACTION)
             })
-            .collect();
+            .collect()
+    }
+
+    /// Passes 2 and 3: each solid's interpolations and force, and the reaction on each fluid
+    /// particle, given the fluid `fraction` of pass 1 and θ (`acceleration`).
+    pub fn forces(&self, fluid: &FluidParticles, fraction: Vec<f64>, acceleration: &[DVec3], solids: Solids) -> CouplingForces {
+        let support = self.kernel.support();
+        let n_fluid = fluid.len();
+        let n_solid = solids.position.len();
+        let fluid_grid = grid(&self.domain, support, &fluid.position);
+        let solid_grid = grid(&self.domain, support, solids.position);
+        let w = |a: DVec3, b: DVec3| self.w(a, b);
+        let near = Self::near;
+        let volume = |i: usize| volume(solids.radius[i]);
         // 2. Each solid's interpolations and force, and its Shepard denominator.
         let per_solid: Vec<(DVec3, f64, DVec3, DVec3, f64)> = (0..n_solid)
             .into_par_iter()

@@ -12,6 +12,15 @@ use crate::particles::{FluidParticles, ParticleKind};
 use crate::rates::{Method, PairInputs, Rates, WallsAt, body_loads, evaluate, prepare};
 use crate::settings::{FluidSettings, Viscosity, WallRole};
 
+/// What a coupled step asks of the solids beside the fluid (held where they are over the step).
+pub trait CoupledSolids: Send {
+    /// Each particle's fluid fraction ε (in the particles' order; 1 for walls).
+    fn fraction(&mut self, fluid: &FluidParticles) -> Vec<f64>;
+    /// The solids' force on each particle (in their order), given the fractions and each
+    /// particle's fluid–fluid acceleration θ at the step's start.
+    fn reaction(&mut self, fluid: &FluidParticles, fraction: &[f64], theta: &[DVec3]) -> Vec<DVec3>;
+}
+
 /// The fluid's sums at one instant (the observables of an output row).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FluidObservables {
@@ -285,6 +294,8 @@ impl FluidPhase {
     /// Continues from `snapshot` (taken from a phase with the same settings); refuses one whose
     /// arrays disagree in length or hold non-finite values, changing nothing.
     pub fn restore(&mut self, snapshot: &FluidSnapshot) -> Result<(), String> {
+        // The fractions of another state's order: the next coupled step takes them afresh.
+        self.inputs.fraction.clear();
         let p = &snapshot.particles;
         let n = p.position.len();
         if [p.id.len(), p.kind.len(), p.velocity.len(), p.density.len(), p.mass.len(), p.wall.len()].iter().any(|&len| len != n) {
@@ -347,6 +358,20 @@ impl FluidPhase {
     /// Floating bodies take the same scheme: their loads at n and n+½ give their velocities, and
     /// their particles drift with them.
     pub fn step(&mut self, dt: f64) -> Result<(), FluidFault> {
+        self.step_with(dt, None)
+    }
+
+    /// One step of Δt coupled to `solids` (the locally averaged equations, docs/sph.md,
+    /// "Coupling the particles"): their fluid fraction ε at each particle is taken first, so that
+    /// a particle's density is the superficial ε ρ and its pressure that of ρ; after the first
+    /// evaluation they are given the fractions and the fluid–fluid accelerations θ and answer
+    /// their force on each particle, which both evaluations add (the forces held by
+    /// [`FluidPhase::set_coupled_forces`] are left out).
+    pub fn step_coupled(&mut self, dt: f64, solids: &mut dyn CoupledSolids) -> Result<(), FluidFault> {
+        self.step_with(dt, Some(solids))
+    }
+
+    fn step_with(&mut self, dt: f64, mut solids: Option<&mut dyn CoupledSolids>) -> Result<(), FluidFault> {
         if self.lists_due {
             exchange(&self.settings, &mut self.particles, &mut self.next_id, &mut self.buffers);
             self.grid.sort(&mut self.particles);
@@ -354,22 +379,25 @@ impl FluidPhase {
             self.lists_due = false;
         }
         let half = 0.5 * dt;
-        // The coupled forces as accelerations, in this step's order (fluid particles only).
-        let p = &self.particles;
-        let coupled: Vec<DVec3> = match self.coupled.is_empty() {
-            true => Vec::new(),
-            false => (0..p.len())
-                .map(|i| match (p.kind[i], self.coupled.get(p.id[i] as usize)) {
-                    (ParticleKind::Fluid, Some(f)) => *f / p.mass[i],
-                    _ => DVec3::ZERO,
-                })
-                .collect(),
-        };
-        // Without coupling the rates stand as they are (adding zero could turn a −0 into +0).
-        let with_coupled = |i: usize, a: DVec3| coupled.get(i).map_or(a, |&c| a + c);
+        // Beside solids the fluid's fraction enters its pressure (held over the step, as the
+        // solids are).
+        if let Some(solids) = solids.as_mut() {
+            self.inputs.fraction = solids.fraction(&self.particles);
+        }
         let walls = WallsAt { settings: &self.settings, bodies: &self.bodies, time: self.time };
         prepare(&self.method, &self.grid, &mut self.particles, &mut self.inputs, walls);
         evaluate(&self.method, &self.grid, &self.particles, &self.inputs, &mut self.rates);
+        // The coupled forces as accelerations, in this step's order (fluid particles only).
+        let p = &self.particles;
+        let forces: Option<Vec<DVec3>> = match solids {
+            Some(solids) => Some(solids.reaction(p, &self.inputs.fraction, &self.fluid_acceleration())),
+            None if self.coupled.is_empty() => None,
+            None => Some(p.id.iter().map(|&id| self.coupled.get(id as usize).copied().unwrap_or(DVec3::ZERO)).collect()),
+        };
+        let coupled: Vec<DVec3> = forces
+            .map_or_else(Vec::new, |f| (0..p.len()).map(|i| if p.kind[i] == ParticleKind::Fluid { f[i] / p.mass[i] } else { DVec3::ZERO }).collect());
+        // Without coupling the rates stand as they are (adding zero could turn a −0 into +0).
+        let with_coupled = |i: usize, a: DVec3| coupled.get(i).map_or(a, |&c| a + c);
         self.load_bodies();
         self.start_velocity.clone_from(&self.particles.velocity);
         self.start_density.clone_from(&self.particles.density);
@@ -460,6 +488,31 @@ impl FluidPhase {
         }
     }
 
+    /// Starts the fluid beside solids whose fraction at each particle (in the particles' order)
+    /// is `fraction`: each fluid particle's mass and density become ε times theirs, so the fluid
+    /// fills only the space the solids leave (its volume m/ρ and pressure unchanged).
+    pub fn couple(&mut self, fraction: Vec<f64>) {
+        let p = &mut self.particles;
+        for (i, &e) in fraction.iter().enumerate() {
+            if p.kind[i] == ParticleKind::Fluid {
+                p.mass[i] *= e;
+                p.density[i] *= e;
+            }
+        }
+        self.inputs.fraction = fraction;
+    }
+
+    /// Each particle's fluid fraction at its last step (in the particles' order; empty when
+    /// no solids are coupled).
+    pub fn fraction(&self) -> &[f64] {
+        &self.inputs.fraction
+    }
+
+    /// The fluid's own density ρ at particle `i`: its density over its fluid fraction.
+    pub fn intrinsic_density(&self, i: usize) -> f64 {
+        self.inputs.fraction.get(i).map_or(self.particles.density[i], |e| self.particles.density[i] / e)
+    }
+
     /// Each particle's acceleration from the fluid alone at the last evaluation (pressure,
     /// viscous and wall terms; gravity and the body force taken out), in the particles' order:
     /// the θ the particles' coupling interpolates. Zero for wall particles and before a step.
@@ -490,8 +543,9 @@ impl FluidPhase {
             o.momentum += m * v;
             o.kinetic_energy += 0.5 * m * v.length_squared();
             o.potential_energy -= m * self.settings.gravity.dot(p.position[i]);
-            o.elastic_energy += m * eos.elastic_energy(p.density[i]);
-            o.largest_density_deviation = o.largest_density_deviation.max((p.density[i] / eos.rho0 - 1.0).abs());
+            let rho = self.intrinsic_density(i);
+            o.elastic_energy += m * eos.elastic_energy(rho);
+            o.largest_density_deviation = o.largest_density_deviation.max((rho / eos.rho0 - 1.0).abs());
             o.largest_speed = o.largest_speed.max(v.length());
         }
         o

@@ -1,0 +1,224 @@
+//! The particles and a 3D fluid acting on each other (docs/sph.md, "Coupling the particles"):
+//! each of the fluid's steps evaluates `tumble_sph::coupling` on the particles as they are at
+//! its start, adds the solids' reaction to the fluid's two evaluations, and holds each solid's
+//! fluid force over the particles' sub-steps to the same time. Force and reaction act over the
+//! same interval, so the momentum of fluid and particles together is conserved.
+//!
+//! As a phase it writes `coupling.csv`: the sums of the last evaluation.
+
+use glam::DVec3;
+use tumble_scene::Plan;
+use tumble_sph::coupling::{Coupling, CouplingForces, DragFluid, Solids};
+use tumble_sph::{CoupledSolids, FluidParticles};
+use tumble_state::{OutputRequest, Phase, PhaseOutput, PhaseStop, PhaseTable, State};
+
+/// The coupling of a run and what its last evaluation gave.
+pub struct Coupler {
+    coupling: Coupling,
+    /// The particles' steps per fluid step.
+    substeps: u64,
+    /// Each particle's volume-equivalent radius is its mass over its material's density
+    /// (polyhedra); spheres use their radius.
+    polyhedra: bool,
+    densities: Vec<f64>,
+    /// By particle id: the fluid's force at the last evaluation, N (what the particles hold).
+    force: Vec<DVec3>,
+    last: Sums,
+}
+
+/// What `coupling.csv` reports of one evaluation.
+#[derive(Clone, Copy, Debug, Default)]
+struct Sums {
+    /// Solids with fluid within reach.
+    wetted: usize,
+    force: DVec3,
+    drag: DVec3,
+    /// Mean and least fluid fraction at the wetted solids.
+    mean_fraction: f64,
+    least_fraction: f64,
+    /// The largest slip |u − v| of a wetted solid, m/s.
+    largest_slip: f64,
+}
+
+impl Coupler {
+    /// The coupling of `plan`, when it has one.
+    pub fn of(plan: &Plan) -> Result<Option<Self>, String> {
+        let (Some(sph), Some(c)) = (plan.sph.as_ref(), plan.coupling()) else { return Ok(None) };
+        let f = &sph.settings;
+        let fluid = DragFluid { density: f.rho0, viscosity: f.mu };
+        let coupling = Coupling::new(f.h, f.dimension, plan.model.domain, c.drag, fluid)?;
+        Ok(Some(Coupler {
+            coupling,
+            substeps: c.substeps,
+            polyhedra: plan.model.polyhedra,
+            densities: plan.model.materials.iter().map(|m| m.density).collect(),
+            force: Vec::new(),
+            last: Sums::default(),
+        }))
+    }
+
+    /// The particles' steps per fluid step.
+    pub fn substeps(&self) -> u64 {
+        self.substeps
+    }
+
+    /// By particle id: the fluid's force at the last evaluation, N.
+    pub fn forces(&self) -> &[DVec3] {
+        &self.force
+    }
+
+    /// The coupling with the particles `solids` as they are now, for one fluid step.
+    pub fn with<'a>(&'a mut self, solids: &'a State) -> CoupledStep<'a> {
+        let radius = match self.polyhedra {
+            false => solids.radius.clone(),
+            true => (0..solids.len())
+                .map(|i| (3.0 * solids.mass[i] / (4.0 * std::f64::consts::PI * self.densities[solids.material[i] as usize])).cbrt())
+                .collect(),
+        };
+        CoupledStep { coupler: self, state: solids, radius }
+    }
+}
+
+/// The coupling over one fluid step, the particles held where they are.
+pub struct CoupledStep<'a> {
+    coupler: &'a mut Coupler,
+    state: &'a State,
+    /// Each particle's volume-equivalent radius.
+    radius: Vec<f64>,
+}
+
+impl CoupledStep<'_> {
+    fn solids(&self) -> Solids<'_> {
+        Solids { position: &self.state.pos, velocity: &self.state.vel, radius: &self.radius }
+    }
+}
+
+impl CoupledSolids for CoupledStep<'_> {
+    fn fraction(&mut self, fluid: &FluidParticles) -> Vec<f64> {
+        self.coupler.coupling.fraction(fluid, self.solids())
+    }
+
+    /// Keeps each particle's force by id and answers the reaction on each fluid particle.
+    fn reaction(&mut self, fluid: &FluidParticles, fraction: &[f64], theta: &[DVec3]) -> Vec<DVec3> {
+        let out = self.coupler.coupling.forces(fluid, fraction.to_vec(), theta, self.solids());
+        let solids = self.state;
+        let c = &mut *self.coupler;
+        let ids = solids.id.iter().map(|&i| i as usize + 1).max().unwrap_or(0);
+        c.force.clear();
+        c.force.resize(ids, DVec3::ZERO);
+        for (i, &id) in solids.id.iter().enumerate() {
+            c.force[id as usize] = out.force[i];
+        }
+        c.last = sums(&out, &solids.vel);
+        out.reaction
+    }
+}
+
+/// The sums of one evaluation, over the solids in their (fixed) array order.
+fn sums(out: &CouplingForces, velocity: &[DVec3]) -> Sums {
+    let mut s = Sums { least_fraction: 1.0, ..Sums::default() };
+    for (i, (&force, &drag)) in out.force.iter().zip(&out.drag).enumerate() {
+        s.force += force;
+        s.drag += drag;
+        // A solid out of the fluid's reach reads fraction 1 and its own velocity.
+        if force != DVec3::ZERO {
+            s.wetted += 1;
+            s.mean_fraction += out.solid_fraction[i];
+            s.least_fraction = s.least_fraction.min(out.solid_fraction[i]);
+            s.largest_slip = s.largest_slip.max((out.fluid_velocity[i] - velocity[i]).length());
+        }
+    }
+    s.mean_fraction = if s.wetted > 0 { s.mean_fraction / s.wetted as f64 } else { 1.0 };
+    s
+}
+
+const COLUMNS: [&str; 10] = [
+    "wetted_particles",
+    "fluid_force_x",
+    "fluid_force_y",
+    "fluid_force_z",
+    "drag_x",
+    "drag_y",
+    "drag_z",
+    "mean_fluid_fraction",
+    "least_fluid_fraction",
+    "largest_slip",
+];
+
+impl Phase for Coupler {
+    fn name(&self) -> &'static str {
+        "coupling"
+    }
+
+    /// The run steps the coupling with the phases it couples (see `Simulation::advance`).
+    fn advance(&mut self, _steps: u64, _dt: f64) -> Result<(), PhaseStop> {
+        Ok(())
+    }
+
+    fn particles(&self) -> usize {
+        0
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        (self.force.len() * size_of::<DVec3>()) as u64
+    }
+
+    fn output(&mut self, request: OutputRequest) -> Result<PhaseOutput, PhaseStop> {
+        let mut out = PhaseOutput::default();
+        if request.row {
+            let s = &self.last;
+            let values = vec![
+                s.wetted as f64,
+                s.force.x,
+                s.force.y,
+                s.force.z,
+                s.drag.x,
+                s.drag.y,
+                s.drag.z,
+                s.mean_fraction,
+                s.least_fraction,
+                s.largest_slip,
+            ];
+            out.tables.push(PhaseTable::line("coupling.csv", &COLUMNS, values));
+        }
+        Ok(out)
+    }
+
+    fn summary(&self) -> Vec<(String, f64)> {
+        vec![("substeps".into(), self.substeps as f64), ("wetted_particles".into(), self.last.wetted as f64)]
+    }
+
+    /// Every output row and checkpoint falls between two fluid steps, where the next step
+    /// evaluates the coupling afresh: only the last row's sums are kept.
+    fn snapshot(&self) -> Vec<u8> {
+        let s = &self.last;
+        let mut v = vec![s.wetted as f64, s.mean_fraction, s.least_fraction, s.largest_slip];
+        v.extend(s.force.to_array());
+        v.extend(s.drag.to_array());
+        v.iter().flat_map(|x| x.to_le_bytes()).collect()
+    }
+
+    fn restore(&mut self, bytes: &[u8]) -> Result<(), String> {
+        let v: Vec<f64> = bytes.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes"))).collect();
+        if v.len() != 10 {
+            return Err(format!("the coupling's section holds {} numbers, not 10", v.len()));
+        }
+        self.last = Sums {
+            wetted: v[0] as usize,
+            mean_fraction: v[1],
+            least_fraction: v[2],
+            largest_slip: v[3],
+            force: DVec3::new(v[4], v[5], v[6]),
+            drag: DVec3::new(v[7], v[8], v[9]),
+        };
+        Ok(())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+}
