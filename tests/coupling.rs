@@ -74,9 +74,9 @@ fn settle(dir: &Path, density: f64, z: f64, duration: &str) -> (Vec<f64>, Vec<f6
 
 /// The glass sphere of the shipped scene (3 mm, 2500 kg/m³; h/d = 3; Re = 0.02) sinks. From 5
 /// relaxation times on the coupling reads its slip through the liquid about it within 3 % of
-/// the law's terminal velocity (measured −2.1 to +0.2 %). Its own speed follows the liquid
+/// the law's terminal velocity (measured −1.8 to +0.5 %). Its own speed follows the liquid
 /// about it, which the column's settling and the sphere's own drag set moving at a few mm/s
-/// (docs/sph.md): its mean over the rows is held within 15 % (measured +5 %), which still
+/// (docs/sph.md): its mean over the rows is held within 15 % (measured −3.9 %), which still
 /// catches a missing buoyancy (+67 %) or a halved drag (+100 %).
 #[test]
 fn a_sphere_sinks_through_the_liquid_at_its_drag_laws_terminal_velocity() {
@@ -104,7 +104,7 @@ fn a_sphere_sinks_through_the_liquid_at_its_drag_laws_terminal_velocity() {
 
 /// A sphere of 500 kg/m³ rises through the same liquid: buoyancy comes from the fluid's pressure
 /// gradient, and the drag opposes the motion whichever way it goes. Its slip is held within 3 %
-/// of the law's terminal velocity; its own slower speed (measured −21 % on average) follows
+/// of the law's terminal velocity; its own slower speed (measured −10 % on average) follows
 /// the liquid about it, held within 35 %.
 #[test]
 fn a_light_sphere_rises_through_the_liquid() {
