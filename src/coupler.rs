@@ -7,6 +7,7 @@
 //! As a phase it writes `coupling.csv`: the sums of the last evaluation.
 
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 use tumble_scene::Plan;
 use tumble_sph::coupling::{Coupling, CouplingForces, DragFluid, Solids};
 use tumble_sph::{CoupledSolids, FluidParticles};
@@ -27,7 +28,7 @@ pub struct Coupler {
 }
 
 /// What `coupling.csv` reports of one evaluation.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
 struct Sums {
     /// Solids with fluid within reach.
     wetted: usize,
@@ -71,9 +72,9 @@ impl Coupler {
     pub fn with<'a>(&'a mut self, solids: &'a State) -> CoupledStep<'a> {
         let radius = match self.polyhedra {
             false => solids.radius.clone(),
-            true => (0..solids.len())
-                .map(|i| (3.0 * solids.mass[i] / (4.0 * std::f64::consts::PI * self.densities[solids.material[i] as usize])).cbrt())
-                .collect(),
+            true => {
+                (0..solids.len()).map(|i| tumble_scene::equivalent_radius(solids.mass[i] / self.densities[solids.material[i] as usize])).collect()
+            }
         };
         CoupledStep { coupler: self, state: solids, radius }
     }
@@ -191,26 +192,11 @@ impl Phase for Coupler {
     /// Every output row and checkpoint falls between two fluid steps, where the next step
     /// evaluates the coupling afresh: only the last row's sums are kept.
     fn snapshot(&self) -> Vec<u8> {
-        let s = &self.last;
-        let mut v = vec![s.wetted as f64, s.mean_fraction, s.least_fraction, s.largest_slip];
-        v.extend(s.force.to_array());
-        v.extend(s.drag.to_array());
-        v.iter().flat_map(|x| x.to_le_bytes()).collect()
+        postcard::to_stdvec(&self.last).expect("the sums always encode")
     }
 
     fn restore(&mut self, bytes: &[u8]) -> Result<(), String> {
-        let v: Vec<f64> = bytes.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes"))).collect();
-        if v.len() != 10 {
-            return Err(format!("the coupling's section holds {} numbers, not 10", v.len()));
-        }
-        self.last = Sums {
-            wetted: v[0] as usize,
-            mean_fraction: v[1],
-            least_fraction: v[2],
-            largest_slip: v[3],
-            force: DVec3::new(v[4], v[5], v[6]),
-            drag: DVec3::new(v[7], v[8], v[9]),
-        };
+        self.last = postcard::from_bytes(bytes).map_err(|e| format!("the coupling's books cannot be decoded: {e}"))?;
         Ok(())
     }
 

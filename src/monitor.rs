@@ -39,8 +39,7 @@ impl Monitor {
             enabled: plan.run.monitor.enabled,
             max_overlap_ratio: plan.run.monitor.max_overlap_ratio,
             energy_growth: plan.run.monitor.energy_growth,
-            // A fluid, prescribed or coupled, does work on the particles.
-            has_source: plan.model.fluid.is_some() || plan.coupling().is_some(),
+            has_source: plan.fluid_works_on_particles(),
             depth_polyhedra: plan.model.polyhedra && plan.model.polyhedron_contact == PolyhedronContact::Depth,
             initial_energy: initial.mechanical_energy() + initial.dissipated_energy - initial.wall_work,
             initial_overlap: if initial.max_overlap_ratio.is_finite() { initial.max_overlap_ratio } else { 0.0 },

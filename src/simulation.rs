@@ -73,8 +73,7 @@ impl Simulation {
             self.coupler = Coupler::of(self.plan()).expect("compile checked the coupling");
             // The fluid starts filling only the space the particles leave.
             let Simulation { dem, phases, coupler, .. } = &mut self;
-            if let Some(coupler) = coupler.as_mut() {
-                let fluid = phases.iter_mut().find_map(|p| p.as_any_mut().downcast_mut::<SphPhase>()).expect("a fluid");
+            if let (Some(coupler), Some(fluid)) = (coupler.as_mut(), fluid_mut(phases)) {
                 fluid.couple(&mut coupler.with(&dem.backend().state()));
             }
         }
@@ -226,7 +225,7 @@ impl Simulation {
         let Simulation { dem, phases, coupler, .. } = self;
         let coupler = coupler.as_mut().expect("a coupled run");
         let n = coupler.substeps();
-        let fluid = phases.iter_mut().find_map(|p| p.as_any_mut().downcast_mut::<SphPhase>()).expect("a coupled run has a fluid");
+        let fluid = fluid_mut(phases).expect("a coupled run has a fluid");
         while dem.backend().steps() < end {
             let now = dem.backend().steps();
             if now % n == 0 {
@@ -368,6 +367,11 @@ impl Simulation {
     pub fn gpu_simulation(&mut self) -> Option<&mut GpuSimulation> {
         self.downcast_mut::<GpuSimulation>()
     }
+}
+
+/// The SPH fluid among `phases`, when there is one.
+fn fluid_mut(phases: &mut [Box<dyn Phase>]) -> Option<&mut SphPhase> {
+    phases.iter_mut().find_map(|p| p.as_any_mut().downcast_mut())
 }
 
 /// The phases a compiled scene holds besides its particles (their starting particles taken from it).

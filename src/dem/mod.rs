@@ -111,9 +111,9 @@ impl DemPhase {
         // A scene of fluid alone has no particle series.
         if !(beside_fluid && plan.model.sources.is_empty() && state.is_empty()) {
             let mut data = vtk::particles_vtp(state, plan.model.gravity);
-            let held = self.backend.external_forces();
             if plan.coupling().is_some() {
                 // The coupled fluid's force on each particle (in id order, as the points are).
+                let held = self.backend.external_forces();
                 let mut ids = state.id.clone();
                 ids.sort_unstable();
                 let force = ids.iter().flat_map(|&id| held.get(id as usize).copied().unwrap_or_default().to_array()).collect();

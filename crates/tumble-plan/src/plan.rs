@@ -433,6 +433,12 @@ impl Plan {
         self.sph.as_ref().and_then(|s| s.coupling.as_ref())
     }
 
+    /// Whether a fluid, prescribed (`[fluid]`) or coupled, does work on the particles: their
+    /// books keep that work, and their energy may grow by it.
+    pub fn fluid_works_on_particles(&self) -> bool {
+        self.model.fluid.is_some() || self.coupling().is_some()
+    }
+
     /// Memory estimate for `n` particles on the CPU backend, in bytes: an upper bound, with
     /// the cell grid as large as the domain (it spans the particles' bounding box).
     pub fn memory_bytes(&self, n: usize) -> usize {

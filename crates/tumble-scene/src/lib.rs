@@ -53,6 +53,6 @@ pub use plan::{
 };
 pub use rng::Rng;
 pub use schema::Scene;
-pub use shapes::{ParticleShape, SPHERE};
+pub use shapes::{ParticleShape, SPHERE, equivalent_radius};
 pub use sources::{Body, InsertRegion, MAX_OUTLETS, Outlet, OutletRegion, Rate, Source, SourceKind, Total};
 pub use timescales::{ACCURATE_STEPS_PER_COLLISION, ImpactSpeed, STEPS_PER_COLLISION};

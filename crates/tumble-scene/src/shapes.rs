@@ -4,7 +4,7 @@ use crate::SceneError;
 use crate::schema::{ParticleGroup, ShapeSection};
 use glam::DVec3;
 use tumble_geom::Polyhedron;
-pub use tumble_plan::{ParticleShape, SPHERE};
+pub use tumble_plan::{ParticleShape, SPHERE, equivalent_radius};
 
 /// The shortest and longest lengths a polyhedral shape may be given in, m.
 const MIN_LENGTH: f64 = 1e-9;

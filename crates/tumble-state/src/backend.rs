@@ -113,7 +113,6 @@ pub trait Backend: Any {
     fn memory_bytes(&self) -> u64;
     /// Bytes per particle of this backend's state.
     fn bytes_per_particle(&self) -> u64;
-    /// Everything needed to continue this run bit-identically.
     /// Holds `forces` (N, by particle id; an id beyond the slice gets none) on the particles
     /// from the next step on, until set again: a coupled fluid's forces over the particles'
     /// sub-steps. The accelerations of the last force pass take the change at once, so every
@@ -129,6 +128,7 @@ pub trait Backend: Any {
         &[]
     }
 
+    /// Everything needed to continue this run bit-identically.
     fn snapshot(&self) -> Snapshot;
     /// Streams [`Backend::snapshot`]'s bytes ([`Snapshot::to_bytes`]) into `w`; a backend whose
     /// arrays are on the host writes them without copying.

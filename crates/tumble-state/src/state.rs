@@ -85,7 +85,7 @@ impl State {
                     s.inv_inertia_body.push(inv);
                 }
             }
-            if plan.model.fluid.is_some() || plan.coupling().is_some() {
+            if plan.fluid_works_on_particles() {
                 s.fluid_work.push(0.0);
             }
             if let Some(f) = &plan.model.fluid {
