@@ -282,6 +282,18 @@ fn finish_run(result: Result<crate::RunSummary, RunError>) -> i32 {
                 s.particle_steps_per_second,
                 s.out_dir.display()
             ));
+            if let Some(t) = &s.step_seconds {
+                let all = (t.fluid + t.coupling + t.particles).max(1e-12);
+                print_out(&format!(
+                    "time in the step: fluid {:.3} s ({:.0} %), coupling {:.3} s ({:.0} %), particles {:.3} s ({:.0} %)\n",
+                    t.fluid,
+                    100.0 * t.fluid / all,
+                    t.coupling,
+                    100.0 * t.coupling / all,
+                    t.particles,
+                    100.0 * t.particles / all
+                ));
+            }
             0
         }
         Err(e @ (RunError::Unstable(_) | RunError::Capacity(_) | RunError::Lost(_) | RunError::Phase(_) | RunError::Idle(_))) => {

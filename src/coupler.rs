@@ -8,6 +8,7 @@
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
+use std::time::Instant;
 use tumble_scene::Plan;
 use tumble_sph::coupling::{Coupling, CouplingForces, DragFluid, Solids};
 use tumble_sph::{CoupledSolids, FluidParticles};
@@ -25,6 +26,19 @@ pub struct Coupler {
     /// By particle id: the fluid's force at the last evaluation, N (what the particles hold).
     force: Vec<DVec3>,
     last: Sums,
+    seconds: StepSeconds,
+}
+
+/// Where a coupled run's time went, in seconds of wall time since it started (or resumed):
+/// He et al. (2018) find the fluid takes more than ten times the particles.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepSeconds {
+    /// The fluid's own steps, the coupling's evaluations left out.
+    pub fluid: f64,
+    /// The coupling's evaluations: the fraction, the interpolations, the forces and reaction.
+    pub coupling: f64,
+    /// The particles' sub-steps.
+    pub particles: f64,
 }
 
 /// What `coupling.csv` reports of one evaluation.
@@ -55,6 +69,7 @@ impl Coupler {
             densities: plan.model.materials.iter().map(|m| m.density).collect(),
             force: Vec::new(),
             last: Sums::default(),
+            seconds: StepSeconds::default(),
         }))
     }
 
@@ -66,6 +81,20 @@ impl Coupler {
     /// By particle id: the fluid's force at the last evaluation, N.
     pub fn forces(&self) -> &[DVec3] {
         &self.force
+    }
+
+    /// Where the run's time went so far.
+    pub fn seconds(&self) -> StepSeconds {
+        self.seconds
+    }
+
+    /// Books time spent on the fluid's steps with the coupling's evaluations in them (booked
+    /// to the coupling as they run, and taken off the fluid's there), on handing the particles'
+    /// state and forces between the phases, and on the particles' sub-steps.
+    pub(crate) fn book(&mut self, fluid_and_evaluations: f64, exchange: f64, particles: f64) {
+        self.seconds.fluid += fluid_and_evaluations;
+        self.seconds.coupling += exchange;
+        self.seconds.particles += particles;
     }
 
     /// The coupling with the particles `solids` as they are now, for one fluid step.
@@ -92,15 +121,26 @@ impl CoupledStep<'_> {
     fn solids(&self) -> Solids<'_> {
         Solids { position: &self.state.pos, velocity: &self.state.vel, radius: &self.radius }
     }
+
+    /// Moves the time since `start` from the fluid's books to the coupling's.
+    fn took(&mut self, start: Instant) {
+        let s = start.elapsed().as_secs_f64();
+        self.coupler.seconds.coupling += s;
+        self.coupler.seconds.fluid -= s;
+    }
 }
 
 impl CoupledSolids for CoupledStep<'_> {
     fn fraction(&mut self, fluid: &FluidParticles) -> Vec<f64> {
-        self.coupler.coupling.fraction(fluid, self.solids())
+        let start = Instant::now();
+        let fraction = self.coupler.coupling.fraction(fluid, self.solids());
+        self.took(start);
+        fraction
     }
 
     /// Keeps each particle's force by id and answers the reaction on each fluid particle.
     fn reaction(&mut self, fluid: &FluidParticles, fraction: &[f64], theta: &[DVec3]) -> Vec<DVec3> {
+        let start = Instant::now();
         let out = self.coupler.coupling.forces(fluid, fraction.to_vec(), theta, self.solids());
         let solids = self.state;
         let c = &mut *self.coupler;
@@ -111,6 +151,7 @@ impl CoupledSolids for CoupledStep<'_> {
             c.force[id as usize] = out.force[i];
         }
         c.last = sums(&out, &solids.vel);
+        self.took(start);
         out.reaction
     }
 }

@@ -81,6 +81,8 @@ pub struct RunSummary {
     pub ended_early: Option<String>,
     /// The checkpoints this run wrote, when checkpoints are on.
     pub checkpoints: Option<CheckpointReport>,
+    /// In a coupled run, the wall time of the fluid, the coupling and the particles.
+    pub step_seconds: Option<crate::coupler::StepSeconds>,
 }
 
 /// The checkpoints one `tumble run` or `tumble resume` wrote.

@@ -235,6 +235,7 @@ impl<'o> Run<'o> {
                 _ => None,
             },
             checkpoints: self.checkpoint_every.map(|_| self.checkpoints),
+            step_seconds: sim.coupler().map(|c| c.seconds()),
         };
         let stop_text = match &stopped {
             Some(Stop::Ended(_)) => None,

@@ -8,6 +8,7 @@ use crate::feeder::FeederBooks;
 use crate::sph_phase::SphPhase;
 use glam::DVec3;
 use std::borrow::Cow;
+use std::time::Instant;
 use tumble_cpu::CpuSimulation;
 use tumble_gpu::{GpuError, GpuSimulation};
 use tumble_scene::schema::BackendName;
@@ -228,17 +229,27 @@ impl Simulation {
         let fluid = fluid_mut(phases).expect("a coupled run has a fluid");
         while dem.backend().steps() < end {
             let now = dem.backend().steps();
+            // Where the time goes: the particles' state read and their forces set are the
+            // coupling's, the fluid's step less the coupling's evaluations the fluid's.
+            let (mut fluid_seconds, mut exchange_seconds) = (0.0, 0.0);
             if now % n == 0 {
+                let start = Instant::now();
                 let solids = dem.backend().state();
+                let read = start.elapsed().as_secs_f64();
                 fluid.advance_coupled(n as f64 * dt, &mut coupler.with(&solids)).map_err(|e| match e {
                     PhaseStop::Failed(why) => PhaseStop::Failed(format!("fluid: {why}")),
                     other => other,
                 })?;
                 drop(solids);
+                fluid_seconds = start.elapsed().as_secs_f64() - read;
+                let set = Instant::now();
                 dem.backend_mut().set_external_forces(coupler.forces()).map_err(PhaseStop::Failed)?;
+                exchange_seconds = read + set.elapsed().as_secs_f64();
             }
             let next = (now / n + 1) * n;
+            let start = Instant::now();
             dem.advance(next.min(end) - now, dt)?;
+            coupler.book(fluid_seconds, exchange_seconds, start.elapsed().as_secs_f64());
             if dem.backend().steps() < next.min(end) {
                 break;
             }

@@ -72,6 +72,9 @@ pub(crate) fn summary_json(sim: &Simulation, s: &RunSummary, plan_text: &str, st
     if let Some(why) = &s.ended_early {
         value["ended_early"] = serde_json::json!(why);
     }
+    if let Some(t) = &s.step_seconds {
+        value["step_seconds"] = serde_json::json!({ "fluid": t.fluid, "coupling": t.coupling, "particles": t.particles });
+    }
     if let Some(step) = s.resumed_from_step {
         value["resumed_from_step"] = serde_json::json!(step);
     }

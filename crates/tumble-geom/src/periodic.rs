@@ -9,6 +9,7 @@ pub struct PeriodicBox {
 }
 
 impl PeriodicBox {
+    #[inline]
     pub fn extent(&self) -> DVec3 {
         self.max - self.min
     }

@@ -7,12 +7,26 @@
 
 use libtest_mimic::{Arguments, Completion, Failed, Trial};
 use std::sync::Mutex;
+use std::time::Instant;
 
 /// The variable that turns a missing adapter from "ignored" into a failure.
 pub const REQUIRE_GPU: &str = "TUMBLE_REQUIRE_GPU";
 
 /// One device for the whole process: GPU trials take turns on it.
 static DEVICE: Mutex<()> = Mutex::new(());
+
+/// Each finished trial's name and seconds, for the slowest to be named at the end: CI's time
+/// is mostly a few trials, and this says which.
+static TIMES: Mutex<Vec<(String, f64)>> = Mutex::new(Vec::new());
+
+/// How many of the slowest trials the end of a run names.
+const SLOWEST_NAMED: usize = 8;
+
+fn timed(name: &str, test: impl FnOnce()) {
+    let start = Instant::now();
+    test();
+    TIMES.lock().unwrap_or_else(|e| e.into_inner()).push((name.to_string(), start.elapsed().as_secs_f64()));
+}
 
 /// True when `TUMBLE_REQUIRE_GPU=1`.
 pub fn gpu_required() -> bool {
@@ -26,8 +40,9 @@ pub fn missing_adapter() -> Option<String> {
 
 /// A test on the CPU: always runs.
 pub fn cpu_trial(name: impl Into<String>, test: impl FnOnce() + Send + 'static) -> Trial {
-    Trial::test(name, move || {
-        test();
+    let name = name.into();
+    Trial::test(name.clone(), move || {
+        timed(&name, test);
         Ok(())
     })
 }
@@ -35,10 +50,11 @@ pub fn cpu_trial(name: impl Into<String>, test: impl FnOnce() + Send + 'static) 
 /// A test that needs the GPU: runs with an adapter (one GPU trial at a time), is ignored
 /// without one, and fails without one under `TUMBLE_REQUIRE_GPU=1`.
 pub fn gpu_trial(name: impl Into<String>, test: impl FnOnce() + Send + 'static) -> Trial {
-    Trial::ignorable_test(name, move || match missing_adapter() {
+    let name = name.into();
+    Trial::ignorable_test(name.clone(), move || match missing_adapter() {
         None => {
             let _turn = DEVICE.lock().unwrap_or_else(|e| e.into_inner());
-            test();
+            timed(&name, test);
             Ok(Completion::Completed)
         }
         Some(why) if gpu_required() => Err(Failed::from(format!("{REQUIRE_GPU}=1 but {why}"))),
@@ -49,7 +65,7 @@ pub fn gpu_trial(name: impl Into<String>, test: impl FnOnce() + Send + 'static) 
 
 /// Runs the trials with the command line's filters and exits with the outcome. Prints
 /// beforehand why GPU trials are ignored (if they are), and afterwards the shader variants
-/// this binary compiled and their compile time.
+/// this binary compiled and their compile time, and its slowest trials.
 pub fn run(trials: Vec<Trial>) -> ! {
     let args = Arguments::from_args();
     let gpu_trials = trials.iter().filter(|t| t.kind() == "gpu" && !args.is_filtered_out(t)).count();
@@ -67,6 +83,14 @@ pub fn run(trials: Vec<Trial>) -> ! {
     if gpu_trials > 0 && !args.list {
         let s = tumble_gpu::shader_compile_stats();
         println!("shader variants compiled: {} distinct ({} pipelines) in {:.1} s", s.variants, s.pipelines, s.time.as_secs_f64());
+    }
+    let mut times = std::mem::take(&mut *TIMES.lock().unwrap_or_else(|e| e.into_inner()));
+    times.sort_by(|a, b| b.1.total_cmp(&a.1));
+    if times.len() > 1 {
+        println!("slowest trials:");
+        for (name, secs) in times.iter().take(SLOWEST_NAMED) {
+            println!("  {secs:7.1} s  {name}");
+        }
     }
     conclusion.exit()
 }

@@ -55,6 +55,8 @@ pub struct CouplingForces {
 #[derive(Clone, Debug)]
 pub struct Coupling {
     kernel: WendlandC2,
+    /// (2h)².
+    support2: f64,
     domain: PeriodicBox,
     law: DragLaw,
     fluid: DragFluid,
@@ -88,7 +90,8 @@ impl Coupling {
         if (0..3).any(|k| domain.periodic[k] && extent[k] < 4.0 * h) {
             return Err(format!("a periodic axis of the coupled fluid must be at least 4h = {:.4e} m long", 4.0 * h));
         }
-        Ok(Coupling { kernel: WendlandC2::new(h, dimension), domain, law, fluid })
+        let kernel = WendlandC2::new(h, dimension);
+        Ok(Coupling { support2: kernel.support().powi(2), kernel, domain, law, fluid })
     }
 
     /// The coupling between `fluid` (with `acceleration`, each fluid particle's fluid–fluid
@@ -99,7 +102,8 @@ impl Coupling {
     }
 
     /// Calls f(j) for each particle j of `g` near `x`, in slot order.
-    fn near(g: &CellGrid, x: DVec3, f: &mut dyn FnMut(usize)) {
+    #[inline]
+    fn near(g: &CellGrid, x: DVec3, mut f: impl FnMut(usize)) {
         let c = g.cell_coords(x);
         let d = g.dims();
         g.for_each_neighbour_run(c[0] + d[0] * (c[1] + d[1] * c[2]), |s0, s1| {
@@ -109,8 +113,16 @@ impl Coupling {
         });
     }
 
+    /// W(|a − b|) through the periodic axes. The grids' cells hand over many more candidates
+    /// than lie within 2h (a 3³ block of cells of 2h is 6.4 times the support's volume), so
+    /// those beyond are turned away on |a − b|² before the square root.
+    #[inline]
     fn w(&self, a: DVec3, b: DVec3) -> f64 {
-        self.kernel.value(self.domain.minimum_image(a - b).length())
+        let r2 = self.domain.minimum_image(a - b).length_squared();
+        if r2 >= self.support2 {
+            return 0.0;
+        }
+        self.kernel.value(r2.sqrt())
     }
 
     /// Pass 1: the fluid fraction at each fluid particle (1 for walls; at least
@@ -124,9 +136,7 @@ impl Coupling {
                     return 1.0;
                 }
                 let mut solid = 0.0;
-                Self::near(&solid_grid, fluid.position[a], &mut |i| {
-                    solid += volume(solids.radius[i]) * self.w(fluid.position[a], solids.position[i])
-                });
+                Self::near(&solid_grid, fluid.position[a], |i| solid += volume(solids.radius[i]) * self.w(fluid.position[a], solids.position[i]));
                 (1.0 - solid).max(LEAST_FRACTION)
             })
             .collect()
@@ -141,7 +151,6 @@ impl Coupling {
         let fluid_grid = grid(&self.domain, support, &fluid.position);
         let solid_grid = grid(&self.domain, support, solids.position);
         let w = |a: DVec3, b: DVec3| self.w(a, b);
-        let near = Self::near;
         let volume = |i: usize| volume(solids.radius[i]);
         // 2. Each solid's interpolations and force, and its Shepard denominator.
         let per_solid: Vec<(DVec3, f64, DVec3, DVec3, f64)> = (0..n_solid)
@@ -149,7 +158,7 @@ impl Coupling {
             .map(|i| {
                 let x = solids.position[i];
                 let (mut shepard, mut u, mut eps, mut force_density) = (0.0, DVec3::ZERO, 0.0, DVec3::ZERO);
-                near(&fluid_grid, x, &mut |b| {
+                Self::near(&fluid_grid, x, |b| {
                     if fluid.kind[b] != ParticleKind::Fluid {
                         return;
                     }
@@ -180,7 +189,7 @@ impl Coupling {
                 }
                 let own = fluid.mass[a] / fluid.density[a];
                 let mut s = DVec3::ZERO;
-                near(&solid_grid, fluid.position[a], &mut |i| {
+                Self::near(&solid_grid, fluid.position[a], |i| {
                     let (_, _, _, force, shepard) = per_solid[i];
                     if shepard > 0.0 {
                         s -= own * w(fluid.position[a], solids.position[i]) / shepard * force;
