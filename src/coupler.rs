@@ -23,6 +23,8 @@ pub struct Coupler {
     /// (polyhedra); spheres use their radius.
     polyhedra: bool,
     densities: Vec<f64>,
+    /// The direction of the particles' front in coupling.csv, if the scene asks for it.
+    front: Option<DVec3>,
     /// By particle id: the fluid's force at the last evaluation, N (what the particles hold).
     force: Vec<DVec3>,
     last: Sums,
@@ -53,6 +55,8 @@ struct Sums {
     least_fraction: f64,
     /// The largest slip |u − v| of a wetted solid, m/s.
     largest_slip: f64,
+    /// The particles' largest extent along the front's direction, m.
+    solid_front: f64,
 }
 
 impl Coupler {
@@ -67,6 +71,7 @@ impl Coupler {
             substeps: c.substeps,
             polyhedra: plan.model.polyhedra,
             densities: plan.model.materials.iter().map(|m| m.density).collect(),
+            front: c.front,
             force: Vec::new(),
             last: Sums::default(),
             seconds: StepSeconds::default(),
@@ -151,6 +156,9 @@ impl CoupledSolids for CoupledStep<'_> {
             c.force[id as usize] = out.force[i];
         }
         c.last = sums(&out, &solids.vel);
+        if let Some(d) = c.front {
+            c.last.solid_front = solids.pos.iter().map(|x| x.dot(d)).fold(f64::NEG_INFINITY, f64::max);
+        }
         self.took(start);
         out.reaction
     }
@@ -221,7 +229,13 @@ impl Phase for Coupler {
                 s.least_fraction,
                 s.largest_slip,
             ];
-            out.tables.push(PhaseTable::line("coupling.csv", &COLUMNS, values));
+            let mut columns = COLUMNS.to_vec();
+            let mut values = values;
+            if self.front.is_some() {
+                columns.push("solid_front");
+                values.push(s.solid_front);
+            }
+            out.tables.push(PhaseTable::line("coupling.csv", &columns, values));
         }
         Ok(out)
     }

@@ -230,7 +230,7 @@ fn the_plan_says_when_the_particles_and_the_fluid_couple() {
 /// floor it rises by ρ g Δz, as without the bed (measured +1.5 %; the bed's weight (1 − ε) ρ g
 /// per volume carried by the water instead would add 19 %), and the spheres together feel the
 /// buoyancy ρ g V of their volume (measured +5.9 %, the bed's edges, where the water's density
-/// changes, read high).
+/// changes, read high). Its front upwards is its top layer.
 #[test]
 fn water_in_a_fixed_bed_rests_at_its_hydrostatic_pressure_and_buoys_the_spheres() {
     let scene = r#"
@@ -256,6 +256,7 @@ viscosity = 1.0e-3
 expected_speed = 1.1
 viscosity_model = { model = "artificial", alpha = 0.1 }
 density_diffusion = { model = "fourtakas", delta = 0.1 }
+coupling = { front = [0.0, 0.0, 2.0] }
 [[sph.regions]]
 box = { min = [0.0, 0.0, 0.0], max = [0.0396, 0.0396, 0.06] }
 [[sph.probes]]
@@ -288,6 +289,8 @@ box = { min = [0.0, 0.0, 0.0], max = [0.0396, 0.0396, 0.08] }
         rho * g * 0.030
     );
     assert_eq!(last("coupling.csv", "wetted_particles"), spheres);
+    // The bed's front upwards: its top layer of centres, 0.0018 + 6 × 0.0036 m.
+    assert!((last("coupling.csv", "solid_front") - 0.0234).abs() < 1e-12);
     assert!(((bottom - above) / (rho * g * 0.030) - 1.0).abs() < 0.03, "bottom {bottom}, above {above}");
     assert!((lift / buoyancy - 1.0).abs() < 0.08, "lift {lift}");
     assert!(fraction > 0.65 && fraction < 0.8 && speed < 0.05, "{fraction} {speed}");

@@ -11,7 +11,7 @@ use tumble_testkit::scenes::{replaced, test_scene};
 /// `scenes/test/cube_bed.toml` for `duration`: a bed of frictional cubes (and, with `spheres`, a
 /// layer of spheres above them) settling into a box under gravity: 112 cubes (and 32 spheres), 6,300 steps to 0.36 s (t_col at a cube corner / 10). On lavapipe
 /// this is minutes, so the beds are small; the spheres settle slowest (they roll), so the
-/// mixture is compared while the layers land on each other (to 0.18 s).
+/// mixture is compared while the layers land on each other (to 0.15 s).
 pub(crate) fn bed(spheres: bool, duration: f64) -> CompiledScene {
     let mut text = replaced(&test_scene("cube_bed"), "duration = 0.36", &format!("duration = {duration}"));
     if spheres {
@@ -84,7 +84,7 @@ fn settle_against_the_cpu(name: &str, spheres: bool, duration: f64) {
 }
 
 pub fn a_mixture_of_spheres_and_cubes_settles_as_on_the_cpu() {
-    settle_against_the_cpu("sphere and cube bed", true, 0.18);
+    settle_against_the_cpu("sphere and cube bed", true, 0.15);
 }
 
 pub fn polyhedra_runs_give_bit_identical_states() {

@@ -150,6 +150,9 @@ fn describe_coupling(s: &mut String, p: &crate::SphPlan, dt: f64) {
         c.substeps,
         c.drag_limit
     );
+    if let Some(d) = c.front {
+        let _ = writeln!(s, "coupling     the particles' front along [{:.3}, {:.3}, {:.3}] in coupling.csv (solid_front)", d.x, d.y, d.z);
+    }
 }
 
 /// The fluid's lines: its particles, method, time-step limits and probes.

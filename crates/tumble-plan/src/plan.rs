@@ -264,6 +264,8 @@ pub struct CouplingPlan {
     /// The longest fluid step over which the particles' drag may be held: a quarter of their
     /// shortest drag relaxation time, s.
     pub drag_limit: f64,
+    /// The unit direction along which coupling.csv reports the particles' front.
+    pub front: Option<glam::DVec3>,
 }
 
 /// A measurement of the fluid written at every output row (probe_<name>.csv).

@@ -43,7 +43,17 @@ pub(super) fn coupling(
     if settings.mu <= 0.0 {
         return Err(SceneError::field("sph.viscosity", "the drag on the particles needs the fluid's viscosity: give it in Pa s (water: 1e-3)"));
     }
-    Ok(Some(CouplingPlan { drag, substeps: 1, drag_limit: f64::INFINITY }))
+    let front = match s.coupling.front {
+        None => None,
+        Some(d) => {
+            let d = crate::compile::finite3("sph.coupling.front", d)?;
+            if d.length() == 0.0 {
+                return Err(SceneError::field("sph.coupling.front", "the direction must not be zero"));
+            }
+            Some(d.normalize())
+        }
+    };
+    Ok(Some(CouplingPlan { drag, substeps: 1, drag_limit: f64::INFINITY, front }))
 }
 
 /// The particles' steps of `dt` within each fluid step of a coupled fluid (1 uncoupled), set

@@ -63,6 +63,10 @@ pub struct SphCouplingSection {
     /// The drag correlation.
     #[serde(default)]
     pub drag: SphDragLaw,
+    /// A direction along which coupling.csv reports the particles' front (their largest
+    /// extent), as a `front` probe does the fluid's.
+    #[serde(default)]
+    pub front: Option<V3>,
 }
 
 /// A drag correlation of the coupling.
