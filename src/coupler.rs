@@ -45,18 +45,19 @@ pub struct StepSeconds {
 
 /// What `coupling.csv` reports of one evaluation.
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
-struct Sums {
+pub struct Sums {
     /// Solids with fluid within reach.
-    wetted: usize,
-    force: DVec3,
-    drag: DVec3,
+    pub wetted: usize,
+    /// The fluid's force on them, and its drag part, N.
+    pub force: DVec3,
+    pub drag: DVec3,
     /// Mean and least fluid fraction at the wetted solids.
-    mean_fraction: f64,
-    least_fraction: f64,
+    pub mean_fraction: f64,
+    pub least_fraction: f64,
     /// The largest slip |u − v| of a wetted solid, m/s.
-    largest_slip: f64,
+    pub largest_slip: f64,
     /// The particles' largest extent along the front's direction, m.
-    solid_front: f64,
+    pub solid_front: f64,
 }
 
 impl Coupler {
@@ -86,6 +87,11 @@ impl Coupler {
     /// By particle id: the fluid's force at the last evaluation, N.
     pub fn forces(&self) -> &[DVec3] {
         &self.force
+    }
+
+    /// The sums of the last evaluation (coupling.csv's row).
+    pub fn sums(&self) -> &Sums {
+        &self.last
     }
 
     /// Where the run's time went so far.

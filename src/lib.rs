@@ -15,7 +15,7 @@
 pub mod agglomerates;
 pub mod checkpoint;
 pub mod cli;
-mod coupler;
+pub mod coupler;
 pub mod dem;
 pub mod feeder;
 mod flow;
