@@ -8,29 +8,18 @@ use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use tumble::Simulation;
-use tumble_testkit::run_files::assert_thread_independent_and_resumable;
+use tumble_testkit::run_files::{assert_thread_independent_and_resumable, csv_column, scratch_dir};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("tumble-coupling-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn tmp_dir(name: &str) -> PathBuf {
+    scratch_dir("coupling", name)
 }
 
 fn tumble(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tumble")).args(args).current_dir(root()).stdin(Stdio::null()).output().unwrap()
-}
-
-/// Column `name` of a CSV file, every row.
-fn column(path: &Path, name: &str) -> Vec<f64> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let k = lines.next().unwrap().split(',').position(|h| h == name).unwrap_or_else(|| panic!("{}: no column {name}", path.display()));
-    lines.map(|l| l.split(',').nth(k).unwrap().parse().unwrap()).collect()
 }
 
 /// The glass of the scenes written here and their contact laws.
@@ -69,7 +58,7 @@ fn settle(dir: &Path, density: f64, z: f64, duration: &str) -> (Vec<f64>, Vec<f6
     let out = dir.join("out");
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--duration", duration, "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    (column(&out.join("tracks.csv"), "t"), column(&out.join("tracks.csv"), "vz"), column(&out.join("coupling.csv"), "largest_slip"))
+    (csv_column(&out.join("tracks.csv"), "t"), csv_column(&out.join("tracks.csv"), "vz"), csv_column(&out.join("coupling.csv"), "largest_slip"))
 }
 
 /// The glass sphere of the shipped scene (3 mm, 2500 kg/m³; h/d = 3; Re = 0.02) sinks. From 5
@@ -80,7 +69,7 @@ fn settle(dir: &Path, density: f64, z: f64, duration: &str) -> (Vec<f64>, Vec<f6
 /// catches a missing buoyancy (+67 %) or a halved drag (+100 %).
 #[test]
 fn a_sphere_sinks_through_the_liquid_at_its_drag_laws_terminal_velocity() {
-    let dir = tmp("sink");
+    let dir = tmp_dir("sink");
     let (t, vz, slip) = settle(&dir, 2500.0, 0.07, "0.02");
     let vt = terminal_velocity(0.003, 2500.0);
     let relaxation = 2500.0 * 0.003f64.powi(2) / 18.0;
@@ -108,7 +97,7 @@ fn a_sphere_sinks_through_the_liquid_at_its_drag_laws_terminal_velocity() {
 /// the liquid about it, held within 35 %.
 #[test]
 fn a_light_sphere_rises_through_the_liquid() {
-    let dir = tmp("rise");
+    let dir = tmp_dir("rise");
     let (t, vz, slip) = settle(&dir, 500.0, 0.03, "0.02");
     let vt = terminal_velocity(0.003, 500.0);
     let rows: Vec<usize> = (0..t.len()).filter(|&k| t[k] > 0.005).collect();
@@ -182,7 +171,7 @@ box = { min = [0.0, 0.0, 0.0], max = [0.1, 0.1, 0.1] }
 /// and resumed writes them too.
 #[test]
 fn coupled_runs_are_thread_independent_and_resume_bit_identically() {
-    let dir = tmp("resume");
+    let dir = tmp_dir("resume");
     let text = std::fs::read_to_string(root().join("scenes/settling_sphere.toml")).unwrap();
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, text.replace("output_interval = 0.001", "output_interval = 0.001\nsnapshot_interval = 0.002")).unwrap();
@@ -203,7 +192,7 @@ fn the_plan_says_when_the_particles_and_the_fluid_couple() {
     let o = tumble(&["plan", "scenes/settling_sphere.toml"]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success() && text.contains("coupling     on, as the scene has particles and a 3D fluid"), "{text}");
-    let dir = tmp("plan");
+    let dir = tmp_dir("plan");
     let base = std::fs::read_to_string(root().join("scenes/settling_sphere.toml")).unwrap();
     let plane = base.replace("dimension = 3", "dimension = 2");
     let write = |name: &str, text: &str| {
@@ -270,14 +259,14 @@ material = "glass"
 box = { min = [0.0, 0.0, 0.0], max = [0.0396, 0.0396, 0.08] }
 "#
     .replace("GLASS\n", GLASS);
-    let dir = tmp("bed");
+    let dir = tmp_dir("bed");
     let path = dir.join("bed.toml");
     std::fs::write(&path, scene).unwrap();
     let out = dir.join("out");
     let o = tumble(&["run", path.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let (rho, g) = (1000.0, 9.81);
-    let last = |file: &str, column_name: &str| *column(&out.join(file), column_name).last().unwrap();
+    let last = |file: &str, column_name: &str| *csv_column(&out.join(file), column_name).last().unwrap();
     let spheres = 11.0 * 11.0 * 7.0;
     let buoyancy = spheres * rho * g * std::f64::consts::PI / 6.0 * 0.003f64.powi(3);
     let (bottom, above) = (last("probe_bottom.csv", "pressure"), last("probe_above.csv", "pressure"));
@@ -310,7 +299,7 @@ box = { min = [0.0, 0.0, 0.0], max = [0.0396, 0.0396, 0.08] }
 fn water_driven_through_a_fixed_bed_meets_erguns_pressure_drop() {
     let (rho, mu, d, spacing): (f64, f64, f64, f64) = (1000.0, 1.0e-3, 0.002, 0.0022);
     let lattice_fraction = 1.0 - std::f64::consts::PI / 6.0 * (d / spacing).powi(3);
-    let dir = tmp("ergun");
+    let dir = tmp_dir("ergun");
     // (g, the fluid's expected speed, duration): seven drag relaxation times ε ρ / β each.
     for (g, expected_speed, duration) in [(0.083, 0.02, 0.45), (9.56, 0.12, 0.1)] {
         let scene = format!(
@@ -347,7 +336,7 @@ box = {{ min = [0.0, 0.0, 0.0], max = [0.0264, 0.0264, 0.0264] }}
         let out = dir.join(format!("out-{g}"));
         let o = tumble(&["run", path.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let last = |file: &str, name: &str| *column(&out.join(file), name).last().unwrap();
+        let last = |file: &str, name: &str| *csv_column(&out.join(file), name).last().unwrap();
         let u = last("fluid.csv", "momentum_x") / (rho * 0.0264f64.powi(3));
         let e = last("coupling.csv", "mean_fluid_fraction");
         let viscous = 150.0 * mu * (1.0 - e).powi(2) * u / (e.powi(3) * d * d);

@@ -5,29 +5,18 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use tumble_testkit::run_files::assert_thread_independent_and_resumable;
+use tumble_testkit::run_files::{assert_thread_independent_and_resumable, csv_column, scratch_dir};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("tumble-sph-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn tmp_dir(name: &str) -> PathBuf {
+    scratch_dir("sph", name)
 }
 
 fn tumble(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tumble")).args(args).current_dir(root()).stdin(Stdio::null()).output().unwrap()
-}
-
-/// Column `name` of a CSV file, every row.
-fn column(path: &Path, name: &str) -> Vec<f64> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let k = lines.next().unwrap().split(',').position(|h| h == name).unwrap_or_else(|| panic!("{}: no column {name}", path.display()));
-    lines.map(|l| l.split(',').nth(k).unwrap().parse().unwrap()).collect()
 }
 
 const G: f64 = 9.81;
@@ -90,7 +79,7 @@ box = {{ min = [0.0, -0.01, 0.0], max = [0.1, 0.01, 0.15] }}
 /// density, gravity, spacing or particle mass in the scene's translation fails one of these.
 #[test]
 fn a_column_at_rest_from_a_scene_reads_the_hydrostatic_pressure_at_its_probes() {
-    let dir = tmp("column");
+    let dir = tmp_dir("column");
     let scene = dir.join("column.toml");
     std::fs::write(&scene, column_at_rest(0.5)).unwrap();
     let out = dir.join("out");
@@ -99,7 +88,7 @@ fn a_column_at_rest_from_a_scene_reads_the_hydrostatic_pressure_at_its_probes() 
     let (rho, h) = (1000.0, 0.1);
     let bottom = rho * G * h;
     for (probe, z) in [("deep", 0.02), ("middle", 0.05), ("shallow", 0.08)] {
-        let p = column(&out.join(format!("probe_{probe}.csv")), "pressure");
+        let p = csv_column(&out.join(format!("probe_{probe}.csv")), "pressure");
         // The rows after 0.2 s (the start-up transient, a few sound crossings, is over).
         for (k, &pk) in p.iter().enumerate().skip(4) {
             let error = (pk - rho * G * (h - z)).abs() / bottom;
@@ -107,13 +96,13 @@ fn a_column_at_rest_from_a_scene_reads_the_hydrostatic_pressure_at_its_probes() 
             assert!(error < 0.02, "{probe}: {pk} Pa against {} Pa", rho * G * (h - z));
         }
     }
-    let gauge = column(&out.join("probe_gauge.csv"), "height");
+    let gauge = csv_column(&out.join("probe_gauge.csv"), "height");
     assert!(gauge.iter().all(|&z| (z - h).abs() <= 0.005), "gauge {gauge:?} against H = {h}");
-    let spread = column(&out.join("probe_spread.csv"), "front");
+    let spread = csv_column(&out.join("probe_spread.csv"), "front");
     assert!(spread.iter().all(|&x| x < 0.1), "the fluid left its tank: front {spread:?}");
-    let mass = column(&out.join("fluid.csv"), "mass");
+    let mass = csv_column(&out.join("fluid.csv"), "mass");
     assert!(mass.iter().all(|&m| m == mass[0]) && (mass[0] - rho * h * 0.1).abs() < 1e-9, "mass {mass:?}");
-    let deviation = column(&out.join("fluid.csv"), "largest_density_deviation");
+    let deviation = csv_column(&out.join("fluid.csv"), "largest_density_deviation");
     assert!(deviation.iter().all(|&d| d < 0.01), "density deviation {deviation:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -147,7 +136,7 @@ cylinder = {{ point = [0.0, -0.01, 0.0], axis = [0.0, 1.0, 0.0], radius = 0.1, l
 /// Runs the half-full drum at rest with its water filling `region` and checks it as the tests
 /// below say; returns the largest pressure error after settling, in units of ρ g R.
 fn drum_at_rest(name: &str, region: &str, bound: f64) -> f64 {
-    let dir = tmp(name);
+    let dir = tmp_dir(name);
     let (r, rho, dp) = (0.1, 1000.0, 0.005);
     let scene = dir.join("drum.toml");
     let probes = r#"[[sph.probes]]
@@ -168,7 +157,7 @@ front = [1.0, 0.0, 0.0]
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let fluid = out.join("fluid.csv");
-    let (mass, kinetic) = (column(&fluid, "mass"), column(&fluid, "kinetic_energy"));
+    let (mass, kinetic) = (csv_column(&fluid, "mass"), csv_column(&fluid, "kinetic_energy"));
     // The level where the water's area fills a segment of the drum, found by bisection.
     let area = mass[0] / rho;
     let segment = |z: f64| r * r * (-z / r).acos() + z * (r * r - z * z).sqrt();
@@ -178,14 +167,14 @@ front = [1.0, 0.0, 0.0]
         if segment(mid) < area { lo = mid } else { hi = mid }
     }
     let level = 0.5 * (lo + hi);
-    let gauge = column(&out.join("probe_gauge.csv"), "height");
+    let gauge = csv_column(&out.join("probe_gauge.csv"), "height");
     println!("level by area {level:.5} m; gauge {gauge:?}; kinetic energy at the end {:.3e} J", kinetic.last().unwrap());
     assert!(*kinetic.last().unwrap() < 1e-3, "the water has not come to rest");
     let settled = gauge.len() - 4;
     assert!(gauge[settled..].iter().all(|&z| (z - level).abs() <= dp), "gauge {gauge:?} against the level {level}");
     let mut worst: f64 = 0.0;
     for (probe, z) in [("deep", -0.08), ("middle", -0.04)] {
-        let p = column(&out.join(format!("probe_{probe}.csv")), "pressure");
+        let p = csv_column(&out.join(format!("probe_{probe}.csv")), "pressure");
         for (k, &pk) in p.iter().enumerate().skip(settled) {
             let error = (pk - rho * G * (gauge[k] - z)) / (rho * G * r);
             println!("{probe} z = {z}: row {k}: {pk:.2} Pa, {:+.3} % of rho g R", 100.0 * error);
@@ -193,7 +182,7 @@ front = [1.0, 0.0, 0.0]
             worst = worst.max(error.abs());
         }
     }
-    let reach = column(&out.join("probe_reach.csv"), "front");
+    let reach = csv_column(&out.join("probe_reach.csv"), "front");
     assert!(reach.iter().all(|&x| x < r), "the fluid crossed the drum: {reach:?}");
     let _ = std::fs::remove_dir_all(&dir);
     worst
@@ -223,7 +212,7 @@ fn water_filled_in_rings_rests_in_a_drum_reads_the_hydrostatic_pressure() {
 /// the turning wall; the same drum standing still leaves the water at rest (the test above).
 #[test]
 fn a_turning_drum_drags_the_water_along_its_wall() {
-    let dir = tmp("turning_drum");
+    let dir = tmp_dir("turning_drum");
     let (r, rpm) = (0.1, 10.0);
     let scene = dir.join("drum.toml");
     let probes = "[[sph.probes]]\nname = \"bottom\"\nvelocity = [0.0, 0.0, -0.09]\n";
@@ -235,7 +224,7 @@ fn a_turning_drum_drags_the_water_along_its_wall() {
     let out = dir.join("out");
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let vx = column(&out.join("probe_bottom.csv"), "velocity_x");
+    let vx = csv_column(&out.join("probe_bottom.csv"), "velocity_x");
     let wall_speed = rpm * std::f64::consts::TAU / 60.0 * r;
     println!("bottom probe vx {vx:?}; the wall moves at -{wall_speed:.4} m/s");
     assert!(vx.iter().all(|&v| v <= 1e-3), "the water moves against the wall: {vx:?}");
@@ -249,7 +238,7 @@ fn a_turning_drum_drags_the_water_along_its_wall() {
 /// The front stays at the gate while it stands, and runs out once it has lifted.
 #[test]
 fn a_lifted_gate_holds_the_water_then_releases_it() {
-    let dir = tmp("gate");
+    let dir = tmp_dir("gate");
     let scene = dir.join("gate.toml");
     let head = water_2d("gate", 0.4, 0.025, [0.0, -0.01, 0.0], [0.4, 0.01, 0.3]);
     std::fs::write(
@@ -277,7 +266,7 @@ motion = {{ translate = {{ velocity = [0.0, 0.0, 0.68] }}, start = 0.1, stop = 0
     let out = dir.join("out");
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (time, front) = (column(&out.join("probe_front.csv"), "t"), column(&out.join("probe_front.csv"), "front"));
+    let (time, front) = (csv_column(&out.join("probe_front.csv"), "t"), csv_column(&out.join("probe_front.csv"), "front"));
     println!("front {:?}", time.iter().zip(&front).collect::<Vec<_>>());
     for (&t, &x) in time.iter().zip(&front) {
         if t <= 0.1 {
@@ -295,7 +284,7 @@ motion = {{ translate = {{ velocity = [0.0, 0.0, 0.68] }}, start = 0.1, stop = 0
 /// linear, and the gauge reads in steps of Δp/4).
 #[test]
 fn a_shaken_tank_sloshes_at_its_natural_period() {
-    let dir = tmp("slosh");
+    let dir = tmp_dir("slosh");
     let scene = dir.join("slosh.toml");
     let head = water_2d("slosh", 3.2, 0.01, [-0.01, -0.01, 0.0], [0.21, 0.01, 0.12]);
     std::fs::write(
@@ -317,7 +306,7 @@ motion = {{ oscillate = {{ direction = [1.0, 0.0, 0.0], amplitude = 0.002, frequ
     let out = dir.join("out");
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (time, height) = (column(&out.join("probe_left.csv"), "t"), column(&out.join("probe_left.csv"), "height"));
+    let (time, height) = (csv_column(&out.join("probe_left.csv"), "t"), csv_column(&out.join("probe_left.csv"), "height"));
     let free: Vec<(f64, f64)> = time.iter().zip(&height).filter(|(t, _)| **t > 1.3).map(|(&t, &h)| (t, h)).collect();
     let mean = free.iter().map(|p| p.1).sum::<f64>() / free.len() as f64;
     let swing = free.iter().map(|p| (p.1 - mean).abs()).fold(0.0, f64::max);
@@ -342,7 +331,7 @@ motion = {{ oscillate = {{ direction = [1.0, 0.0, 0.0], amplitude = 0.002, frequ
 /// surge front against Martin & Moyce's, with the lead of +2 … +6 % this resolution has (docs/sph.md).
 #[test]
 fn the_shipped_dam_break_follows_martin_and_moyce() {
-    let dir = tmp("dam");
+    let dir = tmp_dir("dam");
     let text = std::fs::read_to_string(root().join("scenes/dam_break.toml")).unwrap();
     let text =
         text.replace("spacing = 0.0025", "spacing = 0.005").replace("duration = 0.4", "duration = 0.15").replace("snapshot_interval = 0.02\n", "");
@@ -351,7 +340,7 @@ fn the_shipped_dam_break_follows_martin_and_moyce() {
     let out = dir.join("out");
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (t, front) = (column(&out.join("probe_front.csv"), "t"), column(&out.join("probe_front.csv"), "front"));
+    let (t, front) = (csv_column(&out.join("probe_front.csv"), "t"), csv_column(&out.join("probe_front.csv"), "front"));
     let a = 0.05;
     let at = |time: f64| {
         let k = t.iter().position(|&s| s >= time).unwrap();
@@ -370,7 +359,7 @@ fn the_shipped_dam_break_follows_martin_and_moyce() {
 /// a run checkpointed halfway and resumed writes the same files as one that went straight through.
 #[test]
 fn fluid_runs_are_thread_independent_and_resume_bit_identically() {
-    let dir = tmp("resume");
+    let dir = tmp_dir("resume");
     let text = std::fs::read_to_string(root().join("scenes/dam_break.toml")).unwrap();
     let text = text.replace("spacing = 0.0025", "spacing = 0.005");
     let scene = dir.join("dam.toml");
@@ -386,7 +375,7 @@ fn fluid_runs_are_thread_independent_and_resume_bit_identically() {
 /// shipped settings run the same time without a gain.
 #[test]
 fn the_fluid_monitor_stops_a_run_whose_energy_grows() {
-    let dir = tmp("unstable");
+    let dir = tmp_dir("unstable");
     let text = std::fs::read_to_string(root().join("scenes/dam_break.toml")).unwrap().replace("spacing = 0.0025", "spacing = 0.005");
     let unstable = text
         .replace(r#"viscosity_model = { model = "artificial", alpha = 0.02 }"#, r#"viscosity_model = { model = "laminar" }"#)
@@ -403,14 +392,14 @@ fn the_fluid_monitor_stops_a_run_whose_energy_grows() {
     // The plan's warning about this very method comes first, on its own line; the stop is one line.
     let stop: Vec<&str> = err.trim().lines().filter(|l| !l.starts_with("warning:")).collect();
     assert!(err.contains("fluid's energy") && err.contains("density_diffusion") && stop.len() == 1, "{err}");
-    let energy = column(&out.join("fluid.csv"), "total_energy");
+    let energy = csv_column(&out.join("fluid.csv"), "total_energy");
     assert!(energy.len() > 10 && energy.len() < 41, "{} rows before the stop", energy.len());
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(summary.contains("\"status\": \"stopped\""), "{summary}");
     let stable = dir.join("stable");
     let o = tumble(&["run", root().join("scenes/dam_break.toml").to_str().unwrap(), "--quiet", "--out", stable.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let energy = column(&stable.join("fluid.csv"), "total_energy");
+    let energy = csv_column(&stable.join("fluid.csv"), "total_energy");
     assert!(energy.windows(2).all(|w| w[1] <= w[0] + 1e-6 * energy[0]), "the stable dam break gained energy: {energy:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -420,7 +409,7 @@ fn the_fluid_monitor_stops_a_run_whose_energy_grows() {
 /// its memory on the GPU (floating bodies included) or why it cannot run there.
 #[test]
 fn the_plan_states_the_fluid_and_the_gpu_refuses_buffers() {
-    let dir = tmp("plan");
+    let dir = tmp_dir("plan");
     let o = tumble(&["plan", "scenes/dam_break.toml"]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success() && text.contains("set by the sound speed (CFL)") && text.contains("800 fluid"), "{text}");
@@ -448,7 +437,7 @@ fn the_plan_states_the_fluid_and_the_gpu_refuses_buffers() {
 /// translation, or a body table with the wrong columns, fails one of these.
 #[test]
 fn the_shipped_floating_box_floats_at_its_archimedes_draft() {
-    let dir = tmp("floating");
+    let dir = tmp_dir("floating");
     let text = std::fs::read_to_string(root().join("scenes/floating_box.toml")).unwrap().replace("spacing = 0.005", "spacing = 0.01");
     let text = text.replace("snapshot_interval = 0.05\n", "");
     let scene = dir.join("floating.toml");
@@ -457,8 +446,8 @@ fn the_shipped_floating_box_floats_at_its_archimedes_draft() {
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let body = out.join("floating_box.csv");
-    let (t, z, force, turn) = (column(&body, "t"), column(&body, "z"), column(&body, "force_z"), column(&body, "rotation_y"));
-    let (left, right) = (column(&out.join("probe_left.csv"), "height"), column(&out.join("probe_right.csv"), "height"));
+    let (t, z, force, turn) = (csv_column(&body, "t"), csv_column(&body, "z"), csv_column(&body, "force_z"), csv_column(&body, "rotation_y"));
+    let (left, right) = (csv_column(&out.join("probe_left.csv"), "height"), csv_column(&out.join("probe_right.csv"), "height"));
     let late: Vec<usize> = (0..t.len()).filter(|&k| t[k] >= 1.6 - 1e-9).collect();
     let mean = |f: &dyn Fn(usize) -> f64| late.iter().map(|&k| f(k)).sum::<f64>() / late.len() as f64;
     let draft = mean(&|k| 0.5 * (left[k] + right[k]) - (z[k] - 0.04));
@@ -475,12 +464,12 @@ fn the_shipped_floating_box_floats_at_its_archimedes_draft() {
 /// halfway and resumed writes the same files as one that went straight through.
 #[test]
 fn floating_body_runs_are_thread_independent_and_resume_bit_identically() {
-    let dir = tmp("floating-resume");
+    let dir = tmp_dir("floating-resume");
     let text = std::fs::read_to_string(root().join("scenes/floating_box.toml")).unwrap().replace("spacing = 0.005", "spacing = 0.01");
     let scene = dir.join("floating.toml");
     std::fs::write(&scene, text.replace("0.25], max = [0.33, 0.0, 0.33]", "0.16], max = [0.33, 0.0, 0.24]")).unwrap();
     let one = assert_thread_independent_and_resumable(Path::new(env!("CARGO_BIN_EXE_tumble")), root(), &scene, &dir, ["0.1", "0.2", "0.05"]);
-    let z = column(&one.join("floating_box.csv"), "z");
+    let z = csv_column(&one.join("floating_box.csv"), "z");
     assert!(z[z.len() - 1] != z[0], "the box never moved");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -492,7 +481,7 @@ fn floating_body_runs_are_thread_independent_and_resume_bit_identically() {
 /// second, within 2 % of the peak.
 #[test]
 fn the_shipped_channel_keeps_its_mass_books_at_every_row_and_develops_poiseuille_flow() {
-    let dir = tmp("channel");
+    let dir = tmp_dir("channel");
     let text = std::fs::read_to_string(root().join("scenes/channel_inflow.toml")).unwrap().replace("snapshot_interval = 0.1\n", "");
     let scene = dir.join("channel.toml");
     std::fs::write(&scene, text).unwrap();
@@ -500,18 +489,19 @@ fn the_shipped_channel_keeps_its_mass_books_at_every_row_and_develops_poiseuille
     let o = tumble(&["run", scene.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let fluid = out.join("fluid.csv");
-    let (mass, mass_in, mass_out) = (column(&fluid, "mass"), column(&fluid, "mass_in"), column(&fluid, "mass_out"));
-    let (count, count_in, count_out) = (column(&fluid, "fluid_particles"), column(&fluid, "particles_in"), column(&fluid, "particles_out"));
+    let (mass, mass_in, mass_out) = (csv_column(&fluid, "mass"), csv_column(&fluid, "mass_in"), csv_column(&fluid, "mass_out"));
+    let (count, count_in, count_out) =
+        (csv_column(&fluid, "fluid_particles"), csv_column(&fluid, "particles_in"), csv_column(&fluid, "particles_out"));
     for k in 0..mass.len() {
         assert_eq!(count[k] - count[0], count_in[k] - count_out[k], "row {k}: particles do not add up");
         assert!((mass[k] - mass[0] - (mass_in[k] - mass_out[k])).abs() < 1e-12 * mass[0], "row {k}: mass does not add up");
     }
     assert!(count_in[count_in.len() - 1] > 150.0 && count_out[count_out.len() - 1] > 150.0, "too little passed the buffers");
-    let t = column(&out.join("probe_centre.csv"), "t");
+    let t = csv_column(&out.join("probe_centre.csv"), "t");
     let late: Vec<usize> = (0..t.len()).filter(|&k| t[k] >= 2.0 - 1e-9).collect();
     let u = 0.01;
     for (probe, expected) in [("centre", 1.5 * u), ("quarter", 1.125 * u)] {
-        let v = column(&out.join(format!("probe_{probe}.csv")), "velocity_x");
+        let v = csv_column(&out.join(format!("probe_{probe}.csv")), "velocity_x");
         let mean = late.iter().map(|&k| v[k]).sum::<f64>() / late.len() as f64;
         println!("{probe}: {mean:.6} m/s against {expected:.6}");
         assert!((mean - expected).abs() < 0.02 * 1.5 * u, "{probe}: {mean} m/s against Poiseuille's {expected}");
@@ -523,10 +513,10 @@ fn the_shipped_channel_keeps_its_mass_books_at_every_row_and_develops_poiseuille
 /// and resumed writes the same files as one that went straight through.
 #[test]
 fn buffer_runs_are_thread_independent_and_resume_bit_identically() {
-    let dir = tmp("channel-resume");
+    let dir = tmp_dir("channel-resume");
     let scene = root().join("scenes/channel_inflow.toml");
     let one = assert_thread_independent_and_resumable(Path::new(env!("CARGO_BIN_EXE_tumble")), root(), &scene, &dir, ["0.2", "0.4", "0.1"]);
-    let count_in = column(&one.join("fluid.csv"), "particles_in");
+    let count_in = csv_column(&one.join("fluid.csv"), "particles_in");
     assert!(count_in[count_in.len() - 1] > 0.0, "nothing came in");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -7,6 +7,7 @@ use tumble_geom::{DVec3, PeriodicBox};
 use tumble_gpu::GpuFluid;
 use tumble_sph::cases::ColumnInTank;
 use tumble_sph::*;
+use tumble_testkit::run_files::{csv_column, scratch_dir};
 
 /// The fluid particles' (position, velocity, density) by id.
 fn by_id(p: &FluidParticles) -> HashMap<u32, (DVec3, DVec3, f64)> {
@@ -209,14 +210,6 @@ pub fn gpu_fluid_runs_are_bit_identical_and_restart_exactly() {
     assert!(front(&first.particles()) > 1.1 * a, "the column has not moved: front {}", front(&first.particles()));
 }
 
-/// A temporary folder for a test's scene and runs.
-fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("tumble-gpu-fluid-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// Runs the `tumble` command in the repository's root; it must succeed.
 fn tumble(args: &[&str]) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -286,23 +279,19 @@ fn copy_folder(from: &std::path::Path, to: &std::path::Path) {
     }
 }
 
-/// The last value of a CSV column.
-fn last_value(path: &std::path::Path, column: &str) -> f64 {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let k = text.lines().next().unwrap().split(',').position(|h| h == column).unwrap_or_else(|| panic!("{}: no {column}", path.display()));
-    text.lines().last().unwrap().split(',').nth(k).unwrap().parse().unwrap()
-}
-
 /// The shipped dam break (at twice its spacing) run by `tumble run --backend gpu` for 0.06 s: a
 /// run checkpointed at 0.045 s and resumed writes the same fluid.csv, probes and fluid snapshots as one
 /// that went straight through, and its front is the CPU's within a tenth of the spacing.
 pub fn a_gpu_fluid_scene_resumes_bit_identically() {
-    let dir = scratch("resume");
+    let dir = scratch_dir("gpu-fluid", "resume");
     let scene = shipped_scene(&dir, "dam_break.toml", "spacing = 0.0025", "spacing = 0.005");
     let files = ["fluid.csv", "probe_front.csv", "probe_column.csv", "probe_floor.csv", "snapshots/fluid_000003.vtp"];
     gpu_run_resumes_identically(&dir, &scene, 0.06, &files);
     run_scene(&dir, &scene, "cpu", "0.06", "cpu");
-    let (gpu, cpu) = (last_value(&dir.join("gpu/probe_front.csv"), "front"), last_value(&dir.join("cpu/probe_front.csv"), "front"));
+    let (gpu, cpu) = (
+        *csv_column(&dir.join("gpu/probe_front.csv"), "front").last().unwrap(),
+        *csv_column(&dir.join("cpu/probe_front.csv"), "front").last().unwrap(),
+    );
     println!("front at 0.06 s: GPU {gpu:.6} m, CPU {cpu:.6} m");
     assert!((gpu - cpu).abs() < 0.1 * 0.005, "fronts {gpu} and {cpu} differ");
     let _ = std::fs::remove_dir_all(&dir);
@@ -313,11 +302,11 @@ pub fn a_gpu_fluid_scene_resumes_bit_identically() {
 /// velocity within 2 % of the wall's speed), the deep probe reads the CPU's pressure within 1 %,
 /// and a run resumed from a checkpoint writes the same files.
 pub fn a_turning_drum_on_the_gpu_drags_the_water_as_on_the_cpu() {
-    let dir = scratch("drum");
+    let dir = scratch_dir("gpu-fluid", "drum");
     let scene = shipped_scene(&dir, "drum_water.toml", "spacing = 0.0025", "spacing = 0.005");
     gpu_run_resumes_identically(&dir, &scene, 0.2, &["fluid.csv", "probe_bottom.csv", "probe_deep.csv"]);
     run_scene(&dir, &scene, "cpu", "0.2", "cpu");
-    let read = |out: &str, file: &str, column: &str| last_value(&dir.join(out).join(file), column);
+    let read = |out: &str, file: &str, column: &str| *csv_column(&dir.join(out).join(file), column).last().unwrap();
     let (vg, vc) = (read("gpu", "probe_bottom.csv", "velocity_x"), read("cpu", "probe_bottom.csv", "velocity_x"));
     let (pg, pc) = (read("gpu", "probe_deep.csv", "pressure"), read("cpu", "probe_deep.csv", "pressure"));
     let wall_speed = 10.0 * 2.0 * std::f64::consts::PI / 60.0 * 0.1 * 0.2 / 0.5;
@@ -328,13 +317,6 @@ pub fn a_turning_drum_on_the_gpu_drags_the_water_as_on_the_cpu() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Every value of a CSV column.
-fn column(path: &std::path::Path, column: &str) -> Vec<f64> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let k = text.lines().next().unwrap().split(',').position(|h| h == column).unwrap_or_else(|| panic!("{}: no {column}", path.display()));
-    text.lines().skip(1).map(|l| l.split(',').nth(k).unwrap().parse().unwrap()).collect()
-}
-
 /// The shipped floating box (at twice its spacing, 1 cm) dropped into its tank on both backends
 /// for 0.4 s: it strikes the water at 0.1 s at 1 m/s and sinks in. The GPU's body follows the
 /// CPU's at every row (its height within a tenth of the spacing, its vertical velocity within
@@ -342,11 +324,11 @@ fn column(path: &std::path::Path, column: &str) -> Vec<f64> {
 /// summed wrong on the device (a sign, a missing term, a body's particles missed) stops or
 /// throws the box at once.
 pub fn a_floating_box_on_the_gpu_moves_as_on_the_cpu() {
-    let dir = scratch("floating");
+    let dir = scratch_dir("gpu-fluid", "floating");
     let scene = shipped_scene(&dir, "floating_box.toml", "spacing = 0.005", "spacing = 0.01");
     gpu_run_resumes_identically(&dir, &scene, 0.4, &["fluid.csv", "floating_box.csv", "probe_left.csv"]);
     run_scene(&dir, &scene, "cpu", "0.4", "cpu");
-    let read = |out: &str, name: &str| column(&dir.join(out).join("floating_box.csv"), name);
+    let read = |out: &str, name: &str| csv_column(&dir.join(out).join("floating_box.csv"), name);
     let (zg, zc, vg, vc) = (read("gpu", "z"), read("cpu", "z"), read("gpu", "velocity_z"), read("cpu", "velocity_z"));
     assert_eq!(zg.len(), zc.len());
     let fastest = vc.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -369,7 +351,7 @@ pub fn a_floating_box_on_the_gpu_moves_as_on_the_cpu() {
 /// lines: Mesa's "XDG_RUNTIME_DIR is invalid or not set" error, which used to come with every
 /// GPU command, is not among them.
 pub fn a_gpu_run_without_a_runtime_dir_prints_no_loader_error() {
-    let dir = scratch("xdg");
+    let dir = scratch_dir("gpu-fluid", "xdg");
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let scene = root.join("scenes/conformance/fluid_dam_break.toml");
     let out = dir.join("out");

@@ -1,7 +1,24 @@
-//! A run's output folder as bytes, for tests that compare runs file by file.
+//! A run's output folder: its CSV columns, and its files as bytes for tests that compare runs
+//! file by file.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
+
+/// A fresh, empty folder `tumble-<prefix>-<name>-<pid>` under the system's temporary folder.
+pub fn scratch_dir(prefix: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tumble-{prefix}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Column `name` of the CSV file at `path`, every row, as numbers.
+pub fn csv_column(path: &Path, name: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let k = lines.next().unwrap().split(',').position(|h| h == name).unwrap_or_else(|| panic!("{}: no column {name}", path.display()));
+    lines.map(|l| l.split(',').nth(k).unwrap().parse().unwrap_or_else(|e| panic!("{}: {name}: {e}", path.display()))).collect()
+}
 
 /// Every file a run wrote (CSV, .pvd, snapshots; summary.json, checkpoints and hidden files
 /// aside), by path relative to `dir`, sorted.
