@@ -131,7 +131,8 @@ pub(super) fn schedule(scene: &Scene, dt: f64, substeps: u64) -> Result<Schedule
     }
     let whole = |steps: u64| steps.div_ceil(substeps) * substeps;
     let steps = whole((exact - 1e-9).ceil().max(1.0) as u64);
-    let every = |interval: f64| ((interval / dt / substeps as f64).round() as u64).max(1) * substeps;
+    // An interval longer than any run saturates: such a row or checkpoint never falls due.
+    let every = |interval: f64| ((interval / dt / substeps as f64).round() as u64).max(1).saturating_mul(substeps);
     let output_interval = run.output_interval.unwrap_or(run.duration / 100.0);
     positive("run.output_interval", output_interval)?;
     let output_every = every(output_interval);

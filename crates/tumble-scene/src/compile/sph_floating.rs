@@ -47,6 +47,21 @@ pub(super) fn add_floating(
                 ));
             }
         };
+        // Checked on the shape's bounds before its particles are laid: a body far larger than
+        // the domain would otherwise be filled with particles first.
+        let (low, high) = bounds(&shape);
+        let far = settings.spacing;
+        let beyond = (0..3).any(|a| {
+            (!two_d || a != 1)
+                && if domain.periodic[a] {
+                    high[a] - low[a] > domain.max[a] - domain.min[a]
+                } else {
+                    low[a] < domain.min[a] - far || high[a] > domain.max[a] + far
+                }
+        });
+        if beyond {
+            return Err(SceneError::field(format!("sph.floating[{k}]"), "must lie inside the domain"));
+        }
         let points = shape.particles(wall_layers(settings), settings.spacing, dimension);
         if points.is_empty() {
             return Err(SceneError::field(
@@ -73,4 +88,15 @@ pub(super) fn add_floating(
         names.push(b.name.clone());
     }
     Ok(names)
+}
+
+/// The corners of a box around the body.
+fn bounds(shape: &BodyShape) -> (DVec3, DVec3) {
+    match shape {
+        BodyShape::Box(b) => (b.min, b.max),
+        BodyShape::Cylinder(c) => {
+            let end = c.point + c.axis * c.length;
+            (c.point.min(end) - DVec3::splat(c.radius), c.point.max(end) + DVec3::splat(c.radius))
+        }
+    }
 }
