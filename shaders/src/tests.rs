@@ -15,6 +15,7 @@ const SHADER_LOCAL: &[&str] = &[
     "VC_SHAPE",
     "VC_PLANES",
     "VC_CYLINDER",
+    "CANDIDATES",
 ];
 
 /// Names of the module-scope `const` declarations of a WGSL text (function-scope ones are indented).

@@ -49,6 +49,7 @@ fn main() {
         vs_cpu::history_pair_forces_are_exactly_equal_and_opposite_and_the_spring_ends_with_the_contact,
         vs_cpu::springs_that_end_with_their_contact_are_booked_as_dissipated_as_on_the_cpu,
         vs_cpu::history_slot_overflow_is_reported,
+        vs_cpu::a_sphere_with_more_neighbours_than_one_round_holds_feels_every_one,
         moving_world::a_small_mill_with_lifters_agrees_with_the_cpu,
         moving_world::spheres_on_a_belt_are_dragged_as_on_the_cpu,
         moving_world::moving_wall_runs_are_bit_identical,
