@@ -43,16 +43,7 @@ pub(super) fn coupling(
     if settings.mu <= 0.0 {
         return Err(SceneError::field("sph.viscosity", "the drag on the particles needs the fluid's viscosity: give it in Pa s (water: 1e-3)"));
     }
-    let front = match s.coupling.front {
-        None => None,
-        Some(d) => {
-            let d = crate::compile::finite3("sph.coupling.front", d)?;
-            if d.length() == 0.0 {
-                return Err(SceneError::field("sph.coupling.front", "the direction must not be zero"));
-            }
-            Some(d.normalize())
-        }
-    };
+    let front = s.coupling.front.map(|d| crate::compile::unit("sph.coupling.front", d)).transpose()?;
     Ok(Some(CouplingPlan { drag, substeps: 1, drag_limit: f64::INFINITY, front }))
 }
 
