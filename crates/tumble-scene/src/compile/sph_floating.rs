@@ -47,20 +47,24 @@ pub(super) fn add_floating(
                 ));
             }
         };
-        // Checked on the shape's bounds before its particles are laid: a body far larger than
-        // the domain would otherwise be filled with particles first.
+        // Whether the box from `low` to `high` reaches more than `slack` past a closed side of
+        // the domain, or is longer than a periodic axis (a 2D fluid's y left out).
+        let beyond = |low: DVec3, high: DVec3, slack: f64| {
+            (0..3).any(|a| {
+                (!two_d || a != 1)
+                    && if domain.periodic[a] {
+                        high[a] - low[a] > domain.max[a] - domain.min[a]
+                    } else {
+                        low[a] < domain.min[a] - slack || high[a] > domain.max[a] + slack
+                    }
+            })
+        };
+        let outside = || SceneError::field(format!("sph.floating[{k}]"), "must lie inside the domain");
+        // Checked on the shape's bounds before its particles are laid (a body far larger than
+        // the domain would otherwise be filled with particles first), then on the particles.
         let (low, high) = bounds(&shape);
-        let far = settings.spacing;
-        let beyond = (0..3).any(|a| {
-            (!two_d || a != 1)
-                && if domain.periodic[a] {
-                    high[a] - low[a] > domain.max[a] - domain.min[a]
-                } else {
-                    low[a] < domain.min[a] - far || high[a] > domain.max[a] + far
-                }
-        });
-        if beyond {
-            return Err(SceneError::field(format!("sph.floating[{k}]"), "must lie inside the domain"));
+        if beyond(low, high, settings.spacing) {
+            return Err(outside());
         }
         let points = shape.particles(wall_layers(settings), settings.spacing, dimension);
         if points.is_empty() {
@@ -69,9 +73,8 @@ pub(super) fn add_floating(
                 format!("holds no particle at spacing {}: make it at least one spacing across", settings.spacing),
             ));
         }
-        let outside = |x: DVec3| (0..3).any(|a| (!two_d || a != 1) && !domain.periodic[a] && (x[a] < domain.min[a] || x[a] > domain.max[a]));
-        if points.iter().any(|&x| outside(x)) {
-            return Err(SceneError::field(format!("sph.floating[{k}]"), "must lie inside the domain"));
+        if points.iter().any(|&x| beyond(x, x, 0.0)) {
+            return Err(outside());
         }
         let mut body = FloatingBody::uniform(&shape, density, dimension);
         body.start.velocity = velocity;
